@@ -1,0 +1,37 @@
+# The two entry points of the README. Each installs what is missing, configures and builds.
+BUILD ?= build
+JOBS ?= $(shell nproc)
+DEMO_OUT ?= demo-out
+
+.PHONY: all deps configure build demo test sanitize bench clean
+
+all: build
+
+deps:
+	@bash scripts/install-deps.sh
+
+configure: deps
+	@cmake -S . -B $(BUILD) -G Ninja -DCMAKE_BUILD_TYPE=Release >/dev/null
+
+build: configure
+	@cmake --build $(BUILD) -j $(JOBS)
+
+# Runs the whole pipeline on the bundled example data; results go to $(DEMO_OUT)/.
+demo: build
+	@bash examples/demo.sh $(BUILD)/sdm $(DEMO_OUT)
+
+# Builds and runs every test.
+test: build
+	@cd $(BUILD) && ctest --output-on-failure -j $(JOBS)
+
+# The test suite under AddressSanitizer and UndefinedBehaviorSanitizer.
+sanitize: deps
+	@cmake -S . -B build-asan -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DSDM_SANITIZE=ON >/dev/null
+	@cmake --build build-asan -j $(JOBS)
+	@cd build-asan && ASAN_OPTIONS=detect_leaks=0 ctest --output-on-failure -j $(JOBS)
+
+bench: build
+	@$(BUILD)/sdm bench
+
+clean:
+	rm -rf $(BUILD) build-asan $(DEMO_OUT)

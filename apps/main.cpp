@@ -1,0 +1,36 @@
+#include "apps/commands.h"
+#include "libstm/errors.h"
+
+#include <iostream>
+#include <vector>
+
+int main(int argc, char** argv) {
+  CLI::App app{
+      "sdm: skeleton texture maps (STM) and skeleton displacement maps (SDM).\n"
+      "Extracts a curve skeleton from a closed triangle mesh, parameterizes the surface around each\n"
+      "skeleton segment as a capsule, packs the rectangles into one square atlas, and uses it to\n"
+      "render, encode and transfer textures and displacement."};
+  app.require_subcommand(1);
+  app.set_version_flag("--version", "sdm 0.1.0");
+  std::vector<sdm_cli::Command> commands = {
+      sdm_cli::add_info_command(app),
+  };
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    return app.exit(e) == 0 ? 0 : 2;
+  }
+  for (auto& c : commands) {
+    if (!c.app->parsed()) continue;
+    try {
+      return c.run();
+    } catch (const stm::InputError& e) {
+      std::cerr << "sdm " << c.app->get_name() << ": error: " << e.what() << std::endl;
+      return 2;
+    } catch (const std::exception& e) {
+      std::cerr << "sdm " << c.app->get_name() << ": failed: " << e.what() << std::endl;
+      return 1;
+    }
+  }
+  return 2;
+}
