@@ -11,6 +11,7 @@ Command add_info_command(CLI::App& parent) {
   struct Opts {
     std::string mesh;
     bool json = false;
+    bool strict = false;
   };
   auto o = std::make_shared<Opts>();
   auto* app = parent.add_subcommand(
@@ -18,6 +19,7 @@ Command add_info_command(CLI::App& parent) {
               "Exits 2 when the mesh cannot go through the pipeline, so scripts can use it as a check.");
   app->add_option("mesh", o->mesh, "Input mesh (.obj, .off, .ply, .stl)")->required();
   app->add_flag("--json", o->json, "Print one JSON object instead of text");
+  app->add_flag("--strict", o->strict, "Exit 2 also for tolerated findings (degenerate faces, isolated vertices)");
   return {app, [o]() {
             stm::MeshSoup soup = stm::read_mesh_soup(o->mesh);
             stm::MeshReport r = stm::validate_mesh(soup);
@@ -51,6 +53,7 @@ Command add_info_command(CLI::App& parent) {
               if (!o->json) std::cerr << r.refusal(o->mesh) << std::endl;
               return 2;
             }
+            if (o->strict) check_strict(r, o->mesh);
             return 0;
           }};
 }

@@ -8,6 +8,9 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
+#include "libstm/errors.h"
+#include "libstm/validate_mesh.h"
+
 namespace sdm_cli {
 
 struct Command {
@@ -16,9 +19,18 @@ struct Command {
 };
 
 Command add_info_command(CLI::App& parent);
+Command add_convert_command(CLI::App& parent);
 
 // Progress lines go to stderr, so stdout stays clean for results and --json.
 inline void progress(const std::string& line) { std::cerr << line << std::endl; }
+
+// --strict: tolerated findings (degenerate faces, isolated vertices) refuse the input too.
+inline void check_strict(const stm::MeshReport& r, const std::string& path) {
+  for (const auto& f : r.findings)
+    if (f.kind.find("degenerate") != std::string::npos || f.kind.find("isolated") != std::string::npos)
+      throw stm::InputError("mesh " + path + " has " + std::to_string(f.count) + " " + f.kind + ", e.g. " + f.example +
+                            " (refused by --strict). Fix: " + f.fix);
+}
 
 inline void print_json(const nlohmann::json& j) { std::cout << j.dump(2) << std::endl; }
 

@@ -9,6 +9,7 @@
 #include <OpenMesh/Core/Utils/Endian.hh>
 
 #include <algorithm>
+#include <cstdlib>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -113,56 +114,107 @@ std::string lower_extension(const std::string& path) {
   return ext;
 }
 
-// OpenMesh's OBJ and OFF readers parse coordinates in single precision. The mesh type is double,
-// so for these two text formats the vertex lines are re-read here in double precision; faces,
-// uv and materials still come from OpenMesh. Only used when the counts agree.
-void reread_points_in_double(const std::string& path, const std::string& ext, std::vector<Eigen::Vector3d>& pts) {
+// Parses up to three numbers with strtod, which, unlike OpenMesh's stream-based readers,
+// understands "nan" and "inf" instead of dropping the line.
+int parse_xyz(const char* s, double xyz[3]) {
+  int n = 0;
+  while (n < 3) {
+    char* end = nullptr;
+    double x = std::strtod(s, &end);
+    if (end == s) break;
+    xyz[n++] = x;
+    s = end;
+  }
+  return n;
+}
+
+// Text formats are scanned for vertex coordinates here, in double precision: OpenMesh's OBJ and
+// OFF readers parse single precision and drop or zero coordinates written as nan/inf, which would
+// turn a NaN vertex into a misleading topology error. Throws InputError for non-finite values;
+// replaces OpenMesh's points when the count agrees (faces, uv and materials still come from it).
+void scan_text_points(const std::string& path, const std::string& ext, std::vector<Eigen::Vector3d>& pts) {
   std::ifstream in(path);
   if (!in) return;
   std::vector<Eigen::Vector3d> out;
-  out.reserve(pts.size());
+  std::vector<long> line_of;
   std::string line;
+  long lineno = 0;
+  auto take = [&](const char* s) {
+    double xyz[3];
+    if (parse_xyz(s, xyz) < 3) return false;
+    out.emplace_back(xyz[0], xyz[1], xyz[2]);
+    line_of.push_back(lineno);
+    return true;
+  };
   if (ext == ".obj") {
     while (std::getline(in, line)) {
+      ++lineno;
       if (line.size() < 2 || line[0] != 'v' || (line[1] != ' ' && line[1] != '\t')) continue;
-      std::istringstream ls(line.substr(2));
-      double x, y, z;
-      if (!(ls >> x >> y >> z)) return;
-      out.emplace_back(x, y, z);
+      if (!take(line.c_str() + 2)) return;
     }
-  } else if (ext == ".off") {
+  } else if (ext == ".off" || ext == ".ply") {
     auto next_data_line = [&](std::string& l) {
       while (std::getline(in, l)) {
+        ++lineno;
         auto p = l.find('#');
-        if (p != std::string::npos) l.resize(p);
+        if (ext == ".off" && p != std::string::npos) l.resize(p);
         if (l.find_first_not_of(" \t\r") != std::string::npos) return true;
       }
       return false;
     };
+    long nv = -1;
     if (!next_data_line(line)) return;
-    std::istringstream hs(line);
-    std::string magic;
-    hs >> magic;
-    if (magic != "OFF") return;  // COFF, NOFF, binary OFF: keep OpenMesh's values
-    long nv = -1, nf = -1;
-    if (!(hs >> nv >> nf)) {
-      if (!next_data_line(line)) return;
-      std::istringstream cs(line);
-      if (!(cs >> nv >> nf)) return;
+    if (ext == ".off") {
+      std::istringstream hs(line);
+      std::string magic;
+      hs >> magic;
+      if (magic != "OFF") return;  // COFF, NOFF, binary OFF: keep OpenMesh's values
+      if (!(hs >> nv)) {
+        if (!next_data_line(line)) return;
+        std::istringstream cs(line);
+        if (!(cs >> nv)) return;
+      }
+    } else {
+      // ASCII PLY whose vertex element starts with x, y, z; anything else keeps OpenMesh's values.
+      bool ascii = false, in_vertex = false;
+      int prop = 0;
+      bool xyz_first = false;
+      do {
+        std::istringstream hs(line);
+        std::string w, a, b;
+        hs >> w;
+        if (w == "format") hs >> a, ascii = a == "ascii";
+        if (w == "element") {
+          hs >> a >> nv;
+          in_vertex = a == "vertex";
+          if (!in_vertex && prop == 0) return;  // vertex element must come first
+        }
+        if (w == "property" && in_vertex) {
+          hs >> a >> b;
+          if (prop < 3 && b != std::string(1, char('x' + prop))) return;
+          if (++prop == 3) xyz_first = true;
+        }
+        if (w == "end_header") break;
+      } while (next_data_line(line));
+      if (!ascii || !xyz_first) return;
     }
     for (long i = 0; i < nv; ++i) {
-      if (!next_data_line(line)) return;
-      std::istringstream ls(line);
-      double x, y, z;
-      if (!(ls >> x >> y >> z)) return;
-      out.emplace_back(x, y, z);
+      if (!next_data_line(line) || !take(line.c_str())) return;
     }
   } else {
     return;
   }
+  long bad = 0;
+  long first = -1;
+  for (size_t i = 0; i < out.size(); ++i)
+    if (!out[i].allFinite() && !bad++) first = long(i);
+  if (bad)
+    throw InputError("mesh " + path + " has " + std::to_string(bad) + " vertices with NaN or infinite coordinates, e.g. vertex " +
+                     std::to_string(first) + " on line " + std::to_string(line_of[first]) +
+                     ". Fix: remove or repair those vertices in the modelling tool");
   if (out.size() != pts.size()) return;
   for (size_t i = 0; i < out.size(); ++i)
-    if ((out[i] - pts[i]).norm() > 1e-5 * (1.0 + pts[i].norm())) return;  // not the same file layout
+    if ((out[i] - pts[i]).norm() > 1e-5 * (1.0 + pts[i].norm())) return;  // not the same vertex order
   pts.swap(out);
 }
 
@@ -185,11 +237,12 @@ MeshSoup read_mesh_soup(const std::string& path) {
   omlog().disable();
   omout().disable();
   bool ok = OpenMesh::IO::IOManager().read(path, importer, opt);
+  if (!ok && ext != ".stl") scan_text_points(path, ext, importer.points);  // a NaN may be why
   if (!ok) throw InputError("cannot read mesh " + path + ": the " + ext.substr(1) + " reader could not parse it");
   if (importer.points.empty())
     throw InputError("mesh " + path + " has no vertices: the file is empty or not a " + ext.substr(1) + " mesh");
 
-  reread_points_in_double(path, ext, importer.points);
+  scan_text_points(path, ext, importer.points);
 
   MeshSoup soup;
   soup.points = std::move(importer.points);
