@@ -1,0 +1,56 @@
+#pragma once
+// A bounding-volume hierarchy over triangles, for closest-point queries (surface distance) and
+// ray casts (displacement encoding, inside tests). Built once, queried many times; read-only
+// queries are safe from several threads.
+#include <Eigen/Dense>
+#include <vector>
+
+namespace stm {
+
+class TriangleBvh {
+ public:
+  TriangleBvh() = default;
+  // V: points, F: triangles (indices into V). Only the triangles listed in `faces` are used
+  // when it is given (e.g. one segment's faces); hits report indices into F.
+  TriangleBvh(const Eigen::MatrixX3d& V, const Eigen::MatrixX3i& F, const std::vector<int>& faces = {});
+
+  struct Closest {
+    double distance = INFINITY;
+    int face = -1;
+    Eigen::Vector3d point = Eigen::Vector3d::Zero();
+  };
+  Closest closest_point(const Eigen::Vector3d& p) const;
+
+  struct Hit {
+    double t = INFINITY;  // ray parameter: origin + t * direction
+    int face = -1;
+    double u = 0, v = 0;  // barycentric coordinates of the hit on the face
+  };
+  // Nearest hit with t in (t_min, t_max); face == -1 when nothing is hit.
+  Hit first_hit(const Eigen::Vector3d& origin, const Eigen::Vector3d& direction, double t_min = 0,
+                double t_max = INFINITY) const;
+  // Number of crossings of the ray with the surface (for parity inside tests).
+  int count_hits(const Eigen::Vector3d& origin, const Eigen::Vector3d& direction) const;
+
+  bool empty() const { return tris_.empty(); }
+
+ private:
+  struct Node {
+    Eigen::Vector3d lo, hi;
+    int left = -1, right = -1;  // children, or -1 for a leaf
+    int begin = 0, end = 0;     // leaf range in tris_
+  };
+  struct Tri {
+    Eigen::Vector3d a, b, c;
+    int face;
+  };
+  int build(int begin, int end);
+  std::vector<Node> nodes_;
+  std::vector<Tri> tris_;
+};
+
+// Closest point on triangle (a, b, c) to p.
+Eigen::Vector3d closest_point_on_triangle(const Eigen::Vector3d& p, const Eigen::Vector3d& a, const Eigen::Vector3d& b,
+                                          const Eigen::Vector3d& c);
+
+}  // namespace stm

@@ -1,0 +1,93 @@
+// The SDM file format: round trip, and a clear error for each kind of wrong file.
+#include "libsdm/sdm_exr.h"
+#include "libstm/errors.h"
+#include "tests/test_util.h"
+
+#include <OpenEXR/ImfChannelList.h>
+#include <OpenEXR/ImfFrameBuffer.h>
+#include <OpenEXR/ImfHeader.h>
+#include <OpenEXR/ImfIntAttribute.h>
+#include <OpenEXR/ImfOutputFile.h>
+#include <OpenEXR/ImfStringAttribute.h>
+#include <catch2/catch.hpp>
+#include <filesystem>
+
+using namespace stm;
+
+namespace {
+
+SdmImage ramp(int w, int h) {
+  SdmImage im;
+  im.width = w;
+  im.height = h;
+  for (int i = 0; i < w * h; ++i) {
+    im.D.push_back(0.001f * float(i) + 1.0f / 3.0f);
+    im.A.push_back(float(i % 3 == 0));
+  }
+  im.layout = {{"format", "sdm-layout"}, {"version", 1}, {"size", w}};
+  return im;
+}
+
+void write_raw_exr(const std::string& path, const std::vector<std::string>& channels, const std::string* layout, int version) {
+  Imf::Header header(4, 4);
+  if (layout) header.insert("sdm_layout", Imf::StringAttribute(*layout));
+  if (version) header.insert("sdm_format_version", Imf::IntAttribute(version));
+  std::vector<float> data(16, 0.5f);
+  Imf::FrameBuffer fb;
+  for (const auto& c : channels) {
+    header.channels().insert(c, Imf::Channel(Imf::FLOAT));
+    fb.insert(c, Imf::Slice(Imf::FLOAT, (char*)data.data(), sizeof(float), 4 * sizeof(float)));
+  }
+  Imf::OutputFile f(path.c_str(), header);
+  f.setFrameBuffer(fb);
+  f.writePixels(4);
+}
+
+std::string error_of(const std::string& path) {
+  try {
+    read_sdm_exr(path);
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+}  // namespace
+
+TEST_CASE("SDM EXR round trip is exact in float32 and keeps the layout", "[sdm_exr]") {
+  test_util::TempDir dir;
+  SdmImage im = ramp(37, 21);
+  write_sdm_exr(im, dir / "a.exr");
+  SdmImage r = read_sdm_exr(dir / "a.exr");
+  CHECK(r.width == 37);
+  CHECK(r.height == 21);
+  CHECK(r.D == im.D);
+  CHECK(r.A == im.A);
+  CHECK(r.X.empty());
+  CHECK(r.layout == im.layout);
+}
+
+TEST_CASE("Wrong SDM files get a message that names the problem", "[sdm_exr]") {
+  test_util::TempDir dir;
+  const std::string layout = R"({"format":"sdm-layout"})";
+  CHECK(error_of(dir / "missing.exr").find("no such file") != std::string::npos);
+  test_util::write_file(dir / "text.exr", "hello, I am not an image");
+  CHECK(error_of(dir / "text.exr").find("not an OpenEXR file") != std::string::npos);
+
+  write_sdm_exr(ramp(64, 64), dir / "full.exr");
+  const auto size = std::filesystem::file_size(dir / "full.exr");
+  std::filesystem::copy_file(dir / "full.exr", dir / "cut.exr");
+  std::filesystem::resize_file(dir / "cut.exr", size * 2 / 3);
+  const std::string cut = error_of(dir / "cut.exr");
+  CHECK((cut.find("truncated") != std::string::npos || cut.find("damaged") != std::string::npos));
+
+  write_raw_exr(dir / "nolayout.exr", {"A", "D"}, nullptr, 0);
+  CHECK(error_of(dir / "nolayout.exr").find("without the sdm layout") != std::string::npos);
+  write_raw_exr(dir / "nochan.exr", {"A"}, &layout, 1);
+  CHECK(error_of(dir / "nochan.exr").find("lacks channel 'D'") != std::string::npos);
+  const std::string bad = "{not json";
+  write_raw_exr(dir / "badjson.exr", {"A", "D"}, &bad, 1);
+  CHECK(error_of(dir / "badjson.exr").find("invalid layout") != std::string::npos);
+  write_raw_exr(dir / "v99.exr", {"A", "D"}, &layout, 99);
+  CHECK(error_of(dir / "v99.exr").find("format version 99") != std::string::npos);
+}
