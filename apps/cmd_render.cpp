@@ -4,6 +4,7 @@
 #include "libstm/image.h"
 #include "libstm/mesh.h"
 #include "libstm/render_mesh.h"
+#include "libstm/validate_mesh.h"
 
 #include <memory>
 
@@ -20,7 +21,7 @@ Command add_render_command(CLI::App& parent) {
   auto* app = parent.add_subcommand(
       "render", "Render a mesh to a PNG image, offscreen (headless OpenGL through EGL).\n"
                 "The camera frames the mesh's bounding box from the given azimuth and elevation; a mesh with uv\n"
-                "is drawn with its texture (the map_Kd of its MTL, or --texture).");
+                "is drawn with its texture (the map_Kd of its MTL, or --texture). Open meshes are drawn too.");
   app->add_option("mesh", o->mesh, "Input mesh (.obj, .off, .ply, .stl)")->required();
   app->add_option("-o,--output", o->output, "Output image (.png)")->required();
   app->add_option("--width", o->width, "Image width in pixels")->capture_default_str()->check(CLI::Range(1, 16384));
@@ -35,8 +36,18 @@ Command add_render_command(CLI::App& parent) {
   app->add_flag("--flat", o->flat, "Flat shading with face normals");
   app->add_flag("--json", o->json, "Print one JSON object describing the render");
   return {app, [o]() {
-            std::string material_texture;
-            const stm::Mesh mesh = stm::load_mesh(o->mesh, &material_texture);
+            // A picture is useful for any mesh, so unlike the pipeline commands, render also draws open
+            // meshes (lighting is two-sided); only input the halfedge structure cannot hold is refused.
+            stm::MeshSoup soup = stm::read_mesh_soup(o->mesh);
+            stm::MeshReport report = stm::validate_mesh(soup);
+            if (report.usable()) stm::orient_outward(soup, report);
+            stm::Mesh mesh;
+            try {
+              mesh = stm::build_mesh(soup);
+            } catch (const stm::InputError&) {
+              throw stm::InputError(report.refusal(o->mesh));
+            }
+            const std::string material_texture = soup.texture;
             std::string texture_path = o->texture.empty() ? material_texture : o->texture;
             if (o->no_texture) texture_path.clear();
             stm::Image texture;

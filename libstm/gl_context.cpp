@@ -160,6 +160,10 @@ std::vector<Candidate> candidates(const std::string& only) {
     result.push_back({"Mesa surfaceless platform", EGL_PLATFORM_SURFACELESS_MESA, nullptr});
   result.insert(result.end(), software.begin(), software.end());
   if (only.empty() || only == "default") result.push_back({"default EGL display", 0, nullptr});
+  if (!result.empty() && !has_extension(client, "EGL_EXT_platform_device") &&
+      !has_extension(client, "EGL_MESA_platform_surfaceless"))
+    result.front().name += " (EGL offers neither EGL_EXT_platform_device nor EGL_MESA_platform_surfaceless: "
+                           "is an EGL vendor library installed?)";
   return result;
 }
 

@@ -64,26 +64,34 @@ Camera frame_camera(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi, double
 namespace {
 
 // One vertex per triangle corner: uv lives on halfedges and flat normals on faces, so corners
-// are not shared. Layout: position (relative to `origin`), normal, uv.
-std::vector<float> corner_vertices(const Mesh& mesh, const Eigen::Vector3d& origin, bool flat, bool uv) {
-  std::vector<Eigen::Vector3d> face_normal(mesh.n_faces(), Eigen::Vector3d::Zero());
-  std::vector<Eigen::Vector3d> vertex_normal(mesh.n_vertices(), Eigen::Vector3d::Zero());
+// are not shared. Layout: position (relative to `origin`), normal, uv. A corner's normal averages
+// (area-weighted) the faces around its vertex that bend less than `crease_deg` from its own face,
+// so smooth parts look smooth and sharp edges stay sharp.
+std::vector<float> corner_vertices(const Mesh& mesh, const Eigen::Vector3d& origin, double crease_deg, bool uv) {
+  std::vector<Eigen::Vector3d> face_normal(mesh.n_faces(), Eigen::Vector3d::Zero());  // length = twice the area
   for (auto f : mesh.faces()) {
     auto h = mesh.halfedge_handle(f);
-    const Eigen::Vector3d a = point(mesh, mesh.to_vertex_handle(h));
-    const Eigen::Vector3d b = point(mesh, mesh.to_vertex_handle(mesh.next_halfedge_handle(h)));
-    const Eigen::Vector3d c = point(mesh, mesh.from_vertex_handle(h));
-    const Eigen::Vector3d n = (b - a).cross(c - a);  // length = twice the area: area weighting for free
-    face_normal[f.idx()] = n;
-    for (auto v : mesh.fv_range(f)) vertex_normal[v.idx()] += n;
+    const Eigen::Vector3d a = point(mesh, mesh.from_vertex_handle(h));
+    const Eigen::Vector3d b = point(mesh, mesh.to_vertex_handle(h));
+    const Eigen::Vector3d c = point(mesh, mesh.to_vertex_handle(mesh.next_halfedge_handle(h)));
+    face_normal[f.idx()] = (b - a).cross(c - a);
   }
+  const double cos_crease = std::cos(crease_deg * M_PI / 180.0);
   std::vector<float> out;
   out.reserve(mesh.n_faces() * 3 * 8);
   for (auto f : mesh.faces()) {
+    const Eigen::Vector3d nf = face_normal[f.idx()];
+    const double lf = nf.norm();
     for (auto h : mesh.fh_range(f)) {
       auto v = mesh.to_vertex_handle(h);
       const Eigen::Vector3d p = point(mesh, v) - origin;
-      Eigen::Vector3d n = flat ? face_normal[f.idx()] : vertex_normal[v.idx()];
+      Eigen::Vector3d n = nf;
+      if (crease_deg > 0 && lf > 0)
+        for (auto g : mesh.vf_range(v)) {
+          const Eigen::Vector3d& ng = face_normal[g.idx()];
+          const double lg = ng.norm();
+          if (g != f && lg > 0 && nf.dot(ng) >= cos_crease * lf * lg) n += ng;
+        }
       n = n.norm() > 0 ? n.normalized() : Eigen::Vector3d(0, 0, 1);
       out.insert(out.end(), {float(p.x()), float(p.y()), float(p.z()), float(n.x()), float(n.y()), float(n.z())});
       if (uv) {
@@ -151,7 +159,7 @@ Image render_mesh(GlContext& gl, const Mesh& mesh, const RenderOptions& opt, std
   const Camera cam = frame_camera(lo, hi, opt.azimuth_deg, opt.elevation_deg, opt.width, opt.height, opt.orthographic);
 
   gl.make_current();
-  const std::vector<float> verts = corner_vertices(mesh, cam.center, opt.flat_shading, textured);
+  const std::vector<float> verts = corner_vertices(mesh, cam.center, opt.flat_shading ? 0.0 : opt.crease_angle_deg, textured);
 
   Framebuffer fb(opt.width, opt.height, opt.samples);
   GLuint vbo = 0, vao = 0, tex = 0;

@@ -42,7 +42,10 @@ struct RenderOptions {
   // Lit: headlight Lambert (two-sided) plus `ambient`.
   bool unlit = false;
   double ambient = 0.25;
-  bool flat_shading = false;  // face normals instead of area-weighted vertex normals
+  // Normals: area-weighted average of the faces around a vertex that bend less than
+  // crease_angle_deg from the corner's face (sharp edges stay sharp); flat_shading uses face normals.
+  double crease_angle_deg = 60;
+  bool flat_shading = false;
   // When set, the mesh must have per-halfedge uv (mesh.has_halfedge_texcoords2D()); uv (0,0) is the
   // image's bottom-left corner, as in OBJ. Sampled bilinearly with mipmaps, repeating.
   const Image* texture = nullptr;

@@ -191,6 +191,34 @@ TEST_CASE("Headlight shading: centre brightness follows the cosine of the viewin
   }
 }
 
+TEST_CASE("Crease-aware normals keep a cube's faces flat", "[render]") {
+  stm::MeshSoup s;
+  for (int i = 0; i < 8; ++i) s.points.emplace_back(i & 1 ? 0.5 : -0.5, i & 2 ? 0.5 : -0.5, i & 4 ? 0.5 : -0.5);
+  const int quads[6][4] = {{0, 2, 3, 1}, {4, 5, 7, 6}, {0, 1, 5, 4}, {2, 6, 7, 3}, {0, 4, 6, 2}, {1, 3, 7, 5}};
+  for (const auto& q : quads) {
+    s.triangles.push_back({q[0], q[1], q[2]});
+    s.triangles.push_back({q[0], q[2], q[3]});
+  }
+  const stm::Mesh cube = stm::build_mesh(s);
+  stm::RenderOptions o;
+  o.azimuth_deg = 0;
+  o.elevation_deg = 0;
+  o.color = Eigen::Vector3f(1, 1, 1);
+  o.background = {0, 0, 0, 255};
+  // Pixel 640 on the middle row sees the front face (z = 0.5) at x = 0.458, 9.1 degrees off the
+  // view axis from the eye at distance sqrt(3)/2 / sin(15 deg) from the centre: Lambert 0.987.
+  const double d = std::sqrt(3.0) / 2 / std::sin(15.0 * M_PI / 180.0);
+  const double x = 240.0 / 400.0 * (d - 0.5) * std::tan(15.0 * M_PI / 180.0);
+  const double lambert = (d - 0.5) / std::hypot(x, d - 0.5);
+  const double expected = 255.0 * (0.25 + 0.75 * lambert);
+  const stm::Image crease = stm::render_mesh(gl(), cube, o);
+  CHECK(std::abs(crease.at(640, 400)[0] - expected) <= 2.0);
+  o.crease_angle_deg = 180;  // smooth everything: the normal near the edge tilts towards the side face
+  const stm::Image smooth = stm::render_mesh(gl(), cube, o);
+  INFO("crease " << int(crease.at(640, 400)[0]) << ", smooth " << int(smooth.at(640, 400)[0]));
+  CHECK(smooth.at(640, 400)[0] < expected - 20);
+}
+
 TEST_CASE("frame_camera keeps the bounding box inside the image for any angle", "[render]") {
   const Eigen::Vector3d lo(-1, 2, 10), hi(3, 2.5, 14);
   std::mt19937 rng(1);
