@@ -68,7 +68,8 @@ class Framebuffer {
 
   // Binds for drawing, sets the viewport, and enables both draw buffers.
   void bind();
-  // Clears colour (RGBA8 attachment to `rgba`, float attachment to `float_value`) and depth.
+  // Clears colour (RGBA8 attachment to `rgba`, float attachment to `float_value`, default 0) and
+  // depth; call after bind().
   void clear(const float rgba[4], const float float_value[4] = nullptr);
 
   // Resolves (when multisampled) and reads back, rows top to bottom.
