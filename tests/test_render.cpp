@@ -322,6 +322,26 @@ TEST_CASE("sdm render writes a PNG of a mesh; missing input exits 2 with no outp
     const double a = 2 * M_PI * k / 16;
     CHECK(!is_white(int(80 + 0.9 * r_px * std::cos(a)), int(60 + 0.9 * r_px * std::sin(a))));
   }
+  {
+    // The same octahedron as a textured OBJ: the upper faces map into the texture's top row (red),
+    // the lower faces into its bottom row (blue); the MTL names the texture.
+    stm::Image tex(2, 2, 4);
+    const uint8_t red[4] = {255, 0, 0, 255}, blue[4] = {0, 0, 255, 255};
+    for (int x = 0; x < 2; ++x) std::copy(red, red + 4, tex.at(x, 0)), std::copy(blue, blue + 4, tex.at(x, 1));
+    stm::write_png(tex, (dir / "tex.png").string());
+    std::ofstream(dir / "octa.mtl") << "newmtl m\nmap_Kd tex.png\n";
+    std::ofstream obj(dir / "octa.obj");
+    obj << "mtllib octa.mtl\nv 1 0 0\nv -1 0 0\nv 0 1 0\nv 0 -1 0\nv 0 0 1\nv 0 0 -1\n"
+           "vt 0.5 0.75\nvt 0.5 0.25\nusemtl m\n"
+           "f 1/1 3/1 5/1\nf 3/1 2/1 5/1\nf 2/2 4/2 5/2\nf 4/2 1/2 5/2\n"
+           "f 3/1 1/1 6/1\nf 2/1 3/1 6/1\nf 4/2 2/2 6/2\nf 1/2 4/2 6/2\n";
+  }
+  const std::string textured = (dir / "textured.png").string();
+  REQUIRE(run("render " + (dir / "octa.obj").string() + " -o " + textured +
+              " --width 160 --height 120 --unlit --azimuth 0 --elevation 0") == 0);
+  const stm::Image t = stm::read_png(textured);
+  CHECK((t.at(80, 50)[0] == 255 && t.at(80, 50)[2] == 0));  // above the equator: red
+  CHECK((t.at(80, 70)[0] == 0 && t.at(80, 70)[2] == 255));  // below: blue
   const std::string out2 = (dir / "none.png").string();
   CHECK(run("render " + (dir / "missing.off").string() + " -o " + out2) == 2);
   CHECK(!fs::exists(out2));
