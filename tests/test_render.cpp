@@ -1,0 +1,351 @@
+// Headless GL, PNG images, PSNR and the mesh renderer, checked against numbers derived from the
+// camera geometry (30 degree field of view framing the bounding sphere).
+#include "libstm/errors.h"
+#include "libstm/gl_context.h"
+#include "libstm/image.h"
+#include "libstm/mesh.h"
+#include "libstm/render_mesh.h"
+
+#include <catch2/catch.hpp>
+
+#include <sys/wait.h>
+
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <limits>
+#include <random>
+
+namespace fs = std::filesystem;
+
+namespace {
+
+stm::GlContext& gl() {
+  static stm::GlContext context;  // one per test run: creating contexts is the slow part
+  return context;
+}
+
+// Unit square in the z = 0 plane, [-0.5, 0.5]^2, uv (0,0) at (-0.5,-0.5); split into n x n cells of
+// two triangles each, so two tessellations of the same textured square can be compared.
+stm::Mesh square(int n = 1) {
+  stm::MeshSoup s;
+  for (int j = 0; j <= n; ++j)
+    for (int i = 0; i <= n; ++i) s.points.emplace_back(double(i) / n - 0.5, double(j) / n - 0.5, 0.0);
+  auto id = [n](int i, int j) { return j * (n + 1) + i; };
+  auto uv = [&](int v) { return Eigen::Vector2d(s.points[v].x() + 0.5, s.points[v].y() + 0.5); };
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i) {
+      const std::array<int, 3> t1{id(i, j), id(i + 1, j), id(i + 1, j + 1)}, t2{id(i, j), id(i + 1, j + 1), id(i, j + 1)};
+      for (const auto& t : {t1, t2}) {
+        s.triangles.push_back(t);
+        for (int v : t) s.uv.push_back(uv(v));
+      }
+    }
+  return stm::build_mesh(s);
+}
+
+// Analytic half-width in pixels of the unit square seen face-on in an 800 px image: the bounding
+// sphere (radius sqrt(1/2)) fills the 30 degree field of view, so the square's half-width in
+// normalised device coordinates is 0.5 cos(15 deg) / sqrt(1/2).
+const double kHalfWidthPx = 400.0 * 0.5 * std::cos(15.0 * M_PI / 180.0) / std::sqrt(0.5);  // 273.2
+
+int run(const std::string& args) {
+  const int status = std::system((std::string(SDM_BINARY) + " " + args + " 2>/dev/null >/dev/null").c_str());
+  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
+fs::path temp_dir(const std::string& name) {
+  fs::path d = fs::temp_directory_path() / ("sdm_test_render_" + name + "_" + std::to_string(::getpid()));
+  fs::remove_all(d);
+  fs::create_directories(d);
+  return d;
+}
+
+}  // namespace
+
+TEST_CASE("EGL gives a headless GL 4.5 core context", "[render]") {
+  stm::GlContext& g = gl();
+  INFO("renderer: " << g.renderer() << ", version: " << g.version() << ", platform: " << g.platform());
+  CHECK(g.major_version() * 10 + g.minor_version() >= 45);
+  CHECK(!g.renderer().empty());
+  CHECK(g.version().find("Core") != std::string::npos);
+  // Programs from the embedded shaders compile and are cached.
+  const unsigned p = g.program("mesh.vert.glsl", "mesh.frag.glsl");
+  CHECK(p != 0);
+  CHECK(g.program("mesh.vert.glsl", "mesh.frag.glsl") == p);
+}
+
+TEST_CASE("Framebuffer reads back cleared colour and float values", "[render]") {
+  gl().make_current();
+  const int samples = GENERATE(1, 4);  // multisampled targets resolve to the same values
+  stm::Framebuffer fb(7, 5, samples, true);
+  fb.bind();
+  const float c[4] = {0.2f, 0.4f, 0.6f, 1.0f}, f[4] = {-1.5f, 2.25f, 1e6f, 0.125f};
+  fb.clear(c, f);
+  const stm::Image img = fb.read_rgba8();
+  const stm::FloatImage fi = fb.read_float();
+  REQUIRE(img.width == 7);
+  REQUIRE(img.height == 5);
+  CHECK(int(img.at(6, 4)[0]) == 51);
+  CHECK(int(img.at(0, 0)[1]) == 102);
+  CHECK(int(img.at(3, 2)[2]) == 153);
+  CHECK(fi.at(6, 4)[0] == -1.5f);
+  CHECK(fi.at(0, 0)[2] == 1e6f);  // a float target keeps values an 8-bit one cannot
+  CHECK(fi.at(2, 3)[3] == 0.125f);
+}
+
+TEST_CASE("Unlit square facing the camera: exact colour inside, background outside, analytic extent", "[render]") {
+  stm::RenderOptions o;
+  o.azimuth_deg = 0;
+  o.elevation_deg = 0;
+  o.unlit = true;
+  o.color = Eigen::Vector3f(200.f / 255, 100.f / 255, 50.f / 255);
+  o.background = {10, 20, 30, 255};
+  std::vector<uint8_t> mask;
+  const stm::Image img = stm::render_mesh(gl(), square(), o, &mask);
+  REQUIRE(img.width == 800);
+  REQUIRE(img.height == 800);
+  auto rgb = [&](int x, int y) { return std::array<int, 3>{img.at(x, y)[0], img.at(x, y)[1], img.at(x, y)[2]}; };
+  const std::array<int, 3> object{200, 100, 50}, background{10, 20, 30};
+  for (int y = 390; y <= 410; ++y)
+    for (int x = 390; x <= 410; ++x) REQUIRE(rgb(x, y) == object);
+  for (auto [x, y] : {std::pair{0, 0}, {799, 0}, {0, 799}, {799, 799}}) CHECK(rgb(x, y) == background);
+  // Edges where geometry says: the square spans [400 - 273.2, 400 + 273.2] in x and y.
+  const int inner = int(std::ceil(400 - kHalfWidthPx)) + 1, outer = int(std::floor(400 - kHalfWidthPx)) - 1;
+  CHECK(rgb(inner, 400) == object);
+  CHECK(rgb(outer, 400) == background);
+  CHECK(rgb(799 - inner, 400) == object);
+  CHECK(rgb(799 - outer, 400) == background);
+  CHECK(rgb(400, inner) == object);
+  CHECK(rgb(400, outer) == background);
+  // Covered area = (2 * 273.2)^2 pixels, up to the pixels the edges cut through.
+  size_t covered = 0;
+  for (uint8_t m : mask) covered += m ? 1 : 0;
+  const double area = 4 * kHalfWidthPx * kHalfWidthPx;
+  CHECK(std::abs(double(covered) - area) < 0.005 * area);
+  CHECK(img.at(0, 0)[3] == 255);  // opaque output
+}
+
+TEST_CASE("Textured quad: each quadrant shows its texel, rows top to bottom, uv origin bottom left", "[render]") {
+  stm::Image tex(2, 2, 4);
+  const uint8_t texels[4][4] = {{255, 0, 0, 255}, {0, 255, 0, 255}, {0, 0, 255, 255}, {255, 255, 0, 255}};
+  for (int i = 0; i < 4; ++i) std::copy(texels[i], texels[i] + 4, tex.at(i % 2, i / 2));
+  stm::RenderOptions o;
+  o.azimuth_deg = 0;
+  o.elevation_deg = 0;
+  o.unlit = true;
+  o.texture = &tex;
+  const stm::Image img = stm::render_mesh(gl(), square(), o);
+  const int d = int(kHalfWidthPx / 2);  // quadrant centres: uv 0.25 / 0.75, texel centres
+  const int xs[2] = {400 - d, 399 + d}, ys[2] = {400 - d, 399 + d};
+  for (int i = 0; i < 4; ++i) {
+    const uint8_t* p = img.at(xs[i % 2], ys[i / 2]);
+    INFO("quadrant " << i);
+    for (int k = 0; k < 3; ++k) CHECK(std::abs(int(p[k]) - int(texels[i][k])) <= 2);
+  }
+  // A texture needs uv.
+  stm::Mesh no_uv = square();
+  no_uv.release_halfedge_texcoords2D();
+  CHECK_THROWS_AS(stm::render_mesh(gl(), no_uv, o), stm::InputError);
+}
+
+TEST_CASE("Two tessellations of one textured square render the same pixels unlit", "[render]") {
+  stm::Image tex(8, 8, 4);
+  for (int y = 0; y < 8; ++y)
+    for (int x = 0; x < 8; ++x) {
+      uint8_t* p = tex.at(x, y);
+      p[0] = uint8_t(32 * x), p[1] = uint8_t(32 * y), p[2] = uint8_t((x + y) % 2 ? 255 : 0), p[3] = 255;
+    }
+  stm::RenderOptions o;
+  o.azimuth_deg = 25;
+  o.elevation_deg = 35;
+  o.unlit = true;
+  o.texture = &tex;
+  std::vector<uint8_t> m1, m4;
+  const stm::Image a = stm::render_mesh(gl(), square(1), o, &m1);
+  const stm::Image b = stm::render_mesh(gl(), square(4), o, &m4);
+  const double p = stm::psnr(a, b, &m1);
+  INFO("PSNR 2 vs 32 triangles: " << p << " dB");
+  CHECK(p > 45.0);  // only rasterisation rounding differs
+  // A different texture on the same shape is clearly worse.
+  stm::Image shifted = tex;
+  for (auto& v : shifted.pixels) v = uint8_t(255 - v);
+  o.texture = &shifted;
+  const stm::Image c = stm::render_mesh(gl(), square(4), o);
+  CHECK(stm::psnr(a, c, &m1) < 15.0);
+}
+
+TEST_CASE("Headlight shading: centre brightness follows the cosine of the viewing angle", "[render]") {
+  stm::RenderOptions o;
+  o.elevation_deg = 0;
+  o.color = Eigen::Vector3f(1, 1, 1);
+  o.ambient = 0.25;
+  o.background = {0, 0, 0, 255};
+  for (double az : {0.0, 45.0, 70.0}) {
+    o.azimuth_deg = az;
+    const stm::Image img = stm::render_mesh(gl(), square(), o);
+    // The centre pixel looks at the square's centre: Lambert factor cos(az).
+    const double expected = 255.0 * (0.25 + 0.75 * std::cos(az * M_PI / 180.0));
+    INFO("azimuth " << az);
+    CHECK(std::abs(img.at(400, 400)[0] - expected) <= 2.0);
+  }
+}
+
+TEST_CASE("Crease-aware normals keep a cube's faces flat", "[render]") {
+  stm::MeshSoup s;
+  for (int i = 0; i < 8; ++i) s.points.emplace_back(i & 1 ? 0.5 : -0.5, i & 2 ? 0.5 : -0.5, i & 4 ? 0.5 : -0.5);
+  const int quads[6][4] = {{0, 2, 3, 1}, {4, 5, 7, 6}, {0, 1, 5, 4}, {2, 6, 7, 3}, {0, 4, 6, 2}, {1, 3, 7, 5}};
+  for (const auto& q : quads) {
+    s.triangles.push_back({q[0], q[1], q[2]});
+    s.triangles.push_back({q[0], q[2], q[3]});
+  }
+  const stm::Mesh cube = stm::build_mesh(s);
+  stm::RenderOptions o;
+  o.azimuth_deg = 0;
+  o.elevation_deg = 0;
+  o.color = Eigen::Vector3f(1, 1, 1);
+  o.background = {0, 0, 0, 255};
+  // Pixel 640 on the middle row sees the front face (z = 0.5) at x = 0.458, 9.1 degrees off the
+  // view axis from the eye at distance sqrt(3)/2 / sin(15 deg) from the centre: Lambert 0.987.
+  const double d = std::sqrt(3.0) / 2 / std::sin(15.0 * M_PI / 180.0);
+  const double x = 240.0 / 400.0 * (d - 0.5) * std::tan(15.0 * M_PI / 180.0);
+  const double lambert = (d - 0.5) / std::hypot(x, d - 0.5);
+  const double expected = 255.0 * (0.25 + 0.75 * lambert);
+  const stm::Image crease = stm::render_mesh(gl(), cube, o);
+  CHECK(std::abs(crease.at(640, 400)[0] - expected) <= 2.0);
+  o.crease_angle_deg = 180;  // smooth everything: the normal near the edge tilts towards the side face
+  const stm::Image smooth = stm::render_mesh(gl(), cube, o);
+  INFO("crease " << int(crease.at(640, 400)[0]) << ", smooth " << int(smooth.at(640, 400)[0]));
+  CHECK(smooth.at(640, 400)[0] < expected - 20);
+}
+
+TEST_CASE("frame_camera keeps the bounding box inside the image for any angle", "[render]") {
+  const Eigen::Vector3d lo(-1, 2, 10), hi(3, 2.5, 14);
+  std::mt19937 rng(1);
+  std::uniform_real_distribution<double> ang(-180, 180);
+  for (int k = 0; k < 20; ++k) {
+    for (bool ortho : {false, true}) {
+      const stm::Camera cam = stm::frame_camera(lo, hi, ang(rng), ang(rng) / 2, 640, 480, ortho);
+      const Eigen::Vector4d c = cam.projection * cam.view * Eigen::Vector4d(2.5 - 1.5, 2.25, 12, 1);
+      CHECK(std::abs(c.x() / c.w()) < 1e-9);  // the box centre is the image centre
+      CHECK(std::abs(c.y() / c.w()) < 1e-9);
+      for (int i = 0; i < 8; ++i) {
+        const Eigen::Vector4d p(i & 1 ? hi.x() : lo.x(), i & 2 ? hi.y() : lo.y(), i & 4 ? hi.z() : lo.z(), 1);
+        const Eigen::Vector4d q = cam.projection * cam.view * p;
+        CHECK(std::abs(q.x() / q.w()) <= 1.0);
+        CHECK(std::abs(q.y() / q.w()) <= 1.0);
+        CHECK(std::abs(q.z() / q.w()) <= 1.0);  // between the near and far planes
+      }
+    }
+  }
+  CHECK_THROWS_AS(stm::frame_camera(hi, lo, 0, 0, 10, 10), stm::InputError);
+  CHECK_THROWS_AS(stm::frame_camera(lo, lo, 0, 0, 10, 10), stm::InputError);
+}
+
+TEST_CASE("PSNR: infinite for equal images, hand-computed otherwise, masked", "[render]") {
+  stm::Image a(2, 2, 4, 100), b = a;
+  CHECK(std::isinf(stm::psnr(a, a)));
+  b.at(1, 0)[1] = 110;  // one channel of one pixel off by 10
+  // MSE over 4 pixels x 3 colour channels = 100 / 12.
+  CHECK(stm::psnr(a, b) == Approx(10 * std::log10(255.0 * 255.0 * 12 / 100)));
+  const std::vector<uint8_t> with{0, 1, 1, 0}, without{1, 0, 0, 1}, none{0, 0, 0, 0};
+  CHECK(stm::psnr(a, b, &with) == Approx(10 * std::log10(255.0 * 255.0 * 6 / 100)));
+  CHECK(std::isinf(stm::psnr(a, b, &without)));
+  b.at(0, 1)[3] = 0;  // alpha is not colour
+  CHECK(std::isinf(stm::psnr(a, b, &without)));
+  CHECK_THROWS_AS(stm::psnr(a, b, &none), stm::InputError);
+  CHECK_THROWS_AS(stm::psnr(a, stm::Image(3, 2, 4)), stm::InputError);
+  CHECK(stm::mask_union(with, without) == std::vector<uint8_t>(4, 255));
+}
+
+TEST_CASE("PNG write/read round trip is exact; contact sheet places images", "[render]") {
+  const fs::path dir = temp_dir("png");
+  std::mt19937 rng(7);
+  stm::Image rgba(37, 23, 4), rgb(5, 3, 3);
+  for (auto& v : rgba.pixels) v = uint8_t(rng());
+  for (auto& v : rgb.pixels) v = uint8_t(rng());
+  stm::write_png(rgba, (dir / "a.png").string());
+  stm::write_png(rgb, (dir / "b.png").string());
+  const stm::Image ra = stm::read_png((dir / "a.png").string());
+  CHECK(ra.width == 37);
+  CHECK(ra.height == 23);
+  CHECK(ra.pixels == rgba.pixels);
+  const stm::Image rb = stm::read_png((dir / "b.png").string());  // read back as RGBA
+  REQUIRE(rb.channels == 4);
+  for (int y = 0; y < 3; ++y)
+    for (int x = 0; x < 5; ++x) {
+      for (int k = 0; k < 3; ++k) CHECK(rb.at(x, y)[k] == rgb.at(x, y)[k]);
+      CHECK(rb.at(x, y)[3] == 255);
+    }
+  const std::string missing = (dir / "missing.png").string();
+  try {
+    stm::read_png(missing);
+    FAIL("no exception");
+  } catch (const stm::InputError& e) {
+    CHECK(std::string(e.what()).find(missing) != std::string::npos);
+  }
+  // Two images side by side, 4 px apart: the second starts at x = 37 + 4.
+  const stm::Image sheet = stm::side_by_side({rgba, rgb}, 4);
+  CHECK(sheet.width == 37 + 4 + 37);
+  CHECK(sheet.height == 23);
+  CHECK(sheet.at(41, 2)[0] == rgb.at(0, 2)[0]);
+  CHECK(sheet.at(38, 0)[0] == 255);  // gap
+  const stm::Image grid = stm::contact_sheet({rgb, rgb, rgb}, 2, 1);
+  CHECK(grid.width == 11);
+  CHECK(grid.height == 7);
+  CHECK(grid.at(0, 4)[2] == rgb.at(0, 0)[2]);  // third image starts the second row
+  fs::remove_all(dir);
+}
+
+TEST_CASE("sdm render writes a PNG of a mesh; missing input exits 2 with no output", "[render]") {
+  const fs::path dir = temp_dir("cli");
+  {
+    // Octahedron with outward faces.
+    std::ofstream off(dir / "octa.off");
+    off << "OFF\n6 8 0\n1 0 0\n-1 0 0\n0 1 0\n0 -1 0\n0 0 1\n0 0 -1\n"
+           "3 0 2 4\n3 2 1 4\n3 1 3 4\n3 3 0 4\n3 2 0 5\n3 1 2 5\n3 3 1 5\n3 0 3 5\n";
+  }
+  const std::string out = (dir / "view.png").string();
+  REQUIRE(run("render " + (dir / "octa.off").string() + " -o " + out + " --width 160 --height 120") == 0);
+  const stm::Image img = stm::read_png(out);
+  CHECK(img.width == 160);
+  CHECK(img.height == 120);
+  auto is_white = [&](int x, int y) { return img.at(x, y)[0] == 255 && img.at(x, y)[1] == 255 && img.at(x, y)[2] == 255; };
+  CHECK(!is_white(80, 60));  // the octahedron is at the centre
+  CHECK(is_white(0, 0));
+  CHECK(is_white(159, 119));
+  // The octahedron's bounding sphere (radius sqrt 3) fills the height; the body (radius 1) covers
+  // at least the disc of its inscribed sphere (radius 1/sqrt 3): 1/3 of the sphere's radius.
+  const double r_px = 60.0 * (1.0 / std::sqrt(3.0)) / std::sqrt(3.0) * std::cos(15.0 * M_PI / 180.0);
+  for (int k = 0; k < 16; ++k) {
+    const double a = 2 * M_PI * k / 16;
+    CHECK(!is_white(int(80 + 0.9 * r_px * std::cos(a)), int(60 + 0.9 * r_px * std::sin(a))));
+  }
+  {
+    // The same octahedron as a textured OBJ: the upper faces map into the texture's top row (red),
+    // the lower faces into its bottom row (blue); the MTL names the texture.
+    stm::Image tex(2, 2, 4);
+    const uint8_t red[4] = {255, 0, 0, 255}, blue[4] = {0, 0, 255, 255};
+    for (int x = 0; x < 2; ++x) std::copy(red, red + 4, tex.at(x, 0)), std::copy(blue, blue + 4, tex.at(x, 1));
+    stm::write_png(tex, (dir / "tex.png").string());
+    std::ofstream(dir / "octa.mtl") << "newmtl m\nmap_Kd tex.png\n";
+    std::ofstream obj(dir / "octa.obj");
+    obj << "mtllib octa.mtl\nv 1 0 0\nv -1 0 0\nv 0 1 0\nv 0 -1 0\nv 0 0 1\nv 0 0 -1\n"
+           "vt 0.5 0.75\nvt 0.5 0.25\nusemtl m\n"
+           "f 1/1 3/1 5/1\nf 3/1 2/1 5/1\nf 2/2 4/2 5/2\nf 4/2 1/2 5/2\n"
+           "f 3/1 1/1 6/1\nf 2/1 3/1 6/1\nf 4/2 2/2 6/2\nf 1/2 4/2 6/2\n";
+  }
+  const std::string textured = (dir / "textured.png").string();
+  REQUIRE(run("render " + (dir / "octa.obj").string() + " -o " + textured +
+              " --width 160 --height 120 --unlit --azimuth 0 --elevation 0") == 0);
+  const stm::Image t = stm::read_png(textured);
+  CHECK((t.at(80, 50)[0] == 255 && t.at(80, 50)[2] == 0));  // above the equator: red
+  CHECK((t.at(80, 70)[0] == 0 && t.at(80, 70)[2] == 255));  // below: blue
+  const std::string out2 = (dir / "none.png").string();
+  CHECK(run("render " + (dir / "missing.off").string() + " -o " + out2) == 2);
+  CHECK(!fs::exists(out2));
+  CHECK(run("render " + (dir / "octa.off").string() + " -o " + out2 + " --texture " + (dir / "t.png").string()) == 2);
+  CHECK(!fs::exists(out2));
+  fs::remove_all(dir);
+}
