@@ -11,6 +11,7 @@ Command add_skeleton_command(CLI::App& parent) {
   struct Opts {
     std::string mesh, out, obj;
     bool json = false;
+    stm::SkeletonOptions sk;
   };
   auto o = std::make_shared<Opts>();
   auto* app = parent.add_subcommand(
@@ -20,10 +21,15 @@ Command add_skeleton_command(CLI::App& parent) {
   app->add_option("-o,--output", o->out, "Output skeleton JSON file")->required();
   app->add_option("--obj", o->obj, "Also write the skeleton as an OBJ polyline");
   app->add_flag("--json", o->json, "Print the summary as one JSON object");
+  app->add_flag("--cotangent", o->sk.contraction.cotangent,
+                "Contract with cotangent weights (Au et al.) instead of uniform weights");
+  app->add_option("--laplacian-weight", o->sk.contraction.laplacian_weight, "Initial Laplacian weight (relative)");
+  app->add_option("--laplacian-scale", o->sk.contraction.laplacian_scale, "Growth of the Laplacian weight per iteration");
+  app->add_option("--sampling-weight", o->sk.sampling_weight, "Weight of the sampling term of the collapse cost");
   return {app, [o]() {
             const stm::Mesh mesh = stm::load_mesh(o->mesh);
             stm::SkeletonStats st;
-            const stm::Skeleton sk = stm::extract_skeleton(mesh, {}, progress, &st);
+            const stm::Skeleton sk = stm::extract_skeleton(mesh, o->sk, progress, &st);
             stm::write_skeleton_json(sk, o->out);
             if (!o->obj.empty()) stm::write_skeleton_obj(sk, o->obj);
             nlohmann::json j = {{"nodes", sk.nodes.size()},

@@ -295,19 +295,32 @@ void refine(Graph& g, const Eigen::MatrixX3d& O, const InsideMesh& in, double di
     return true;
   };
 
-  // Positions: centre of the original vertices, pulled back toward the contracted position when
-  // that leaves the volume.
-  for (int a = 0; a < n; ++a) {
-    if (node_ok(a, g.pos[a], -1)) continue;
+  // Positions: centre of the original vertices; when that leaves the volume (or lies on the
+  // surface, as the centre of a flat cap does) or an edge crosses the surface, pulled back toward
+  // the contracted position, then nudged along the node's edges into the volume.
+  auto place = [&](int a) {
+    if (node_ok(a, g.pos[a], -1)) return;
     const Eigen::Vector3d target = g.pos[a], back = g.fallback[a];
-    bool placed = false;
-    for (double t = 0.75; t > 0.01 && !placed; t -= 0.25) {
+    for (double t = 0.75; t > 0.01; t -= 0.25) {
       const Eigen::Vector3d q = back + t * (target - back);
-      if (node_ok(a, q, -1)) g.pos[a] = q, placed = true;
+      if (node_ok(a, q, -1)) {
+        g.pos[a] = q;
+        return;
+      }
     }
-    if (!placed && node_ok(a, back, -1)) g.pos[a] = back;
-  }
-
+    if (node_ok(a, back, -1)) {
+      g.pos[a] = back;
+      return;
+    }
+    for (double t : {0.02, 0.05, 0.1, 0.2, 0.35, 0.5})
+      for (int b : adj[a]) {
+        const Eigen::Vector3d q = target + t * (g.pos[b] - target);
+        if (node_ok(a, q, -1)) {
+          g.pos[a] = q;
+          return;
+        }
+      }
+  };
   const double min_branch = opt.min_branch * diag;
   for (bool changed = true; changed;) {
     changed = false;
@@ -347,9 +360,12 @@ void refine(Graph& g, const Eigen::MatrixX3d& O, const InsideMesh& in, double di
       if (touched[a] || touched[b] || !alive[a] || !alive[b]) continue;
       // Keep the node with more vertices, so ends and junctions stay where the mass is.
       const bool keep_a = g.verts[a].size() >= g.verts[b].size();
-      if (merge(keep_a ? a : b, keep_a ? b : a, false)) touched[a] = touched[b] = 1, changed = true;
+      if (merge(keep_a ? a : b, keep_a ? b : a, true)) touched[a] = touched[b] = 1, changed = true;
     }
   }
+
+  for (int a = 0; a < n; ++a)
+    if (alive[a]) place(a);
 
   Graph out;
   std::vector<int> id(n, -1);
