@@ -177,6 +177,7 @@ ContractResult contract_mesh(const Eigen::MatrixX3d& V0, const Eigen::MatrixX3i&
     V = Vn;
 
     const double area = face_areas(V, fa, va);
+    const double previous = ratio;
     ratio = area / area0;
     res.area_ratio.push_back(ratio);
     res.iterations = it + 1;
@@ -192,6 +193,9 @@ ContractResult contract_mesh(const Eigen::MatrixX3d& V0, const Eigen::MatrixX3i&
       WH[i] = pinned[i] ? 1.0 : std::sqrt(1.0 / r);
     }
     WL = std::min(WL * opt.laplacian_scale, WL0 * opt.max_laplacian_growth);
+    // Stagnation: once the shape is thin, an iteration that no longer halves the area only
+    // costs time (the surgery copes with the rest).
+    if (ratio < 1e-3 && ratio > 0.5 * previous) break;
   }
   res.positions = V;
   return res;
