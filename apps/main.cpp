@@ -16,6 +16,7 @@ int main(int argc, char** argv) {
       sdm_cli::add_info_command(app),
       sdm_cli::add_convert_command(app),
       sdm_cli::add_render_command(app),
+      sdm_cli::add_skeleton_command(app),
   };
   try {
     app.parse(argc, argv);

@@ -1,0 +1,459 @@
+#include "libstm/extract_skeleton.h"
+
+#include "libstm/inside_mesh.h"
+
+#include <algorithm>
+#include <array>
+#include <chrono>
+#include <cmath>
+#include <map>
+#include <numeric>
+#include <queue>
+#include <set>
+
+namespace stm {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+double seconds_since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
+
+void insert_sorted(std::vector<int>& v, int x) {
+  auto it = std::lower_bound(v.begin(), v.end(), x);
+  if (it == v.end() || *it != x) v.insert(it, x);
+}
+void erase_sorted(std::vector<int>& v, int x) {
+  auto it = std::lower_bound(v.begin(), v.end(), x);
+  if (it != v.end() && *it == x) v.erase(it);
+}
+
+// The result of surgery for one part: graph on surviving vertices and the cluster of each.
+struct Graph {
+  std::vector<Eigen::Vector3d> pos;       // node position
+  std::vector<Eigen::Vector3d> fallback;  // contracted position, used when pos must be pulled in
+  std::vector<std::vector<int>> verts;    // original (part-local) vertices per node
+  std::set<std::pair<int, int>> edges;
+};
+
+// Connectivity surgery: edge collapse of the contracted mesh as a simplicial complex until no
+// face is left.
+Graph surgery(const Eigen::MatrixX3d& O, const Eigen::MatrixX3d& P, const Eigen::MatrixX3i& F, const InsideMesh& in,
+              const SkeletonOptions& opt, SkeletonStats& st) {
+  const int n = int(P.rows()), m = int(F.rows());
+  std::vector<std::vector<int>> nbr(n), vfaces(n);
+  std::vector<std::array<int, 3>> faces(m);
+  std::vector<char> face_alive(m, 1), alive(n, 1);
+  for (int f = 0; f < m; ++f) {
+    for (int k = 0; k < 3; ++k) {
+      faces[f][k] = F(f, k);
+      vfaces[F(f, k)].push_back(f);
+      nbr[F(f, k)].push_back(F(f, (k + 1) % 3));
+      nbr[F(f, (k + 1) % 3)].push_back(F(f, k));
+    }
+  }
+  for (auto& v : nbr) {
+    std::sort(v.begin(), v.end());
+    v.erase(std::unique(v.begin(), v.end()), v.end());
+  }
+  int faces_left = m;
+  std::vector<Eigen::Matrix4d> Q(n, Eigen::Matrix4d::Zero());
+  for (int i = 0; i < n; ++i)
+    for (int k : nbr[i]) {
+      Eigen::Vector3d a = P.row(k) - P.row(i);
+      const double len = a.norm();
+      if (!(len > 0)) continue;
+      a /= len;
+      Eigen::Matrix<double, 3, 4> K;
+      K << 0, -a.z(), a.y(), 0, a.z(), 0, -a.x(), 0, -a.y(), a.x(), 0, 0;
+      K.col(3) = -a.cross(Eigen::Vector3d(P.row(i)));
+      Q[i] += K.transpose() * K;
+    }
+  std::vector<Eigen::Vector3d> csum(n);
+  std::vector<int> ccount(n, 1), parent(n);
+  for (int i = 0; i < n; ++i) csum[i] = O.row(i), parent[i] = i;
+  auto centroid = [&](int i) { return Eigen::Vector3d(csum[i] / ccount[i]); };
+
+  auto has_face = [&](int i, int j) {
+    for (int f : vfaces[i])
+      if (faces[f][0] == j || faces[f][1] == j || faces[f][2] == j) return true;
+    return false;
+  };
+  auto has_triangle = [&](int i, int j, int k) {
+    for (int f : vfaces[i]) {
+      const auto& t = faces[f];
+      const bool hj = t[0] == j || t[1] == j || t[2] == j, hk = t[0] == k || t[1] == k || t[2] == k;
+      if (hj && hk) return true;
+    }
+    return false;
+  };
+  auto cost = [&](int i, int j) {
+    const Eigen::Vector4d pj(P(j, 0), P(j, 1), P(j, 2), 1.0);
+    const double shape = pj.dot((Q[i] + Q[j]) * pj);
+    double ring = 0;
+    for (int k : nbr[i]) ring += (P.row(i) - P.row(k)).norm();
+    const double sampling = (P.row(i) - P.row(j)).norm() * ring;
+    return opt.shape_weight * shape + opt.sampling_weight * sampling;
+  };
+  // Collapsing i into j kills the loop i-j-k of every common neighbour k without a triangle ijk.
+  // Allowed only when the loop bounds a disk inside the volume (a cross-section of a tube), not
+  // when it goes around a handle: tested on the triangle of the cluster centroids, shrunk a
+  // little because single-vertex clusters lie on the surface.
+  auto keeps_cycles = [&](int i, int j) {
+    std::vector<int> common;
+    std::set_intersection(nbr[i].begin(), nbr[i].end(), nbr[j].begin(), nbr[j].end(), std::back_inserter(common));
+    for (int k : common) {
+      if (has_triangle(i, j, k)) continue;
+      const Eigen::Vector3d a = centroid(i), b = centroid(j), c = centroid(k);
+      const Eigen::Vector3d g = (a + b + c) / 3.0;
+      if (in.triangle_crosses(g + 0.9 * (a - g), g + 0.9 * (b - g), g + 0.9 * (c - g))) return false;
+    }
+    return true;
+  };
+
+  struct Entry {
+    double cost;
+    int i, j;
+    unsigned si, sj;
+    bool operator>(const Entry& o) const {
+      if (cost != o.cost) return cost > o.cost;
+      if (i != o.i) return i > o.i;
+      return j > o.j;
+    }
+  };
+  std::vector<unsigned> stamp(n, 0);
+  std::priority_queue<Entry, std::vector<Entry>, std::greater<Entry>> pq;
+  auto push = [&](int i, int j) {
+    if (has_face(i, j)) pq.push({cost(i, j), i, j, stamp[i], stamp[j]});
+  };
+  for (int i = 0; i < n; ++i)
+    for (int j : nbr[i]) push(i, j);
+
+  auto collapse = [&](int i, int j) {
+    for (int f : std::vector<int>(vfaces[i])) {
+      auto& t = faces[f];
+      const bool hj = t[0] == j || t[1] == j || t[2] == j;
+      bool kill = hj;
+      if (!hj) {
+        for (int& x : t)
+          if (x == i) x = j;
+        for (int g : vfaces[j]) {
+          const auto& u = faces[g];
+          if (std::is_permutation(u.begin(), u.end(), t.begin())) kill = true;
+        }
+      }
+      if (kill) {
+        face_alive[f] = 0;
+        --faces_left;
+        for (int x : t) {
+          auto& vf = vfaces[x == i ? i : x];
+          vf.erase(std::remove(vf.begin(), vf.end(), f), vf.end());
+        }
+        auto& vi = vfaces[i];
+        vi.erase(std::remove(vi.begin(), vi.end(), f), vi.end());
+      } else {
+        vfaces[j].push_back(f);
+      }
+    }
+    vfaces[i].clear();
+    for (int k : nbr[i]) {
+      erase_sorted(nbr[k], i);
+      if (k == j) continue;
+      insert_sorted(nbr[k], j);
+      insert_sorted(nbr[j], k);
+    }
+    nbr[i].clear();
+    Q[j] += Q[i];
+    csum[j] += csum[i];
+    ccount[j] += ccount[i];
+    parent[i] = j;
+    alive[i] = 0;
+    ++stamp[j];
+    for (int k : nbr[j]) ++stamp[k];
+    for (int k : nbr[j]) {
+      push(j, k);
+      push(k, j);
+      for (int l : nbr[k])
+        if (l != j) push(k, l);
+    }
+  };
+
+  while (faces_left > 0) {
+    if (pq.empty()) {
+      // Every remaining collapse would break a cycle: take the cheapest anyway.
+      double best = std::numeric_limits<double>::infinity();
+      int bi = -1, bj = -1;
+      for (int f = 0; f < m; ++f) {
+        if (!face_alive[f]) continue;
+        for (int k = 0; k < 3; ++k)
+          for (int s = 0; s < 2; ++s) {
+            const int i = faces[f][(k + s) % 3], j = faces[f][(k + 1 - s + 3) % 3];
+            const double c = cost(i, j);
+            if (c < best || (c == best && std::make_pair(i, j) < std::make_pair(bi, bj))) best = c, bi = i, bj = j;
+          }
+      }
+      if (bi < 0) break;
+      ++st.forced_collapses;
+      collapse(bi, bj);
+      continue;
+    }
+    const Entry e = pq.top();
+    pq.pop();
+    if (!alive[e.i] || !alive[e.j] || e.si != stamp[e.i] || e.sj != stamp[e.j]) continue;
+    if (!has_face(e.i, e.j)) continue;
+    if (!keeps_cycles(e.i, e.j)) {
+      ++st.refused_collapses;
+      continue;
+    }
+    collapse(e.i, e.j);
+  }
+
+  Graph g;
+  std::vector<int> node_of(n, -1);
+  for (int i = 0; i < n; ++i)
+    if (alive[i]) {
+      node_of[i] = int(g.pos.size());
+      g.pos.push_back(centroid(i));
+      g.fallback.push_back(P.row(i));
+      g.verts.emplace_back();
+    }
+  for (int v = 0; v < n; ++v) {
+    int r = v;
+    while (parent[r] != r) r = parent[r];
+    g.verts[node_of[r]].push_back(v);
+  }
+  for (int i = 0; i < n; ++i)
+    if (alive[i])
+      for (int k : nbr[i])
+        if (i < k) g.edges.insert({node_of[i], node_of[k]});
+  return g;
+}
+
+// Refinement on the graph: short end branches and short edges merged, positions kept inside.
+void refine(Graph& g, const Eigen::MatrixX3d& O, const InsideMesh& in, double diag, const SkeletonOptions& opt) {
+  const int n = int(g.pos.size());
+  std::vector<char> alive(n, 1);
+  std::vector<std::vector<int>> adj(n);
+  for (const auto& e : g.edges) adj[e.first].push_back(e.second), adj[e.second].push_back(e.first);
+  for (auto& a : adj) std::sort(a.begin(), a.end());
+  auto com = [&](const std::vector<int>& vs) {
+    Eigen::Vector3d c = Eigen::Vector3d::Zero();
+    for (int v : vs) c += O.row(v).transpose();
+    return Eigen::Vector3d(c / double(vs.size()));
+  };
+  auto radius = [&](int a) {
+    double r = 0;
+    for (int v : g.verts[a]) r += (O.row(v).transpose() - g.pos[a]).norm();
+    return r / g.verts[a].size();
+  };
+  auto node_ok = [&](int a, const Eigen::Vector3d& p, int skip) {
+    if (!in.inside(p)) return false;
+    for (int b : adj[a])
+      if (b != skip && in.segment_crosses(p, g.pos[b])) return false;
+    return true;
+  };
+  // Merges b into a; returns false (and changes nothing) when a's new position and edges cannot
+  // be kept inside or when a cycle would lose a segment below three.
+  auto merge = [&](int a, int b, bool force) {
+    std::vector<int> common;
+    std::set_intersection(adj[a].begin(), adj[a].end(), adj[b].begin(), adj[b].end(), std::back_inserter(common));
+    if (!common.empty()) return false;
+    std::vector<int> vs = g.verts[a];
+    vs.insert(vs.end(), g.verts[b].begin(), g.verts[b].end());
+    std::vector<int> nb;
+    for (int x : adj[a])
+      if (x != b) nb.push_back(x);
+    for (int x : adj[b])
+      if (x != a) nb.push_back(x);
+    Eigen::Vector3d p = com(vs);
+    auto ok = [&](const Eigen::Vector3d& q) {
+      if (!in.inside(q)) return false;
+      for (int x : nb)
+        if (in.segment_crosses(q, g.pos[x])) return false;
+      return true;
+    };
+    if (!ok(p)) {
+      const Eigen::Vector3d alt[2] = {g.pos[a], g.pos[b]};
+      bool found = false;
+      for (const auto& q : alt)
+        if (ok(q)) {
+          p = q, found = true;
+          break;
+        }
+      if (!found && !force) return false;
+      if (!found) p = g.pos[a];
+    }
+    g.verts[a] = std::move(vs);
+    g.verts[b].clear();
+    g.pos[a] = p;
+    alive[b] = 0;
+    for (int x : adj[b]) {
+      erase_sorted(adj[x], b);
+      if (x != a) insert_sorted(adj[x], a), insert_sorted(adj[a], x);
+    }
+    adj[b].clear();
+    erase_sorted(adj[a], b);
+    return true;
+  };
+
+  // Positions: centre of the original vertices; when that leaves the volume (or lies on the
+  // surface, as the centre of a flat cap does) or an edge crosses the surface, pulled back toward
+  // the contracted position, then nudged along the node's edges into the volume.
+  auto place = [&](int a) {
+    if (node_ok(a, g.pos[a], -1)) return;
+    const Eigen::Vector3d target = g.pos[a], back = g.fallback[a];
+    for (double t = 0.75; t > 0.01; t -= 0.25) {
+      const Eigen::Vector3d q = back + t * (target - back);
+      if (node_ok(a, q, -1)) {
+        g.pos[a] = q;
+        return;
+      }
+    }
+    if (node_ok(a, back, -1)) {
+      g.pos[a] = back;
+      return;
+    }
+    for (double t : {0.02, 0.05, 0.1, 0.2, 0.35, 0.5})
+      for (int b : adj[a]) {
+        const Eigen::Vector3d q = target + t * (g.pos[b] - target);
+        if (node_ok(a, q, -1)) {
+          g.pos[a] = q;
+          return;
+        }
+      }
+  };
+  const double min_branch = opt.min_branch * diag;
+  for (bool changed = true; changed;) {
+    changed = false;
+    // End branches shorter than min_branch: merged into the junction they hang from.
+    for (int a = 0; a < n; ++a) {
+      if (!alive[a] || adj[a].size() != 1) continue;
+      std::vector<int> chain = {a};
+      double len = 0;
+      int prev = a, cur = adj[a][0];
+      len += (g.pos[a] - g.pos[cur]).norm();
+      while (adj[cur].size() == 2 && len < min_branch) {
+        const int next = adj[cur][0] == prev ? adj[cur][1] : adj[cur][0];
+        chain.push_back(cur);
+        len += (g.pos[cur] - g.pos[next]).norm();
+        prev = cur, cur = next;
+      }
+      if (adj[cur].size() >= 3 && len < min_branch) {
+        for (auto it = chain.rbegin(); it != chain.rend(); ++it) merge(cur, *it, true);
+        changed = true;
+      }
+    }
+    // Short edges: shorter than the local radius (or than min_branch), shortest relative first.
+    std::vector<std::tuple<double, int, int>> cand;
+    for (int a = 0; a < n; ++a) {
+      if (!alive[a]) continue;
+      const double ra = radius(a);
+      for (int b : adj[a]) {
+        if (b < a) continue;
+        const double len = (g.pos[a] - g.pos[b]).norm();
+        const double lim = std::max(opt.segment_radius * std::min(ra, radius(b)), min_branch);
+        if (len < lim) cand.emplace_back(len / lim, a, b);
+      }
+    }
+    std::sort(cand.begin(), cand.end());
+    std::vector<char> touched(n, 0);
+    for (const auto& [r, a, b] : cand) {
+      if (touched[a] || touched[b] || !alive[a] || !alive[b]) continue;
+      // Keep the node with more vertices, so ends and junctions stay where the mass is.
+      const bool keep_a = g.verts[a].size() >= g.verts[b].size();
+      if (merge(keep_a ? a : b, keep_a ? b : a, true)) touched[a] = touched[b] = 1, changed = true;
+    }
+  }
+
+  for (int a = 0; a < n; ++a)
+    if (alive[a]) place(a);
+
+  Graph out;
+  std::vector<int> id(n, -1);
+  for (int a = 0; a < n; ++a)
+    if (alive[a]) {
+      id[a] = int(out.pos.size());
+      out.pos.push_back(g.pos[a]);
+      out.fallback.push_back(g.fallback[a]);
+      out.verts.push_back(std::move(g.verts[a]));
+    }
+  for (int a = 0; a < n; ++a)
+    if (alive[a])
+      for (int b : adj[a])
+        if (a < b) out.edges.insert({id[a], id[b]});
+  g = std::move(out);
+}
+
+}  // namespace
+
+Skeleton extract_skeleton(const Mesh& mesh, const SkeletonOptions& opt, const Progress& progress, SkeletonStats* stats) {
+  SkeletonStats st;
+  Skeleton sk;
+  const Eigen::MatrixX3d V = vertex_matrix(mesh);
+  const Eigen::MatrixX3i F = face_matrix(mesh);
+  const int n = int(V.rows()), m = int(F.rows());
+  sk.vertex_node.assign(n, -1);
+  // Connected parts, numbered by their smallest vertex.
+  std::vector<int> comp(n);
+  std::iota(comp.begin(), comp.end(), 0);
+  auto find = [&](int x) {
+    while (comp[x] != x) x = comp[x] = comp[comp[x]];
+    return x;
+  };
+  for (int f = 0; f < m; ++f)
+    for (int k = 1; k < 3; ++k) {
+      const int a = find(F(f, 0)), b = find(F(f, k));
+      if (a != b) comp[std::max(a, b)] = std::min(a, b);
+    }
+  std::map<int, std::vector<int>> part_faces;
+  for (int f = 0; f < m; ++f) part_faces[find(F(f, 0))].push_back(f);
+
+  for (const auto& [root, fs] : part_faces) {
+    (void)root;
+    ++st.parts;
+    std::vector<int> local(n, -1), global;
+    Eigen::MatrixX3i PF(fs.size(), 3);
+    for (size_t r = 0; r < fs.size(); ++r)
+      for (int k = 0; k < 3; ++k) {
+        const int v = F(fs[r], k);
+        if (local[v] < 0) local[v] = int(global.size()), global.push_back(v);
+        PF(r, k) = local[v];
+      }
+    Eigen::MatrixX3d PV(global.size(), 3);
+    for (size_t i = 0; i < global.size(); ++i) PV.row(i) = V.row(global[i]);
+    const double diag = (PV.colwise().maxCoeff() - PV.colwise().minCoeff()).norm();
+
+    auto t0 = Clock::now();
+    const ContractResult cr = contract_mesh(PV, PF, opt.contraction, progress);
+    st.contraction_seconds += seconds_since(t0);
+    st.iterations = std::max(st.iterations, cr.iterations);
+
+    t0 = Clock::now();
+    const InsideMesh in(PV, PF);
+    Graph g = surgery(PV, cr.positions, PF, in, opt, st);
+    st.surgery_seconds += seconds_since(t0);
+    if (progress) {
+      std::vector<int> deg(g.pos.size(), 0);
+      for (const auto& e : g.edges) ++deg[e.first], ++deg[e.second];
+      progress("surgery: " + std::to_string(g.pos.size()) + " nodes, " + std::to_string(g.edges.size()) + " edges, " +
+               std::to_string(std::count(deg.begin(), deg.end(), 1)) + " ends, refused " +
+               std::to_string(st.refused_collapses) + ", forced " + std::to_string(st.forced_collapses));
+    }
+
+    t0 = Clock::now();
+    refine(g, PV, in, diag, opt);
+    for (const auto& e : g.edges)
+      if (!in.segment_inside(g.pos[e.first], g.pos[e.second])) ++st.outside_edges;
+    st.refinement_seconds += seconds_since(t0);
+
+    const int base = int(sk.nodes.size());
+    for (size_t a = 0; a < g.pos.size(); ++a) {
+      sk.nodes.push_back(g.pos[a]);
+      for (int v : g.verts[a]) sk.vertex_node[global[v]] = base + int(a);
+    }
+    for (const auto& e : g.edges) sk.edges.push_back({base + e.first, base + e.second});
+  }
+  if (stats) *stats = st;
+  return sk;
+}
+
+}  // namespace stm

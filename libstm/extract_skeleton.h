@@ -1,0 +1,37 @@
+#pragma once
+// Curve-skeleton extraction (paper 3.1, Au et al. 2008): Laplacian contraction, connectivity
+// surgery of the contracted mesh into a 1-D graph, and refinement (nodes moved to the centre of
+// the original vertices they own, short edges and short end branches merged).
+#include "libstm/contract_mesh.h"
+#include "libstm/mesh.h"
+#include "libstm/skeleton.h"
+
+#include <vector>
+
+namespace stm {
+
+struct SkeletonOptions {
+  ContractOptions contraction;
+  double shape_weight = 1.0;       // Au et al.'s w_a (edge quadric: distance to incident edge lines)
+  double sampling_weight = 0.1;    // Au et al.'s w_b (keeps segment lengths even)
+  double min_branch = 0.01;        // end branches shorter than this fraction of the diagonal go
+  double segment_radius = 1.0;     // edges shorter than this multiple of the local radius are merged
+};
+
+struct SkeletonStats {
+  double contraction_seconds = 0, surgery_seconds = 0, refinement_seconds = 0;
+  int iterations = 0;              // contraction iterations (largest over the parts)
+  int parts = 0;
+  int refused_collapses = 0;       // collapses refused because they would break a cycle of the volume
+  int forced_collapses = 0;        // taken anyway because nothing else was left
+  int outside_edges = 0;           // edges still crossing the surface after refinement (should be 0)
+};
+
+// Extracts the curve skeleton of a closed triangle mesh, each connected part separately (one
+// graph component per part). Every vertex maps to exactly one node, every node owns at least one
+// vertex; a part of genus g gives a component with g independent cycles. Nodes are kept inside
+// the volume. Deterministic.
+Skeleton extract_skeleton(const Mesh& mesh, const SkeletonOptions& options = {}, const Progress& progress = nullptr,
+                          SkeletonStats* stats = nullptr);
+
+}  // namespace stm

@@ -1,0 +1,233 @@
+#include "libstm/contract_mesh.h"
+#include "libstm/extract_skeleton.h"
+#include "libstm/inside_mesh.h"
+#include "libstm/mesh.h"
+#include "libstm/skeleton.h"
+
+#include <catch2/catch.hpp>
+
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+
+namespace {
+
+// Builds a closed mesh from a grid of points (rows x cols, periodic in cols; periodic in rows too
+// when `torus`), closing the two ends of a tube with one apex vertex each.
+stm::Mesh grid_mesh(const std::vector<std::vector<Eigen::Vector3d>>& rows, bool torus, const Eigen::Vector3d* apex0 = nullptr,
+                    const Eigen::Vector3d* apex1 = nullptr) {
+  stm::Mesh m;
+  const int R = int(rows.size()), C = int(rows[0].size());
+  std::vector<std::vector<stm::Mesh::VertexHandle>> h(R);
+  for (int r = 0; r < R; ++r)
+    for (int c = 0; c < C; ++c) h[r].push_back(m.add_vertex({rows[r][c].x(), rows[r][c].y(), rows[r][c].z()}));
+  const int rr = torus ? R : R - 1;
+  for (int r = 0; r < rr; ++r)
+    for (int c = 0; c < C; ++c) {
+      const auto a = h[r][c], b = h[r][(c + 1) % C], cc = h[(r + 1) % R][(c + 1) % C], d = h[(r + 1) % R][c];
+      m.add_face(a, b, cc);
+      m.add_face(a, cc, d);
+    }
+  if (!torus) {
+    const auto p = m.add_vertex({apex0->x(), apex0->y(), apex0->z()});
+    const auto q = m.add_vertex({apex1->x(), apex1->y(), apex1->z()});
+    for (int c = 0; c < C; ++c) {
+      m.add_face(p, h[0][(c + 1) % C], h[0][c]);
+      m.add_face(q, h[R - 1][c], h[R - 1][(c + 1) % C]);
+    }
+  }
+  return m;
+}
+
+stm::Mesh torus_mesh(double R, double r, int nu, int nv) {
+  std::vector<std::vector<Eigen::Vector3d>> rows(nu);
+  for (int i = 0; i < nu; ++i)
+    for (int j = 0; j < nv; ++j) {
+      const double u = 2 * M_PI * i / nu, v = 2 * M_PI * j / nv;
+      rows[i].emplace_back((R + r * std::cos(v)) * std::cos(u), (R + r * std::cos(v)) * std::sin(u), r * std::sin(v));
+    }
+  return grid_mesh(rows, true);
+}
+
+// Tube of radius r along z from 0 to length; flat caps (rings shrinking to the axis) or
+// hemispherical caps.
+stm::Mesh tube_mesh(double r, double length, int rings, int around, bool capsule) {
+  std::vector<std::vector<Eigen::Vector3d>> rows;
+  const int cap = 6;
+  auto ring = [&](double z, double rad) {
+    rows.emplace_back();
+    for (int j = 0; j < around; ++j) {
+      const double a = 2 * M_PI * j / around;
+      rows.back().emplace_back(rad * std::cos(a), rad * std::sin(a), z);
+    }
+  };
+  for (int k = 1; k < cap; ++k) {
+    const double t = double(k) / cap;
+    if (capsule) ring(-r * std::cos(t * M_PI / 2), r * std::sin(t * M_PI / 2));
+    else ring(0, r * t);
+  }
+  for (int k = 0; k <= rings; ++k) ring(length * k / rings, r);
+  for (int k = cap - 1; k >= 1; --k) {
+    const double t = double(k) / cap;
+    if (capsule) ring(length + r * std::cos(t * M_PI / 2), r * std::sin(t * M_PI / 2));
+    else ring(length, r * t);
+  }
+  const Eigen::Vector3d a0(0, 0, capsule ? -r : 0), a1(0, 0, capsule ? length + r : length);
+  return grid_mesh(rows, false, &a0, &a1);
+}
+
+void check_map(const stm::Skeleton& s, const stm::Mesh& m) {
+  REQUIRE(s.vertex_node.size() == m.n_vertices());
+  std::vector<int> owned(s.nodes.size(), 0);
+  for (int n : s.vertex_node) {
+    REQUIRE(n >= 0);
+    REQUIRE(n < int(s.nodes.size()));
+    ++owned[n];
+  }
+  for (int c : owned) CHECK(c > 0);
+}
+
+int outside_samples(const stm::Skeleton& s, const stm::Mesh& m) {
+  const stm::InsideMesh in(m);
+  int bad = 0;
+  for (const auto& e : s.edges)
+    for (int k = 0; k <= 20; ++k) {
+      const double t = k / 20.0;
+      bad += !in.inside((1 - t) * s.nodes[e[0]] + t * s.nodes[e[1]]);
+    }
+  return bad;
+}
+
+}  // namespace
+
+TEST_CASE("inside test agrees with the analytic torus", "[skeleton]") {
+  const stm::Mesh m = torus_mesh(2.0, 0.5, 64, 24);
+  const stm::InsideMesh in(m);
+  CHECK(in.inside({2.0, 0, 0}));
+  CHECK(in.inside({0, -2.3, 0.1}));
+  CHECK_FALSE(in.inside({0, 0, 0}));  // the hole
+  CHECK_FALSE(in.inside({3.0, 0, 0}));
+  CHECK(in.segment_crosses({0, 0, 0}, {2, 0, 0}));
+  CHECK_FALSE(in.segment_crosses({2, 0, 0}, {0, 2, 0.0}) == false);  // the chord leaves the tube
+  CHECK_FALSE(in.segment_crosses({2, 0, 0}, {2 * std::cos(0.2), 2 * std::sin(0.2), 0}));
+}
+
+TEST_CASE("contraction shrinks the area and keeps a tube on its axis", "[skeleton]") {
+  const stm::Mesh m = tube_mesh(0.5, 4.0, 40, 24, true);
+  const stm::ContractResult r = stm::contract_mesh(m);
+  REQUIRE(r.iterations > 0);
+  CHECK(r.area_ratio.back() < 1e-3);
+  double worst = 0;
+  for (int i = 0; i < r.positions.rows(); ++i) worst = std::max(worst, std::hypot(r.positions(i, 0), r.positions(i, 1)));
+  CHECK(worst < 0.05 * 0.5);
+}
+
+TEST_CASE("torus: one cycle, every vertex mapped, inside", "[skeleton]") {
+  const stm::Mesh m = torus_mesh(2.0, 0.5, 64, 16);
+  stm::SkeletonStats st;
+  const stm::Skeleton s = stm::extract_skeleton(m, {}, nullptr, &st);
+  CHECK(s.cycles() == 1);
+  CHECK(s.components() == 1);
+  check_map(s, m);
+  CHECK(outside_samples(s, m) == 0);
+  for (const auto& p : s.nodes) CHECK(std::abs(std::hypot(p.x(), p.y()) - 2.0) < 0.1 * 0.5);
+}
+
+TEST_CASE("cylinder and capsule: nodes on the axis, spanning it", "[skeleton]") {
+  for (bool capsule : {false, true}) {
+    const double r = 0.5, L = 4.0;
+    const stm::Mesh m = tube_mesh(r, L, 40, 24, capsule);
+    const stm::Skeleton s = stm::extract_skeleton(m);
+    INFO((capsule ? "capsule" : "cylinder"));
+    CHECK(s.cycles() == 0);
+    CHECK(s.end_nodes() == 2);
+    CHECK(s.branch_nodes() == 0);
+    check_map(s, m);
+    double zmin = 1e9, zmax = -1e9;
+    for (const auto& p : s.nodes) {
+      CHECK(std::hypot(p.x(), p.y()) < 0.02 * r);
+      zmin = std::min(zmin, p.z()), zmax = std::max(zmax, p.z());
+    }
+    CHECK(zmax - zmin >= 0.9 * L);
+    CHECK(outside_samples(s, m) == 0);
+  }
+}
+
+TEST_CASE("two parts give two skeletons", "[skeleton]") {
+  stm::Mesh m = torus_mesh(2.0, 0.5, 48, 12);
+  const stm::Mesh t = tube_mesh(0.5, 3.0, 30, 16, true);
+  std::vector<stm::Mesh::VertexHandle> h;
+  for (auto v : t.vertices()) {
+    auto p = t.point(v);
+    h.push_back(m.add_vertex({p[0] + 10, p[1], p[2]}));
+  }
+  for (auto f : t.faces()) {
+    std::vector<stm::Mesh::VertexHandle> fv;
+    for (auto v : t.fv_range(f)) fv.push_back(h[v.idx()]);
+    m.add_face(fv);
+  }
+  const stm::Skeleton s = stm::extract_skeleton(m);
+  CHECK(s.components() == 2);
+  CHECK(s.cycles() == 1);
+  check_map(s, m);
+  // No edge joins the parts.
+  for (const auto& e : s.edges) CHECK((s.nodes[e[0]].x() > 5) == (s.nodes[e[1]].x() > 5));
+}
+
+TEST_CASE("real meshes: cycles equal genus", "[skeleton]") {
+  const std::vector<std::pair<std::string, int>> cases = {
+      {"double-torus-example.off", 2}, {"rotor.off", 1}, {"anchor_dense.off", 4}, {"blobby.off", 0}, {"retinal.off", 0}};
+  for (const auto& [name, genus] : cases) {
+    INFO(name);
+    const stm::Mesh m = stm::load_mesh(std::string(SDM_TEST_DATA) + "/" + name);
+    const stm::Skeleton s = stm::extract_skeleton(m);
+    CHECK(s.cycles() == genus);
+    CHECK(s.components() == 1);
+    check_map(s, m);
+  }
+}
+
+TEST_CASE("same input gives the same skeleton; a rotated input the rotated one", "[skeleton]") {
+  const stm::Mesh m = stm::load_mesh(std::string(SDM_TEST_DATA) + "/double-torus-example.off");
+  const auto a = stm::skeleton_to_json(stm::extract_skeleton(m)).dump();
+  const auto b = stm::skeleton_to_json(stm::extract_skeleton(m)).dump();
+  CHECK(a == b);
+  stm::Mesh rot = m;
+  const Eigen::Matrix3d R = Eigen::AngleAxisd(0.7, Eigen::Vector3d(1, 2, 3).normalized()).toRotationMatrix();
+  for (auto v : rot.vertices()) {
+    const Eigen::Vector3d p = R * stm::point(m, v);
+    rot.set_point(v, {p.x(), p.y(), p.z()});
+  }
+  const stm::Skeleton s0 = stm::extract_skeleton(m), s1 = stm::extract_skeleton(rot);
+  CHECK(s1.cycles() == s0.cycles());
+  REQUIRE(s1.nodes.size() == s0.nodes.size());
+  const double diag = stm::bounding_box_diagonal(m);
+  for (size_t i = 0; i < s0.nodes.size(); ++i) CHECK((R * s0.nodes[i] - s1.nodes[i]).norm() < 1e-6 * diag);
+}
+
+TEST_CASE("sdm skeleton writes JSON and refuses an open mesh", "[skeleton]") {
+  namespace fs = std::filesystem;
+  const fs::path dir = fs::temp_directory_path() / "sdm_test_skeleton";
+  fs::create_directories(dir);
+  const std::string out = (dir / "s.json").string();
+  fs::remove(out);
+  const std::string cmd = std::string(SDM_BINARY) + " skeleton " + SDM_TEST_DATA + "/rotor.off -o " + out + " --json > " +
+                          (dir / "stdout.txt").string() + " 2>/dev/null";
+  REQUIRE(std::system(cmd.c_str()) == 0);
+  const stm::Skeleton s = stm::read_skeleton_json(out);
+  CHECK(s.cycles() == 1);
+  std::ifstream js((dir / "stdout.txt").string());
+  const auto j = nlohmann::json::parse(js);
+  CHECK(j.at("cycles").get<int>() == 1);
+
+  // An open mesh (a single quad) must be refused with exit code 2 and no output.
+  const std::string open = (dir / "open.obj").string();
+  std::ofstream(open) << "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3\nf 1 3 4\n";
+  const std::string bad_out = (dir / "bad.json").string();
+  fs::remove(bad_out);
+  const int rc = std::system((std::string(SDM_BINARY) + " skeleton " + open + " -o " + bad_out + " 2>/dev/null").c_str());
+  CHECK(WEXITSTATUS(rc) == 2);
+  CHECK_FALSE(fs::exists(bad_out));
+}
