@@ -4,6 +4,7 @@
 #include "libstm/image.h"
 #include "libstm/mesh.h"
 #include "libstm/render_mesh.h"
+#include "libstm/render_skeleton.h"
 #include "libstm/validate_mesh.h"
 
 #include <memory>
@@ -12,7 +13,7 @@ namespace sdm_cli {
 
 Command add_render_command(CLI::App& parent) {
   struct Opts {
-    std::string mesh, output, texture;
+    std::string mesh, output, texture, skeleton;
     int width = 800, height = 800;
     double azimuth = 30, elevation = 20;
     bool unlit = false, orthographic = false, flat = false, no_texture = false, json = false;
@@ -34,6 +35,7 @@ Command add_render_command(CLI::App& parent) {
   app->add_flag("--unlit", o->unlit, "No shading: draw the texture (or flat) colour as it is, for pixel comparisons");
   app->add_flag("--orthographic", o->orthographic, "Orthographic instead of perspective (30 degree) projection");
   app->add_flag("--flat", o->flat, "Flat shading with face normals");
+  app->add_option("--skeleton", o->skeleton, "Skeleton (.json from 'sdm skeleton') drawn over a semi-transparent mesh");
   app->add_flag("--json", o->json, "Print one JSON object describing the render");
   return {app, [o]() {
             // A picture is useful for any mesh, so unlike the pipeline commands, render also draws open
@@ -69,7 +71,14 @@ Command add_render_command(CLI::App& parent) {
             ro.flat_shading = o->flat;
             if (!texture_path.empty()) ro.texture = &texture;
             std::vector<uint8_t> mask;
-            const stm::Image img = stm::render_mesh(gl, mesh, ro, &mask);
+            stm::Image img;
+            if (!o->skeleton.empty()) {
+              const stm::Skeleton sk = stm::read_skeleton_json(o->skeleton);
+              img = stm::render_with_skeleton(gl, mesh, sk, ro);
+              stm::render_mesh(gl, mesh, ro, &mask);
+            } else {
+              img = stm::render_mesh(gl, mesh, ro, &mask);
+            }
             stm::write_png(img, o->output);
             size_t covered = 0;
             for (uint8_t m : mask) covered += m ? 1 : 0;
