@@ -103,8 +103,9 @@ ImplicitShape crossed_cylinders_shape() {
 // piecewise-linear isosurface is a closed 2-manifold.
 
 Mesh polygonize(const Implicit& f, const Vec& lo_in, const Vec& hi_in, double h) {
-  const Vec lo = lo_in - Vec::Constant(2 * h);
-  const Vec hi = hi_in + Vec::Constant(2 * h);
+  // Smooth unions bulge out of the parts' boxes by up to k/4; the padding covers that.
+  const Vec lo = lo_in - Vec::Constant(2 * h + 0.1);
+  const Vec hi = hi_in + Vec::Constant(2 * h + 0.1);
   int n[3];
   for (int a = 0; a < 3; ++a) n[a] = static_cast<int>(std::ceil((hi[a] - lo[a]) / h)) + 1;
   auto gid = [&](int i, int j, int k) { return (static_cast<int64_t>(k) * n[1] + j) * n[0] + i; };
@@ -115,7 +116,12 @@ Mesh polygonize(const Implicit& f, const Vec& lo_in, const Vec& hi_in, double h)
   std::vector<double> value(static_cast<size_t>(n[0]) * n[1] * n[2]);
   for (int k = 0; k < n[2]; ++k)
     for (int j = 0; j < n[1]; ++j)
-      for (int i = 0; i < n[0]; ++i) value[gid(i, j, k)] = f(gpos(gid(i, j, k)));
+      for (int i = 0; i < n[0]; ++i) {
+        double v = f(gpos(gid(i, j, k)));
+        value[gid(i, j, k)] = v;
+        bool on_border = i == 0 || j == 0 || k == 0 || i == n[0] - 1 || j == n[1] - 1 || k == n[2] - 1;
+        if (on_border && v < 0) throw std::logic_error("primitive surface leaves its bounding box");
+      }
 
   std::vector<Vec> points;
   std::vector<std::array<int, 3>> triangles;
