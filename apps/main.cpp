@@ -17,6 +17,7 @@ int main(int argc, char** argv) {
       sdm_cli::add_convert_command(app),
       sdm_cli::add_render_command(app),
       sdm_cli::add_skeleton_command(app),
+      sdm_cli::add_primitive_command(app),
   };
   try {
     app.parse(argc, argv);

@@ -1,0 +1,52 @@
+#include "apps/commands.h"
+#include "libstm/isotropic_remesh.h"
+#include "libstm/mesh.h"
+#include "libstm/primitives.h"
+
+#include <memory>
+
+namespace sdm_cli {
+
+Command add_primitive_command(CLI::App& parent) {
+  struct Opts {
+    std::string name, output;
+    int resolution = 0;
+    bool json = false;
+  };
+  auto o = std::make_shared<Opts>();
+  std::string names;
+  for (const auto& n : stm::primitive_names()) names += (names.empty() ? "" : ", ") + n;
+  auto* app = parent.add_subcommand(
+      "primitive", "Write one of the paper's test shapes (or an analytic cylinder/capsule) as a closed 2-manifold\n"
+                   "triangle mesh with well-shaped triangles. Names: " + names);
+  app->add_option("name", o->name, "Shape: " + names)->required();
+  app->add_option("-o,--output", o->output, "Output mesh (.obj, .off, .ply, .stl)")->required();
+  app->add_option("--resolution", o->resolution,
+                  "Approximate number of vertices (0 = the paper's count for its shapes, 1200 for cylinder/capsule)")
+      ->check(CLI::NonNegativeNumber);
+  app->add_flag("--json", o->json, "Print one JSON object instead of text");
+  return {app, [o]() {
+            stm::Mesh mesh = stm::make_primitive(o->name, o->resolution);
+            stm::write_mesh(mesh, o->output);
+            const long v = static_cast<long>(mesh.n_vertices()), e = static_cast<long>(mesh.n_edges()),
+                       f = static_cast<long>(mesh.n_faces());
+            const long genus = (2 - (v - e + f)) / 2;  // every primitive is one closed part
+            const double min_angle = stm::min_triangle_angle_degrees(mesh);
+            if (o->json) {
+              print_json({{"name", o->name},
+                          {"file", o->output},
+                          {"vertices", v},
+                          {"faces", f},
+                          {"edges", e},
+                          {"genus", genus},
+                          {"min_angle_degrees", min_angle}});
+            } else {
+              std::cout << o->name << " -> " << o->output << "\n";
+              std::cout << "  vertices   " << v << "\n  faces      " << f << "\n  genus      " << genus << "\n";
+              std::cout << "  min angle  " << min_angle << " degrees\n";
+            }
+            return 0;
+          }};
+}
+
+}  // namespace sdm_cli

@@ -1,0 +1,181 @@
+#include "libstm/errors.h"
+#include "libstm/isotropic_remesh.h"
+#include "libstm/mesh.h"
+#include "libstm/primitives.h"
+#include "libstm/validate_mesh.h"
+
+#include <catch2/catch.hpp>
+#include <nlohmann/json.hpp>
+
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <fstream>
+#include <map>
+#include <sstream>
+#include <sys/wait.h>
+
+namespace {
+
+stm::MeshSoup soup_of(const stm::Mesh& mesh) {
+  stm::MeshSoup soup;
+  for (auto v : mesh.vertices()) soup.points.push_back(stm::point(mesh, v));
+  for (auto f : mesh.faces()) {
+    std::array<int, 3> t{};
+    int k = 0;
+    for (auto v : mesh.fv_range(f)) t[k++] = v.idx();
+    soup.triangles.push_back(t);
+  }
+  return soup;
+}
+
+double signed_volume(const stm::Mesh& mesh) {
+  double volume = 0;
+  for (auto f : mesh.faces()) {
+    auto it = mesh.cfv_begin(f);
+    Eigen::Vector3d a = stm::point(mesh, *it), b = stm::point(mesh, *++it), c = stm::point(mesh, *++it);
+    volume += a.dot(b.cross(c)) / 6.0;
+  }
+  return volume;
+}
+
+struct Expected {
+  int genus;
+  int vertices;
+};
+const std::map<std::string, Expected> kExpected = {
+    {"ypsilon", {0, 480}},           {"bottle", {1, 1530}},  {"donut", {1, 1728}}, {"triple-torus", {3, 2256}},
+    {"crossed-cylinders", {0, 3660}}, {"cylinder", {0, 1200}}, {"capsule", {0, 1200}}};
+
+}  // namespace
+
+TEST_CASE("every primitive is a closed, outward, well-shaped 2-manifold of the paper's genus and size", "[primitives]") {
+  REQUIRE(stm::primitive_names().size() == kExpected.size());
+  for (const auto& name : stm::primitive_names()) {
+    INFO(name);
+    REQUIRE(kExpected.count(name) == 1);
+    const Expected& e = kExpected.at(name);
+    stm::Mesh mesh = stm::make_primitive(name);
+    stm::MeshReport r = stm::validate_mesh(soup_of(mesh));
+    CHECK(r.usable());
+    CHECK(r.findings.empty());
+    CHECK(r.boundary_loops == 0);
+    REQUIRE(r.parts == 1);
+    CHECK(r.genus_per_part[0] == e.genus);
+    // Euler characteristic straight from the halfedge mesh as well.
+    long chi = static_cast<long>(mesh.n_vertices()) - static_cast<long>(mesh.n_edges()) + static_cast<long>(mesh.n_faces());
+    CHECK(chi == 2 - 2 * e.genus);
+    CHECK(std::abs(static_cast<double>(mesh.n_vertices()) - e.vertices) <= 0.25 * e.vertices);
+    CHECK(stm::min_triangle_angle_degrees(mesh) > stm::kPrimitiveMinAngleDegrees);
+    CHECK(signed_volume(mesh) > 0);  // outward normals
+
+    // Deterministic: a second call gives the very same mesh.
+    stm::Mesh again = stm::make_primitive(name);
+    REQUIRE(again.n_vertices() == mesh.n_vertices());
+    REQUIRE(again.n_faces() == mesh.n_faces());
+    bool same = true;
+    for (auto v : mesh.vertices()) same = same && mesh.point(v) == again.point(v);
+    for (auto f : mesh.faces()) {
+      auto a = mesh.cfv_begin(f);
+      auto b = again.cfv_begin(stm::Mesh::FaceHandle(f.idx()));
+      for (int k = 0; k < 3; ++k, ++a, ++b) same = same && a->idx() == b->idx();
+    }
+    CHECK(same);
+  }
+}
+
+TEST_CASE("cylinder and capsule vertices lie on their analytic surfaces", "[primitives]") {
+  // Cylinder: axis z, radius 1, z in [-1, 1], flat caps.
+  stm::Mesh cyl = stm::make_primitive("cylinder");
+  int side = 0, caps = 0;
+  for (auto v : cyl.vertices()) {
+    Eigen::Vector3d p = stm::point(cyl, v);
+    double rho = std::hypot(p.x(), p.y());
+    bool on_side = std::abs(rho - 1) < 1e-9 && std::abs(p.z()) <= 1 + 1e-9;
+    bool on_cap = std::abs(std::abs(p.z()) - 1) < 1e-9 && rho <= 1 + 1e-9;
+    CHECK((on_side || on_cap));
+    side += on_side && std::abs(p.z()) < 1 - 1e-9;
+    caps += on_cap;
+  }
+  CHECK(side > 0);
+  CHECK(caps > 0);
+  // Inscribed polyhedron: slightly less than pi r^2 h = 2 pi.
+  double v = signed_volume(cyl);
+  CHECK(v < 2 * M_PI);
+  CHECK(v > 0.99 * 2 * M_PI);
+
+  // Capsule: the same cylinder closed by unit hemispheres centred at (0, 0, +-1).
+  stm::Mesh cap = stm::make_primitive("capsule");
+  for (auto vh : cap.vertices()) {
+    Eigen::Vector3d p = stm::point(cap, vh);
+    double dist_to_axis_segment = (p - Eigen::Vector3d(0, 0, std::clamp(p.z(), -1.0, 1.0))).norm();
+    CHECK(std::abs(dist_to_axis_segment - 1) < 1e-9);
+  }
+  double vc = signed_volume(cap);
+  double exact = 2 * M_PI + 4.0 / 3.0 * M_PI;
+  CHECK(vc < exact);
+  CHECK(vc > 0.98 * exact);
+}
+
+TEST_CASE("the donut is a torus of radii 1 and 0.4", "[primitives]") {
+  stm::Mesh donut = stm::make_primitive("donut");
+  for (auto v : donut.vertices()) {
+    Eigen::Vector3d p = stm::point(donut, v);
+    CHECK(std::abs(std::hypot(std::hypot(p.x(), p.y()) - 1.0, p.z()) - 0.4) < 1e-9);
+  }
+  double exact = 2 * M_PI * M_PI * 1.0 * 0.4 * 0.4;
+  CHECK(signed_volume(donut) < exact);
+  CHECK(signed_volume(donut) > 0.98 * exact);
+}
+
+TEST_CASE("resolution is an approximate vertex count and keeps shape and topology", "[primitives]") {
+  for (const auto& [name, target] : std::vector<std::pair<std::string, int>>{{"ypsilon", 1500}, {"donut", 5000}, {"capsule", 400}}) {
+    INFO(name << " at " << target);
+    stm::Mesh mesh = stm::make_primitive(name, target);
+    stm::MeshReport r = stm::validate_mesh(soup_of(mesh));
+    CHECK(r.usable());
+    REQUIRE(r.parts == 1);
+    CHECK(r.genus_per_part[0] == kExpected.at(name).genus);
+    CHECK(std::abs(static_cast<double>(mesh.n_vertices()) - target) <= 0.1 * target);
+    CHECK(stm::min_triangle_angle_degrees(mesh) > stm::kPrimitiveMinAngleDegrees);
+  }
+  // The ypsilon's volume barely depends on the sampling: both meshes approximate one surface.
+  double coarse = signed_volume(stm::make_primitive("ypsilon")), fine = signed_volume(stm::make_primitive("ypsilon", 3000));
+  CHECK(std::abs(coarse - fine) < 0.03 * fine);
+}
+
+TEST_CASE("unknown primitive names and bad resolutions are input errors", "[primitives]") {
+  try {
+    stm::make_primitive("teapot");
+    FAIL("no exception");
+  } catch (const stm::InputError& e) {
+    std::string what = e.what();
+    CHECK(what.find("teapot") != std::string::npos);
+    for (const auto& n : stm::primitive_names()) CHECK(what.find(n) != std::string::npos);
+  }
+  CHECK_THROWS_AS(stm::make_primitive("donut", 10), stm::InputError);
+  CHECK_THROWS_AS(stm::make_primitive("donut", -5), stm::InputError);
+}
+
+TEST_CASE("sdm primitive writes a mesh that loads back with the same counts", "[primitives]") {
+  const std::string out = "test_primitives_bottle.ply", json = "test_primitives_bottle.json";
+  std::remove(out.c_str());
+  std::string cmd = std::string("\"") + SDM_BINARY + "\" primitive bottle -o " + out + " --json > " + json;
+  REQUIRE(std::system(cmd.c_str()) == 0);
+  std::ifstream in(json);
+  nlohmann::json j = nlohmann::json::parse(in);
+  stm::Mesh expected = stm::make_primitive("bottle");
+  stm::Mesh loaded = stm::load_mesh(out);
+  CHECK(loaded.n_vertices() == expected.n_vertices());
+  CHECK(loaded.n_faces() == expected.n_faces());
+  CHECK(j["vertices"].get<long>() == static_cast<long>(expected.n_vertices()));
+  CHECK(j["faces"].get<long>() == static_cast<long>(expected.n_faces()));
+  CHECK(j["genus"].get<int>() == 1);
+
+  // Unknown names exit with code 2 (bad input).
+  std::string bad = std::string("\"") + SDM_BINARY + "\" primitive teapot -o x.obj 2> /dev/null";
+  int status = std::system(bad.c_str());
+  CHECK(WEXITSTATUS(status) == 2);
+  std::remove(out.c_str());
+  std::remove(json.c_str());
+}
