@@ -26,17 +26,26 @@ double cos_between(const Vec& a, const Vec& b) {
 // normals of a reasonably sampled smooth surface differ by far less than this.
 constexpr double kFoldCos = 0.2;
 
+// In passes over the edges that exist when the pass starts: splitting new edges at once can run
+// away on needle triangles (each split of an edge next to a needle's far vertex makes another
+// long edge), while a bounded number of passes always ends; the later steps clean up the rest.
 void split_long_edges(Mesh& mesh, double high) {
   const double high2 = high * high;
-  for (size_t i = 0; i < mesh.n_edges(); ++i) {  // n_edges grows: new edges are visited too
-    auto e = mesh.edge_handle(static_cast<int>(i));
-    if (mesh.status(e).deleted()) continue;
-    auto h = mesh.halfedge_handle(e, 0);
-    Vec a = P(mesh, mesh.from_vertex_handle(h)), b = P(mesh, mesh.to_vertex_handle(h));
-    if ((a - b).squaredNorm() > high2) {
-      Vec m = 0.5 * (a + b);
-      mesh.split(e, Mesh::Point(m.x(), m.y(), m.z()));
+  for (int pass = 0; pass < 10; ++pass) {
+    bool split_any = false;
+    const size_t existing = mesh.n_edges();
+    for (size_t i = 0; i < existing; ++i) {
+      auto e = mesh.edge_handle(static_cast<int>(i));
+      if (mesh.status(e).deleted()) continue;
+      auto h = mesh.halfedge_handle(e, 0);
+      Vec a = P(mesh, mesh.from_vertex_handle(h)), b = P(mesh, mesh.to_vertex_handle(h));
+      if ((a - b).squaredNorm() > high2) {
+        Vec m = 0.5 * (a + b);
+        mesh.split(e, Mesh::Point(m.x(), m.y(), m.z()));
+        split_any = true;
+      }
     }
+    if (!split_any) break;
   }
 }
 

@@ -230,21 +230,22 @@ double surface_area(const Mesh& mesh) {
 }
 
 Mesh implicit_primitive(const ImplicitShape& s, int target_vertices) {
-  // A coarse polygonisation measures the area, which gives the edge length for the target count;
-  // the grid is then refined to a fraction of that edge length (and of the thinnest tube).
-  double h = s.thinnest / 3.0;
-  Mesh coarse = polygonize(s.f, s.lo, s.hi, h);
+  // The grid only has to capture the topology (a third of the thinnest tube radius does); the
+  // remeshing below refines or coarsens to the target edge length, projecting onto the surface.
+  const double h = s.thinnest / 3.0;
+  Mesh mesh = polygonize(s.f, s.lo, s.hi, h);
   // Remeshing keeps edges between 4/5 L and 4/3 L and ends up about 14 % denser than equilateral
   // triangles of side L (measured on these shapes), hence the factor.
-  double L = std::sqrt(1.14 * surface_area(coarse) / (kAreaPerVertex * target_vertices));
-  h = std::min(s.thinnest / 3.0, 0.6 * L);
-  Mesh mesh = polygonize(s.f, s.lo, s.hi, h);
+  double L = std::sqrt(1.14 * surface_area(mesh) / (kAreaPerVertex * target_vertices));
   const double max_step = 0.25 * s.thinnest;
   SurfaceProjection project = [&](const Vec& p) { return project_onto(s.f, p, max_step); };
   for (auto v : mesh.vertices()) {
     Vec p = project(point(mesh, v));
     mesh.set_point(v, Mesh::Point(p.x(), p.y(), p.z()));
   }
+  // The polygonisation has needles and slivers; cleaning them at the grid's own scale first keeps
+  // a much finer target from splitting them into more of the same.
+  if (L < h) isotropic_remesh(mesh, h, 3, project);
   isotropic_remesh(mesh, L, 6, project);
   // Remeshing lands a little off the ideal density; one correction of L fixes most of it.
   L *= std::sqrt(static_cast<double>(mesh.n_vertices()) / target_vertices);
@@ -407,9 +408,9 @@ Mesh make_primitive(const std::string& name, int resolution) {
     for (const auto& n : primitive_names()) list += (list.empty() ? "" : ", ") + n;
     throw InputError("unknown primitive '" + name + "'; valid names: " + list);
   }
-  if (resolution != 0 && (resolution < 200 || resolution > 2000000))
+  if (resolution != 0 && (resolution < 200 || resolution > 1000000))
     throw InputError("primitive resolution " + std::to_string(resolution) +
-                     " is out of range: give an approximate vertex count in [200, 2000000], or 0 for the default");
+                     " is out of range: give an approximate vertex count in [200, 1000000], or 0 for the default");
   const int target = resolution == 0 ? entry->default_vertices : resolution;
   const std::string n = entry->name;
   if (n == "ypsilon") return implicit_primitive(ypsilon_shape(), target);

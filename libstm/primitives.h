@@ -27,15 +27,17 @@ namespace stm {
 // and isotropically remeshed, their vertices projected onto the implicit surface; the donut,
 // cylinder and capsule are surfaces of revolution sampled exactly.
 // `resolution` is the approximate number of vertices wanted (the shape stays the same, only the
-// sampling density changes; the count lands within a few percent); 0 means the default above.
-// Throws InputError for an unknown name (the message lists the valid ones) or a resolution
-// outside [200, 2000000].
+// sampling density changes; the count usually lands within 5 %, within 15 % at the smallest
+// counts); 0 means the default above. Time grows about linearly (0.3 s for the bottle at its
+// default, a few seconds at 50000 vertices). Throws InputError for an unknown name (the message
+// lists the valid ones) or a resolution outside [200, 1000000].
 Mesh make_primitive(const std::string& name, int resolution = 0);
 
 // The valid names, in the order of the paper's Table I followed by the analytic shapes.
 std::vector<std::string> primitive_names();
 
-// The guaranteed lower bound on the smallest triangle angle of every primitive, in degrees.
+// A lower bound on the smallest triangle angle of every primitive, in degrees (measured: above 31
+// degrees for every shape at every resolution tried, from 200 to 50000 vertices).
 constexpr double kPrimitiveMinAngleDegrees = 20.0;
 
 }  // namespace stm
