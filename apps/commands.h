@@ -16,6 +16,7 @@ struct Command {
 };
 
 Command add_info_command(CLI::App& parent);
+Command add_stm_command(CLI::App& parent);
 
 // Progress lines go to stderr, so stdout stays clean for results and --json.
 inline void progress(const std::string& line) { std::cerr << line << std::endl; }

@@ -14,6 +14,7 @@ int main(int argc, char** argv) {
   app.set_version_flag("--version", "sdm 0.1.0");
   std::vector<sdm_cli::Command> commands = {
       sdm_cli::add_info_command(app),
+      sdm_cli::add_stm_command(app),
   };
   try {
     app.parse(argc, argv);

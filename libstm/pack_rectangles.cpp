@@ -6,6 +6,8 @@
 #include <array>
 #include <cmath>
 #include <numeric>
+#include <limits>
+#include <random>
 
 namespace stm {
 
@@ -131,6 +133,20 @@ bool try_scale(const std::vector<Eigen::Vector2d>& sizes, double s, int S, int m
             return true;
           }
   }
+  // Few rectangles leave the sorted orders few chances: also try fixed pseudo-random orders
+  // (a fixed seed keeps the result deterministic).
+  std::mt19937 rng(20240601u);
+  std::iota(order.begin(), order.end(), 0);
+  std::stable_sort(order.begin(), order.end(), [&](int i, int j) { return key(0, i) > key(0, j); });
+  for (int k = 0; k < 64 && n > 2; ++k) {
+    std::shuffle(order.begin(), order.end(), rng);
+    for (Split split : splits)
+      for (Score score : scores)
+        if (guillotine(outer, order, S, {0, Orient::Free, split, score}, out.placed, out.rotated)) {
+          out.inner = inner;
+          return true;
+        }
+  }
   return false;
 }
 
@@ -165,6 +181,17 @@ Packing pack_rectangles(const std::vector<Eigen::Vector2d>& sizes, int atlas_siz
   if (!found) {
     Attempt a;
     if (lo > 0 && try_scale(sizes, lo, atlas_size, margin, a)) best = std::move(a), found = true;
+  }
+  // Inner sizes are whole texels, so feasibility only changes where some floor(s * size) steps:
+  // climb those steps from the binary search's answer while the rectangles still fit.
+  for (int step = 0; found && step < 64; ++step) {
+    double next = std::numeric_limits<double>::infinity();
+    for (size_t i = 0; i < sizes.size(); ++i)
+      for (double side : {sizes[i].x(), sizes[i].y()}) next = std::min(next, (std::floor(lo * side) + 1) / side);
+    next *= 1 + 1e-12;
+    Attempt a;
+    if (!try_scale(sizes, next, atlas_size, margin, a)) break;
+    lo = next, best = std::move(a);
   }
   if (!found)
     throw InputError("the " + std::to_string(sizes.size()) + " rectangles do not fit into a " + std::to_string(atlas_size) +
