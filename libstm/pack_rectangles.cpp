@@ -152,17 +152,24 @@ bool try_scale(const std::vector<Eigen::Vector2d>& sizes, double s, int S, int m
 
 }  // namespace
 
-Packing pack_rectangles(const std::vector<Eigen::Vector2d>& sizes, int atlas_size, int margin) {
+Packing pack_rectangles(const std::vector<Eigen::Vector2d>& sizes_in, int atlas_size, int margin) {
   if (atlas_size < 1) throw InputError("atlas size must be positive, got " + std::to_string(atlas_size));
   if (margin < 0) throw InputError("margin must not be negative, got " + std::to_string(margin));
-  if (sizes.empty()) throw InputError("no rectangle to pack");
+  if (sizes_in.empty()) throw InputError("no rectangle to pack");
   double area = 0, max_side = 0;
-  for (const auto& s : sizes) {
+  for (const auto& s : sizes_in) {
     if (!(s.x() > 0) || !(s.y() > 0) || !std::isfinite(s.x()) || !std::isfinite(s.y()))
       throw InputError("rectangle sizes must be positive and finite");
     area += s.x() * s.y();
     max_side = std::max(max_side, std::max(s.x(), s.y()));
   }
+  // The best scale puts some rectangle exactly on a texel step; rounding the sizes to 2^-30 of the
+  // largest keeps float noise in the input (a rotated copy of the mesh) from flipping that step.
+  const double quantum = std::ldexp(max_side, -30);
+  std::vector<Eigen::Vector2d> sizes(sizes_in.size());
+  for (size_t i = 0; i < sizes.size(); ++i)
+    sizes[i] = {std::max(quantum, std::round(sizes_in[i].x() / quantum) * quantum),
+                std::max(quantum, std::round(sizes_in[i].y() / quantum) * quantum)};
   const double S = atlas_size;
   // Upper bound: inner areas alone fill the atlas, and the longest side fits.
   double hi = std::min(S / std::sqrt(area), (S - 2 * margin) / max_side) * (1 + 1e-9);

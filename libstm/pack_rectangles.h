@@ -7,7 +7,7 @@ namespace stm {
 
 struct PackedRect {
   int x = 0, y = 0;  // inner rectangle's lower-left corner in atlas texels (its margin lies around it)
-  int w = 0, h = 0;  // inner size in texels: w = floor(s * size.x()), h = floor(s * size.y())
+  int w = 0, h = 0;  // inner size in texels: floor(s * size), sizes rounded to 2^-30 of the largest
   bool rotated = false;  // false: w runs along atlas x and h along atlas y; true: swapped
 };
 

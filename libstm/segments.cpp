@@ -56,19 +56,31 @@ std::vector<int> assign_faces(const Mesh& mesh, const Skeleton& sk) {
     Eigen::Vector3d n = (p[1] - p[0]).cross(p[2] - p[0]);
     const double nn = n.norm();
     if (nn > 0) n /= nn;
+    // Exact ties (a face over a node shared by several segments) are common in symmetric
+    // tessellations, so each criterion compares with a tolerance and hands ties to the next one;
+    // float noise (a rotated copy of the mesh) then cannot flip the choice.
     int best_over = -1, best_near = -1;
-    double best_cos = std::numeric_limits<double>::infinity(), best_dist = best_cos;
+    double over_cos = 0, over_dist = 0, near_dist = 0, near_cos = 0, near_corners = 0;
+    const double tol = 1e-9;
     for (int e : cand) {
       const Eigen::Vector3d& a = sk.nodes[sk.edges[e][0]];
       const Eigen::Vector3d& b = sk.nodes[sk.edges[e][1]];
       double t = 0;
       const double dist = distance_to_segment(c, a, b, &t);
       const double len = (b - a).norm();
-      if (len > 0 && nn > 0 && t >= 0 && t <= 1) {
-        const double cs = std::abs(n.dot(b - a)) / len;
-        if (cs < best_cos) best_cos = cs, best_over = e;
+      const double cs = len > 0 && nn > 0 ? std::abs(n.dot(b - a)) / len : 1.0;
+      const double dtol = tol * (dist + len);
+      // Last tie-breaker: how far the corners are from the segment (a face centred on a node's
+      // plane still leans to one side with its corners).
+      const double corners = distance_to_segment(p[0], a, b) + distance_to_segment(p[1], a, b) + distance_to_segment(p[2], a, b);
+      const double ctol = tol * (corners + len);
+      if (len > 0 && nn > 0 && t >= -tol && t <= 1 + tol) {
+        if (best_over < 0 || cs < over_cos - tol || (cs <= over_cos + tol && corners < over_dist - ctol))
+          best_over = e, over_cos = cs, over_dist = corners;
       }
-      if (dist < best_dist) best_dist = dist, best_near = e;
+      if (best_near < 0 || dist < near_dist - dtol ||
+          (dist <= near_dist + dtol && (cs < near_cos - tol || (cs <= near_cos + tol && corners < near_corners - ctol))))
+        best_near = e, near_dist = dist, near_cos = cs, near_corners = corners;
     }
     result[f.idx()] = best_over >= 0 ? best_over : best_near;
     if (result[f.idx()] < 0) throw InputError("face " + std::to_string(f.idx()) + " has no skeleton segment in reach");
