@@ -1,0 +1,83 @@
+#include "apps/commands.h"
+#include "libstm/draw_atlas.h"
+#include "libstm/errors.h"
+#include "libstm/layout.h"
+#include "libstm/mesh.h"
+#include "libstm/skeleton.h"
+
+#include <filesystem>
+#include <iomanip>
+#include <memory>
+
+namespace sdm_cli {
+
+Command add_stm_command(CLI::App& parent) {
+  struct Opts {
+    std::string mesh, out, skeleton, uv_obj, atlas_png;
+    int size = 1024;
+    int margin = 4;
+    bool json = false;
+  };
+  auto o = std::make_shared<Opts>();
+  auto* app = parent.add_subcommand(
+      "stm", "Compute the skeleton texture map layout of a mesh: one capsule per skeleton segment, its\n"
+             "rectangle packed into one square atlas. Writes the layout (JSON, it includes the skeleton) and\n"
+             "prints the segments, the atlas coverage and the L2 stretch of the STM coordinates.");
+  app->add_option("mesh", o->mesh, "Input mesh (.obj, .off, .ply, .stl), closed and manifold")->required();
+  app->add_option("-o,--output", o->out, "Layout file to write (.json, format sdm-layout)")->required();
+  app->add_option("--skeleton", o->skeleton,
+                  "Use this skeleton (JSON, format sdm-skeleton, made for this mesh) instead of extracting one");
+  app->add_option("--size", o->size, "Atlas width and height in texels")->check(CLI::Range(16, 32768))->capture_default_str();
+  app->add_option("--margin", o->margin, "Texels of margin around every rectangle")->check(CLI::Range(0, 256))->capture_default_str();
+  app->add_option("--uv-obj", o->uv_obj, "Also write the mesh with its STM coordinates as uv (OBJ; seam vertices duplicated)");
+  app->add_option("--atlas-png", o->atlas_png, "Also draw the atlas: rectangles and each segment's triangles in its colour (PNG)");
+  app->add_flag("--json", o->json, "Print one JSON object instead of text");
+  return {app, [o]() {
+            if (o->skeleton.empty())
+              throw stm::InputError("no skeleton: pass --skeleton SKEL.json (skeleton extraction is not part of this build yet)");
+            stm::Mesh mesh = stm::load_mesh(o->mesh);
+            stm::Skeleton sk = stm::read_skeleton_json(o->skeleton);
+            stm::LayoutOptions opt;
+            opt.size = o->size;
+            opt.margin = o->margin;
+            opt.progress = progress;
+            const stm::Layout layout = stm::compute_layout(mesh, sk, opt);
+            const stm::StmCoordinates c = stm::stm_coordinates(mesh, layout);
+            stm::write_layout_json(layout, o->out);
+            if (!o->atlas_png.empty()) stm::write_atlas_png(mesh, layout, c.face_segment, o->atlas_png);
+            if (!o->uv_obj.empty()) stm::write_mesh(c.mesh, o->uv_obj, o->atlas_png.empty() ? "" : std::filesystem::absolute(o->atlas_png).string());
+            if (o->json) {
+              nlohmann::json j;
+              j["mesh"] = o->mesh;
+              j["layout"] = o->out;
+              j["segments"] = layout.segments.size();
+              j["coverage"] = layout.coverage;
+              j["coverage_inner"] = layout.coverage_inner;
+              j["stretch"] = c.stretch;
+              j["seam_faces"] = c.seam_faces;
+              j["size"] = layout.size;
+              j["margin"] = layout.margin;
+              j["scale"] = layout.scale;
+              j["rectangles"] = nlohmann::json::array();
+              for (const auto& g : layout.segments)
+                j["rectangles"].push_back({{"segment", g.edge}, {"a", g.a}, {"b", g.b}, {"length", g.length}, {"radius", g.radius},
+                                           {"rect", {g.x, g.y, g.w, g.h}}, {"rotated", g.rotated}});
+              print_json(j);
+            } else {
+              std::cout << o->mesh << "\n  segments        " << layout.segments.size() << "\n";
+              std::cout << std::fixed << std::setprecision(4);
+              for (const auto& g : layout.segments)
+                std::cout << "    " << std::setw(3) << g.edge << "  nodes " << g.a << " -> " << g.b << "  L " << g.length << "  r "
+                          << g.radius << "  rect " << g.w << "x" << g.h << " at (" << g.x << ", " << g.y << ")"
+                          << (g.rotated ? " rotated" : "") << "\n";
+              std::cout << "  atlas           " << layout.size << "^2 texels, margin " << layout.margin << "\n";
+              std::cout << "  coverage        " << layout.coverage << " (inner " << layout.coverage_inner << ")\n";
+              std::cout << "  L2 stretch      " << c.stretch << "\n";
+              std::cout << "  seam faces      " << c.seam_faces << "\n";
+              std::cout << "  layout          " << o->out << "\n";
+            }
+            return 0;
+          }};
+}
+
+}  // namespace sdm_cli
