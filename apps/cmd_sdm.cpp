@@ -91,18 +91,7 @@ std::map<int, int> parse_segment_levels(const std::vector<std::string>& items) {
   return out;
 }
 
-bool closed_manifold(const stm::Mesh& m) {
-  stm::MeshSoup soup;
-  for (auto v : m.vertices()) soup.points.push_back(stm::point(m, v));
-  for (auto f : m.faces()) {
-    std::array<int, 3> t;
-    int c = 0;
-    for (auto v : m.fv_range(f)) t[c++] = v.idx();
-    soup.triangles.push_back(t);
-  }
-  const stm::MeshReport r = stm::validate_mesh(soup);
-  return r.usable();
-}
+bool closed_manifold(const stm::Mesh& m) { return stm::validate_mesh(stm::mesh_to_soup(m)).usable(); }
 
 }  // namespace
 

@@ -13,17 +13,7 @@ using namespace stm;
 
 namespace {
 
-MeshReport report_of(const Mesh& m) {
-  MeshSoup soup;
-  for (auto v : m.vertices()) soup.points.push_back(point(m, v));
-  for (auto f : m.faces()) {
-    std::array<int, 3> t;
-    int c = 0;
-    for (auto v : m.fv_range(f)) t[c++] = v.idx();
-    soup.triangles.push_back(t);
-  }
-  return validate_mesh(soup);
-}
+MeshReport report_of(const Mesh& m) { return validate_mesh(mesh_to_soup(m)); }
 
 struct Encoded {
   Mesh mesh;
