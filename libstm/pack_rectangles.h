@@ -25,8 +25,12 @@ struct Packing {
 // without overlap. Placement: guillotine k-d tree (free rectangles split by each placement);
 // several sort orders, split rules, fit scores and orientation policies are tried for every s and
 // the first that fits is kept. Rotation by 90 degrees is allowed. Deterministic.
+// Then, when max_anisotropy > 1, every rectangle grows into the free space next to it (all four
+// sides, in rounds, rectangles in input order) as long as its two growth factors (final / packed
+// inner size along each side) stay within max_anisotropy of each other: leftover strips become
+// texels of their neighbours at a bounded, uniform distortion of those segments' maps.
 // Throws InputError when sizes are not positive and finite, or when not even a 1-texel inner
 // rectangle per input fits.
-Packing pack_rectangles(const std::vector<Eigen::Vector2d>& sizes, int atlas_size, int margin);
+Packing pack_rectangles(const std::vector<Eigen::Vector2d>& sizes, int atlas_size, int margin, double max_anisotropy = 1.0);
 
 }  // namespace stm
