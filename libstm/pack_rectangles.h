@@ -8,12 +8,13 @@ namespace stm {
 struct PackedRect {
   int x = 0, y = 0;  // inner rectangle's lower-left corner in atlas texels (its margin lies around it)
   int w = 0, h = 0;  // inner size in texels: floor(s * size), sizes rounded to 2^-30 of the largest
+                     // (or more once grown, see pack_rectangles)
   bool rotated = false;  // false: w runs along atlas x and h along atlas y; true: swapped
 };
 
 struct Packing {
   std::vector<PackedRect> rects;  // in input order
-  double scale = 0;               // s: texels per input unit, the same for every rectangle
+  double scale = 0;               // s: texels per input unit, the same for every rectangle before growth
   // Packed area over atlas area. `coverage` counts each rectangle with its margin (the paper's
   // measure: its margins lie inside the rectangles); `coverage_inner` counts the inner part only.
   double coverage = 0;

@@ -7,6 +7,11 @@
 
 namespace stm {
 
+namespace {
+// A new node moves to the centre of its vertices when that lies this many radii off the chord.
+constexpr double kBend = 0.05;
+}  // namespace
+
 Skeleton split_long_segments(const Mesh& mesh, const Skeleton& sk, double max_ratio, std::vector<int>* origin) {
   const std::vector<int> fs = assign_faces(mesh, sk);  // also checks the inputs
   if (origin) {
@@ -61,7 +66,11 @@ Skeleton split_long_segments(const Mesh& mesh, const Skeleton& sk, double max_ra
     for (int k = 1; k < pieces[e]; ++k) {
       if (count[e][k] == 0) continue;
       inner[e][k] = int(out.nodes.size());
-      out.nodes.push_back(sum[e][k] / count[e][k]);
+      // On the chord unless the tube bends away from it: a straight tube keeps its exact axis
+      // (a slice's centre wobbles with the tessellation), a curved one gets its nodes on its centre line.
+      const Eigen::Vector3d chord = sk.nodes[sk.edges[e][0]] + (sk.nodes[sk.edges[e][1]] - sk.nodes[sk.edges[e][0]]) * (double(k) / pieces[e]);
+      const Eigen::Vector3d centre = sum[e][k] / count[e][k];
+      out.nodes.push_back((centre - chord).norm() > kBend * geo[e].radius ? centre : chord);
       chain.push_back(inner[e][k]);
     }
     chain.push_back(sk.edges[e][1]);
