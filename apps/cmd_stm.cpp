@@ -1,6 +1,7 @@
 #include "apps/commands.h"
 #include "libstm/draw_atlas.h"
 #include "libstm/errors.h"
+#include "libstm/extract_skeleton.h"
 #include "libstm/layout.h"
 #include "libstm/mesh.h"
 #include "libstm/skeleton.h"
@@ -26,17 +27,17 @@ Command add_stm_command(CLI::App& parent) {
   app->add_option("mesh", o->mesh, "Input mesh (.obj, .off, .ply, .stl), closed and manifold")->required();
   app->add_option("-o,--output", o->out, "Layout file to write (.json, format sdm-layout)")->required();
   app->add_option("--skeleton", o->skeleton,
-                  "Use this skeleton (JSON, format sdm-skeleton, made for this mesh) instead of extracting one");
+                  "Use this skeleton (JSON, format sdm-skeleton, made for this mesh) instead of extracting one\n"
+                  "with the default options of `sdm skeleton`");
   app->add_option("--size", o->size, "Atlas width and height in texels")->check(CLI::Range(16, 32768))->capture_default_str();
   app->add_option("--margin", o->margin, "Texels of margin around every rectangle")->check(CLI::Range(0, 256))->capture_default_str();
   app->add_option("--uv-obj", o->uv_obj, "Also write the mesh with its STM coordinates as uv (OBJ; seam vertices duplicated)");
   app->add_option("--atlas-png", o->atlas_png, "Also draw the atlas: rectangles and each segment's triangles in its colour (PNG)");
   app->add_flag("--json", o->json, "Print one JSON object instead of text");
   return {app, [o]() {
-            if (o->skeleton.empty())
-              throw stm::InputError("no skeleton: pass --skeleton SKEL.json (skeleton extraction is not part of this build yet)");
             stm::Mesh mesh = stm::load_mesh(o->mesh);
-            stm::Skeleton sk = stm::read_skeleton_json(o->skeleton);
+            const stm::Skeleton sk =
+                o->skeleton.empty() ? stm::extract_skeleton(mesh, {}, progress) : stm::read_skeleton_json(o->skeleton);
             stm::LayoutOptions opt;
             opt.size = o->size;
             opt.margin = o->margin;

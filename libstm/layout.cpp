@@ -5,21 +5,27 @@
 #include "libstm/pack_rectangles.h"
 #include "libstm/segment_frames.h"
 #include "libstm/segments.h"
+#include "libstm/split_segments.h"
 
 #include <algorithm>
 #include <cmath>
 
 namespace stm {
 
-Layout compute_layout(const Mesh& mesh, const Skeleton& skeleton, const LayoutOptions& opt) {
+Layout compute_layout(const Mesh& mesh, const Skeleton& input, const LayoutOptions& opt) {
   auto say = [&](const std::string& s) {
     if (opt.progress) opt.progress(s);
   };
-  const int ne = int(skeleton.edges.size());
-  if (!opt.weights.empty() && int(opt.weights.size()) != ne)
-    throw InputError("got " + std::to_string(opt.weights.size()) + " segment weights for " + std::to_string(ne) + " segments");
+  if (!opt.weights.empty() && opt.weights.size() != input.edges.size())
+    throw InputError("got " + std::to_string(opt.weights.size()) + " segment weights for " + std::to_string(input.edges.size()) +
+                     " skeleton edges");
   for (double w : opt.weights)
     if (!(w > 0) || !std::isfinite(w)) throw InputError("segment weights must be positive");
+  std::vector<int> origin;
+  const Skeleton skeleton = split_long_segments(mesh, input, opt.split_ratio, &origin);
+  const int ne = int(skeleton.edges.size());
+  if (ne != int(input.edges.size()))
+    say("cut long edges: " + std::to_string(input.edges.size()) + " skeleton edges -> " + std::to_string(ne) + " segments");
   say("assigning faces to " + std::to_string(ne) + " segments");
   const std::vector<int> fs = assign_faces(mesh, skeleton);
   const std::vector<SegmentGeometry> geo = segment_geometry(mesh, skeleton, fs);
@@ -38,11 +44,11 @@ Layout compute_layout(const Mesh& mesh, const Skeleton& skeleton, const LayoutOp
     g.a = frames[s].a, g.b = frames[s].b;
     g.axis = frames[s].axis, g.e1 = frames[s].e1, g.e2 = frames[s].e2;
     g.radius = geo[s].radius, g.cap = geo[s].cap, g.length = geo[s].length, g.area = geo[s].area;
-    g.weight = opt.weights.empty() ? 1.0 : opt.weights[s];
+    g.weight = opt.weights.empty() ? 1.0 : opt.weights[origin[s]];
     sizes[s] = g.weight * Eigen::Vector2d(g.length + 2 * g.cap, 2 * M_PI * g.radius);
   }
   say("packing " + std::to_string(ne) + " rectangles into " + std::to_string(opt.size) + "^2 texels");
-  const Packing p = pack_rectangles(sizes, opt.size, opt.margin);
+  const Packing p = pack_rectangles(sizes, opt.size, opt.margin, opt.max_anisotropy);
   L.scale = p.scale;
   L.coverage = p.coverage;
   L.coverage_inner = p.coverage_inner;
@@ -54,8 +60,8 @@ Layout compute_layout(const Mesh& mesh, const Skeleton& skeleton, const LayoutOp
   for (int s = 0; s < ne; ++s) {
     LayoutSegment& g = L.segments[s];
     g.x = p.rects[s].x, g.y = p.rects[s].y, g.w = p.rects[s].w, g.h = p.rects[s].h, g.rotated = p.rects[s].rotated;
-    // The rectangle's length was rounded down to whole texels: keep the cylinder part non-negative.
-    g.d = std::min(p.scale * g.weight * g.cap, 0.5 * g.w);
+    // The caps keep their share of the rectangle's length (rounded to whole texels, maybe grown).
+    g.d = std::min(g.w * g.cap / (g.length + 2 * g.cap), 0.5 * g.w);
     for (int o : node_segments[g.a])
       if (o != s) g.neighbours_a.push_back(o);
     for (int o : node_segments[g.b])

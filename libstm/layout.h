@@ -44,11 +44,18 @@ struct Layout {
 struct LayoutOptions {
   int size = 1024;
   int margin = 4;
-  std::vector<double> weights;  // per segment (skeleton edge), empty: all 1
+  std::vector<double> weights;  // per edge of the input skeleton (its pieces share it), empty: all 1
+  // Edges longer than split_ratio times their radius are cut into pieces first
+  // (split_segments.h); 0 keeps the skeleton's edges as they are.
+  double split_ratio = 2.0;
+  // Rectangles grow into leftover space up to this ratio between their two growth factors
+  // (pack_rectangles.h); 1 keeps the uniform texel density exactly.
+  double max_anisotropy = 1.25;
   std::function<void(const std::string&)> progress;
 };
 
-// Segments, face assignment, frames, rectangle sizes (w = L + 2d, h = 2 pi r, times the weight)
+// Long edges cut (options.split_ratio; the layout keeps the cut skeleton), then segments, face
+// assignment, frames, rectangle sizes (w = L + 2d, h = 2 pi r, times the weight)
 // and packing. Throws InputError for a skeleton that does not fit the mesh, bad weights, or an
 // atlas too small for the rectangles.
 Layout compute_layout(const Mesh& mesh, const Skeleton& skeleton, const LayoutOptions& options = {});

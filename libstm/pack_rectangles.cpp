@@ -150,9 +150,61 @@ bool try_scale(const std::vector<Eigen::Vector2d>& sizes, double s, int S, int m
   return false;
 }
 
+// Grows the placed outer boxes into free space (see the header); inner = outer - 2 margin.
+void grow(std::vector<Box>& box, int S, int m, double max_aniso) {
+  const size_t n = box.size();
+  const std::vector<Box> start = box;
+  auto overlaps = [&](const Box& a, const Box& b) {
+    return a.x < b.x + b.w && b.x < a.x + a.w && a.y < b.y + b.h && b.y < a.y + a.h;
+  };
+  for (int round = 0; round < 64; ++round) {
+    bool changed = false;
+    for (size_t i = 0; i < n; ++i)
+      for (int dir = 0; dir < 4; ++dir) {
+        Box& B = box[i];
+        // Growth bound from the anisotropy: this side's factor may reach max_aniso times the other's.
+        const bool along_x = dir % 2 == 0;
+        // (on inner sizes: the margins do not grow)
+        const double other = along_x ? double(B.h - 2 * m) / (start[i].h - 2 * m) : double(B.w - 2 * m) / (start[i].w - 2 * m);
+        const int cur = (along_x ? B.w : B.h) - 2 * m, base = (along_x ? start[i].w : start[i].h) - 2 * m;
+        int room = int(std::floor(max_aniso * other * base + 1e-9)) - cur;
+        // Free space: the atlas border and every other box in the way.
+        if (dir == 0) room = std::min(room, S - (B.x + B.w));
+        if (dir == 1) room = std::min(room, S - (B.y + B.h));
+        if (dir == 2) room = std::min(room, B.x);
+        if (dir == 3) room = std::min(room, B.y);
+        if (room <= 0) continue;
+        Box sweep = B;  // the strip the side would sweep over
+        if (dir == 0) sweep = {B.x + B.w, B.y, room, B.h};
+        if (dir == 1) sweep = {B.x, B.y + B.h, B.w, room};
+        if (dir == 2) sweep = {B.x - room, B.y, room, B.h};
+        if (dir == 3) sweep = {B.x, B.y - room, B.w, room};
+        for (size_t j = 0; j < n && room > 0; ++j) {
+          if (j == i || !overlaps(sweep, box[j])) continue;
+          const Box& o = box[j];
+          if (dir == 0) room = std::min(room, o.x - (B.x + B.w));
+          if (dir == 1) room = std::min(room, o.y - (B.y + B.h));
+          if (dir == 2) room = std::min(room, B.x - (o.x + o.w));
+          if (dir == 3) room = std::min(room, B.y - (o.y + o.h));
+          if (dir == 0) sweep.w = room;
+          if (dir == 1) sweep.h = room;
+          if (dir == 2) sweep = {B.x - room, B.y, room, B.h};
+          if (dir == 3) sweep = {B.x, B.y - room, B.w, room};
+        }
+        if (room <= 0) continue;
+        if (dir == 0) B.w += room;
+        if (dir == 1) B.h += room;
+        if (dir == 2) B.x -= room, B.w += room;
+        if (dir == 3) B.y -= room, B.h += room;
+        changed = true;
+      }
+    if (!changed) break;
+  }
+}
+
 }  // namespace
 
-Packing pack_rectangles(const std::vector<Eigen::Vector2d>& sizes_in, int atlas_size, int margin) {
+Packing pack_rectangles(const std::vector<Eigen::Vector2d>& sizes_in, int atlas_size, int margin, double max_anisotropy) {
   if (atlas_size < 1) throw InputError("atlas size must be positive, got " + std::to_string(atlas_size));
   if (margin < 0) throw InputError("margin must not be negative, got " + std::to_string(margin));
   if (sizes_in.empty()) throw InputError("no rectangle to pack");
@@ -203,6 +255,14 @@ Packing pack_rectangles(const std::vector<Eigen::Vector2d>& sizes_in, int atlas_
   if (!found)
     throw InputError("the " + std::to_string(sizes.size()) + " rectangles do not fit into a " + std::to_string(atlas_size) +
                      "^2 atlas with a margin of " + std::to_string(margin) + " texels; use a larger --size or a smaller margin");
+  if (max_anisotropy > 1) {
+    grow(best.placed, atlas_size, margin, max_anisotropy);
+    for (size_t i = 0; i < sizes.size(); ++i) {
+      const Box& b = best.placed[i];
+      best.inner[i] = best.rotated[i] ? std::array<int, 2>{b.h - 2 * margin, b.w - 2 * margin}
+                                      : std::array<int, 2>{b.w - 2 * margin, b.h - 2 * margin};
+    }
+  }
   Packing p;
   p.scale = lo;
   p.rects.resize(sizes.size());

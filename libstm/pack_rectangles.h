@@ -8,12 +8,13 @@ namespace stm {
 struct PackedRect {
   int x = 0, y = 0;  // inner rectangle's lower-left corner in atlas texels (its margin lies around it)
   int w = 0, h = 0;  // inner size in texels: floor(s * size), sizes rounded to 2^-30 of the largest
+                     // (or more once grown, see pack_rectangles)
   bool rotated = false;  // false: w runs along atlas x and h along atlas y; true: swapped
 };
 
 struct Packing {
   std::vector<PackedRect> rects;  // in input order
-  double scale = 0;               // s: texels per input unit, the same for every rectangle
+  double scale = 0;               // s: texels per input unit, the same for every rectangle before growth
   // Packed area over atlas area. `coverage` counts each rectangle with its margin (the paper's
   // measure: its margins lie inside the rectangles); `coverage_inner` counts the inner part only.
   double coverage = 0;
@@ -25,8 +26,12 @@ struct Packing {
 // without overlap. Placement: guillotine k-d tree (free rectangles split by each placement);
 // several sort orders, split rules, fit scores and orientation policies are tried for every s and
 // the first that fits is kept. Rotation by 90 degrees is allowed. Deterministic.
+// Then, when max_anisotropy > 1, every rectangle grows into the free space next to it (all four
+// sides, in rounds, rectangles in input order) as long as its two growth factors (final / packed
+// inner size along each side) stay within max_anisotropy of each other: leftover strips become
+// texels of their neighbours at a bounded, uniform distortion of those segments' maps.
 // Throws InputError when sizes are not positive and finite, or when not even a 1-texel inner
 // rectangle per input fits.
-Packing pack_rectangles(const std::vector<Eigen::Vector2d>& sizes, int atlas_size, int margin);
+Packing pack_rectangles(const std::vector<Eigen::Vector2d>& sizes, int atlas_size, int margin, double max_anisotropy = 1.0);
 
 }  // namespace stm

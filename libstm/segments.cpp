@@ -28,6 +28,64 @@ void check_inputs(const Mesh& mesh, const Skeleton& sk) {
     if (n < 0 || n >= int(sk.nodes.size())) throw InputError("the skeleton maps a vertex to node " + std::to_string(n));
 }
 
+// Faces mapped with less stretch than this by some candidate never go to a worse one.
+constexpr double kGoodStretch = 2.0;
+
+// L2 stretch (Sander et al. 2001) of face p under the capsule map of segment a -> b with the face's
+// mean distance to the segment as the radius; infinity when the map flattens it. *folded tells
+// whether the map turns the face over (orient: +1 when p's order winds around the outward normal,
+// -1 for a part wound inside out). See assign_faces.
+double face_stretch(const Eigen::Vector3d p[3], double orient, const Eigen::Vector3d& a, const Eigen::Vector3d& b,
+                    bool* folded) {
+  *folded = false;
+  const double inf = std::numeric_limits<double>::infinity();
+  const Eigen::Vector3d ab = b - a;
+  const double len = ab.norm();
+  if (!(len > 0)) return inf;
+  const Eigen::Vector3d axis = ab / len;
+  // Any frame will do: the stretch does not depend on where phi = 0 is.
+  Eigen::Vector3d e1 = std::abs(axis.x()) < 0.9 ? Eigen::Vector3d::UnitX() : Eigen::Vector3d::UnitY();
+  e1 = (e1 - axis * axis.dot(e1)).normalized();
+  const Eigen::Vector3d e2 = axis.cross(e1);
+  double r = 0;
+  for (int k = 0; k < 3; ++k) r += distance_to_segment(p[k], a, b) / 3;
+  if (!(r > 0)) return inf;
+  double phi[3], v[3], rho[3];
+  for (int k = 0; k < 3; ++k) {
+    const Eigen::Vector3d x = p[k] - a;
+    const double t = x.dot(axis) / len;
+    rho[k] = std::hypot(x.dot(e1), x.dot(e2));
+    phi[k] = std::atan2(x.dot(e2), x.dot(e1));
+    if (t < 0) v[k] = -r * std::atan2(-x.dot(axis), rho[k]);
+    else if (t > 1) v[k] = len + r * std::atan2((p[k] - b).dot(axis), rho[k]);
+    else v[k] = t * len;
+  }
+  // Unwrap the angles around the first corner that has one (a corner on the axis has none).
+  const double eps = 1e-9 * (r + len);
+  int ref = -1;
+  for (int k = 0; k < 3 && ref < 0; ++k)
+    if (rho[k] > eps) ref = k;
+  if (ref < 0) return inf;
+  double mean = 0;
+  int cnt = 0;
+  for (int k = 0; k < 3; ++k)
+    if (rho[k] > eps) {
+      phi[k] = phi[ref] + std::remainder(phi[k] - phi[ref], 2 * M_PI);
+      mean += phi[k], ++cnt;
+    }
+  for (int k = 0; k < 3; ++k)
+    if (rho[k] <= eps) phi[k] = mean / cnt;
+  const Eigen::Vector2d s0(r * phi[0], v[0]), s1(r * phi[1], v[1]), s2(r * phi[2], v[2]);
+  // u runs along axis x radial and v along the axis, so an outward face keeps a positive area.
+  const double a2 = orient * 0.5 * ((s1 - s0).x() * (s2 - s0).y() - (s2 - s0).x() * (s1 - s0).y());
+  const double a3 = 0.5 * (p[1] - p[0]).cross(p[2] - p[0]).norm();
+  *folded = a2 < 0;
+  if (!(std::abs(a2) > 1e-12 * a3)) return inf;
+  const Eigen::Vector3d Ss = (p[0] * (s1.y() - s2.y()) + p[1] * (s2.y() - s0.y()) + p[2] * (s0.y() - s1.y())) / (2 * a2);
+  const Eigen::Vector3d St = (p[0] * (s2.x() - s1.x()) + p[1] * (s0.x() - s2.x()) + p[2] * (s1.x() - s0.x())) / (2 * a2);
+  return std::sqrt(0.5 * (Ss.squaredNorm() + St.squaredNorm()));
+}
+
 }  // namespace
 
 std::vector<int> assign_faces(const Mesh& mesh, const Skeleton& sk) {
@@ -37,8 +95,29 @@ std::vector<int> assign_faces(const Mesh& mesh, const Skeleton& sk) {
     node_edges[sk.edges[e][0]].push_back(int(e));
     if (sk.edges[e][1] != sk.edges[e][0]) node_edges[sk.edges[e][1]].push_back(int(e));
   }
+  // The rule needs outward normals: a part wound inside out (negative signed volume) is flipped.
+  std::vector<int> part(mesh.n_faces(), -1);
+  std::vector<double> volume;
+  for (auto f0 : mesh.faces()) {
+    if (part[f0.idx()] >= 0) continue;
+    const int id = int(volume.size());
+    volume.push_back(0.0);
+    std::vector<Mesh::FaceHandle> stack{f0};
+    part[f0.idx()] = id;
+    while (!stack.empty()) {
+      const auto f = stack.back();
+      stack.pop_back();
+      Eigen::Vector3d p[3];
+      int k = 0;
+      for (auto v : mesh.fv_range(f)) p[k++] = point(mesh, v);
+      volume[id] += p[0].dot(p[1].cross(p[2]));
+      for (auto g : mesh.ff_range(f))
+        if (part[g.idx()] < 0) part[g.idx()] = id, stack.push_back(g);
+    }
+  }
   std::vector<int> result(mesh.n_faces(), -1);
   std::vector<int> cand;
+  const double tol = 1e-9;
   for (auto f : mesh.faces()) {
     Eigen::Vector3d p[3];
     int k = 0;
@@ -49,41 +128,54 @@ std::vector<int> assign_faces(const Mesh& mesh, const Skeleton& sk) {
     }
     std::sort(cand.begin(), cand.end());
     cand.erase(std::unique(cand.begin(), cand.end()), cand.end());
-    const bool global = cand.empty();  // nodes without edges: any segment may take the face
-    if (global)
+    if (cand.empty())  // nodes without edges: any segment may take the face
       for (size_t e = 0; e < sk.edges.size(); ++e) cand.push_back(int(e));
     const Eigen::Vector3d c = (p[0] + p[1] + p[2]) / 3.0;
     Eigen::Vector3d n = (p[1] - p[0]).cross(p[2] - p[0]);
-    const double nn = n.norm();
-    if (nn > 0) n /= nn;
-    // Exact ties (a face over a node shared by several segments) are common in symmetric
-    // tessellations, so each criterion compares with a tolerance and hands ties to the next one;
-    // float noise (a rotated copy of the mesh) then cannot flip the choice.
-    int best_over = -1, best_near = -1;
-    double over_cos = 0, over_dist = 0, near_dist = 0, near_cos = 0, near_corners = 0;
-    const double tol = 1e-9;
+    if (n.norm() > 0) n.normalize();
+    if (volume[part[f.idx()]] < 0) n = -n;
+    // The capsule projects the surface radially, from the axis over the cylinder part and from the
+    // end node over a cap. Each candidate maps the face as its capsule would, with the face's own
+    // distance from the axis as the radius (so the map is locally isometric where the face is
+    // parallel to the capsule), and the L2 stretch of that triangle map decides: it is 1 for a face
+    // lying over its segment's axis, grows where the face tilts away from the radial direction or
+    // lies past the end node, and is infinite where the face would be mapped edge-on or folded
+    // over (a face on the far side of a junction seen through another segment's cap).
+    int best = -1;
+    double best_stretch = 0, best_score = 0, best_dist = 0;
+    int best_rank = 0;
     for (int e : cand) {
       const Eigen::Vector3d& a = sk.nodes[sk.edges[e][0]];
       const Eigen::Vector3d& b = sk.nodes[sk.edges[e][1]];
-      double t = 0;
-      const double dist = distance_to_segment(c, a, b, &t);
-      const double len = (b - a).norm();
-      const double cs = len > 0 && nn > 0 ? std::abs(n.dot(b - a)) / len : 1.0;
-      const double dtol = tol * (dist + len);
-      // Last tie-breaker: how far the corners are from the segment (a face centred on a node's
-      // plane still leans to one side with its corners).
-      const double corners = distance_to_segment(p[0], a, b) + distance_to_segment(p[1], a, b) + distance_to_segment(p[2], a, b);
-      const double ctol = tol * (corners + len);
-      if (len > 0 && nn > 0 && t >= -tol && t <= 1 + tol) {
-        if (best_over < 0 || cs < over_cos - tol || (cs <= over_cos + tol && corners < over_dist - ctol))
-          best_over = e, over_cos = cs, over_dist = corners;
+      bool folded = false;
+      const double stretch = face_stretch(p, volume[part[f.idx()]] < 0 ? -1.0 : 1.0, a, b, &folded);
+      // 0: mapped well, 1: mapped the right way round but stretched, 2: folded over.
+      const int rank = folded ? 2 : stretch < kGoodStretch ? 0 : 1;
+      const Eigen::Vector3d ab = b - a;
+      const double l2 = ab.squaredNorm();
+      double score = 0;
+      for (const Eigen::Vector3d& q : {p[0], p[1], p[2], c}) {
+        const double t = l2 > 0 ? std::clamp((q - a).dot(ab) / l2, 0.0, 1.0) : 0.0;
+        const Eigen::Vector3d r = q - (a + t * ab);
+        const double rn = r.norm();
+        if (rn > 0) score += n.dot(r) / rn;
       }
-      if (best_near < 0 || dist < near_dist - dtol ||
-          (dist <= near_dist + dtol && (cs < near_cos - tol || (cs <= near_cos + tol && corners < near_corners - ctol))))
-        best_near = e, near_dist = dist, near_cos = cs, near_corners = corners;
+      score /= 4;
+      const double dist = distance_to_segment(c, a, b);
+      // Exact ties (a face across a node's plane in a symmetric tessellation) go to the nearer
+      // segment, then to the lower index; the tolerances keep float noise (a rotated copy of the
+      // mesh) from flipping the choice.
+      const double len = std::sqrt(l2);
+      bool better = false;
+      if (best < 0) better = true;
+      else if (rank != best_rank) better = rank < best_rank;
+      else if (rank == 0 && std::abs(score - best_score) > tol) better = score > best_score;
+      else if (rank > 0 && std::abs(stretch - best_stretch) > tol * best_stretch) better = stretch < best_stretch;
+      else better = dist < best_dist - tol * (dist + len);
+      if (better) best = e, best_stretch = stretch, best_score = score, best_dist = dist, best_rank = rank;
     }
-    result[f.idx()] = best_over >= 0 ? best_over : best_near;
-    if (result[f.idx()] < 0) throw InputError("face " + std::to_string(f.idx()) + " has no skeleton segment in reach");
+    result[f.idx()] = best;
+    if (best < 0) throw InputError("face " + std::to_string(f.idx()) + " has no skeleton segment in reach");
   }
   return result;
 }

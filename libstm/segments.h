@@ -9,11 +9,13 @@
 namespace stm {
 
 // face -> segment (skeleton edge index). Candidates are the segments incident to the nodes of the
-// face's vertices. Among those over which the face centroid lies (axial parameter in [0, 1] up to a
-// small tolerance) the one whose axis is most perpendicular to the face normal wins (paper 4);
-// when the centroid lies over none of them (a face around a node, or a face whose vertices' nodes
-// are not adjacent), the segment nearest to the centroid (distance to the axis segment) wins.
-// Ties go to the lower edge index, so the result is deterministic.
+// face's vertices. The paper (4) takes the one whose axis is most perpendicular to the face normal;
+// here the one whose capsule sees the face most squarely wins: the outward face normal against the
+// capsule's radial direction (from the nearest point of the axis segment, so from the end node over
+// a cap), the cosine averaged over the corners and the centroid. On a tube that is the paper's rule
+// restricted to the segment the face lies over; at junctions it refuses segments that would map
+// the face edge-on or folded over. Ties go to the segment nearer the centroid, then to the lower
+// index, so the result is deterministic. Normals are made outward per connected part (signed volume).
 // Throws InputError when the skeleton has no edge, vertex_node does not match the mesh, or a face
 // has no segment in reach.
 std::vector<int> assign_faces(const Mesh& mesh, const Skeleton& skeleton);

@@ -12,15 +12,20 @@ struct Outer {
 };
 
 // Checks the packing contract; returns the outer boxes.
-std::vector<Outer> check_packing(const std::vector<Eigen::Vector2d>& sizes, const stm::Packing& p, int S, int m) {
+// `grown`: rectangles may be larger than the packed size (max_anisotropy > 1).
+std::vector<Outer> check_packing(const std::vector<Eigen::Vector2d>& sizes, const stm::Packing& p, int S, int m, bool grown = false) {
   REQUIRE(p.rects.size() == sizes.size());
   std::vector<Outer> o;
   double inner = 0, outer = 0;
   for (size_t i = 0; i < sizes.size(); ++i) {
     const auto& r = p.rects[i];
     // floor(s * size) of the sizes rounded to 2^-30: within a texel of the unrounded product.
-    CHECK(std::abs(r.w - p.scale * sizes[i].x()) <= 1);
-    CHECK(std::abs(r.h - p.scale * sizes[i].y()) <= 1);
+    CHECK(r.w - p.scale * sizes[i].x() >= -1);
+    CHECK(r.h - p.scale * sizes[i].y() >= -1);
+    if (!grown) {
+      CHECK(r.w - p.scale * sizes[i].x() <= 1);
+      CHECK(r.h - p.scale * sizes[i].y() <= 1);
+    }
     CHECK(r.w >= 1);
     CHECK(r.h >= 1);
     const int ex = r.rotated ? r.h : r.w, ey = r.rotated ? r.w : r.h;
@@ -117,4 +122,29 @@ TEST_CASE("pack_rectangles: impossible requests are input errors", "[pack_rectan
   CHECK_THROWS_AS(stm::pack_rectangles({{1.0, -1.0}}, 64, 0), stm::InputError);
   // 100 rectangles with 4-texel margins cannot fit in 16 x 16 texels.
   CHECK_THROWS_AS(stm::pack_rectangles(std::vector<Eigen::Vector2d>(100, Eigen::Vector2d(1, 1)), 16, 4), stm::InputError);
+}
+
+TEST_CASE("pack_rectangles: growing into leftover space keeps the packing valid and bounds the anisotropy", "[pack_rectangles]") {
+  std::mt19937 rng(777);
+  std::uniform_real_distribution<double> side(0.2, 4.0);
+  for (int trial = 0; trial < 20; ++trial) {
+    std::vector<Eigen::Vector2d> sizes(3 + trial);
+    for (auto& s : sizes) s = {side(rng), side(rng)};
+    const int S = 512, m = trial % 3;
+    const auto plain = stm::pack_rectangles(sizes, S, m);
+    const auto grown = stm::pack_rectangles(sizes, S, m, 1.25);
+    check_packing(sizes, grown, S, m, true);
+    CHECK(grown.scale == plain.scale);
+    CHECK(grown.coverage >= plain.coverage);
+    CHECK(grown.coverage <= 1.0);
+    for (size_t i = 0; i < sizes.size(); ++i) {
+      // Growth never shrinks a side; the two sides' growth factors stay within 1.25 of each other.
+      const auto& a = plain.rects[i];
+      const auto& b = grown.rects[i];
+      CHECK(b.w >= a.w);
+      CHECK(b.h >= a.h);
+      const double gw = double(b.w) / a.w, gh = double(b.h) / a.h;
+      CHECK(std::max(gw, gh) / std::min(gw, gh) <= 1.25 + 1e-9);
+    }
+  }
 }
