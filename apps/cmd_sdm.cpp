@@ -142,7 +142,7 @@ Command add_encode_command(CLI::App& parent) {
 
 Command add_decode_command(CLI::App& parent) {
   struct Opts {
-    std::string map, out, skeleton;
+    std::string map, out, skeleton, write_skeleton;
     int lod = 3;
     std::vector<std::string> segment_lod;
     bool json = false;
@@ -155,7 +155,10 @@ Command add_decode_command(CLI::App& parent) {
   app->add_option("-o,--output", o->out, "Output mesh (.obj, .ply, .off, .stl)")->required();
   app->add_option("--lod", o->lod, "Level of detail: every base edge is cut into 2^L pieces")->capture_default_str()->check(CLI::Range(0, 8));
   app->add_option("--lod-segment", o->segment_lod, "Per-segment level, ID=L (repeatable)");
-  app->add_option("--skeleton", o->skeleton, "Decode around this skeleton (same nodes and edges, moved positions)");
+  app->add_option("--skeleton", o->skeleton,
+                  "Decode around this skeleton: the map's own skeleton (see --write-skeleton) with moved nodes");
+  app->add_option("--write-skeleton", o->write_skeleton,
+                  "Also write the map's skeleton (.json, or .obj polyline): edit its node positions for --skeleton");
   app->add_flag("--json", o->json, "Print one JSON object with the summary");
   return {app, [o]() {
             const auto t0 = std::chrono::steady_clock::now();
@@ -167,6 +170,13 @@ Command add_decode_command(CLI::App& parent) {
             const stm::Mesh mesh = stm::decode_sdm(im, d);
             const double s = seconds_since(t0);
             stm::write_mesh(mesh, o->out);
+            if (!o->write_skeleton.empty()) {
+              const stm::Skeleton sk = stm::layout_from_json(im.layout).skeleton;
+              if (o->write_skeleton.size() > 4 && o->write_skeleton.substr(o->write_skeleton.size() - 4) == ".obj")
+                stm::write_skeleton_obj(sk, o->write_skeleton);
+              else
+                stm::write_skeleton_json(sk, o->write_skeleton);
+            }
             const bool closed = closed_manifold(mesh);
             if (o->json) {
               print_json({{"output", o->out}, {"vertices", mesh.n_vertices()}, {"faces", mesh.n_faces()},

@@ -98,14 +98,19 @@ TEST_CASE("The round trip of a branching shape is accurate", "[decode_sdm]") {
 
 TEST_CASE("Decoding onto a skeleton with one branch rotated 30 degrees bends that branch only", "[decode_sdm]") {
   const Encoded e = encode_ypsilon();
-  // Arm 0 is the chain of nodes 1 and 2 leaving junction 0 along -y.
+  // Arm 0 leaves the junction at the origin along -y; the layout may have cut it into more
+  // segments, so its nodes are found by position.
   Skeleton moved = e.layout.skeleton;
   const Eigen::Matrix3d R = Eigen::AngleAxisd(M_PI / 6, Eigen::Vector3d::UnitZ()).toRotationMatrix();
   std::vector<char> in_branch(moved.nodes.size(), 0);
-  for (int n : {1, 2}) {
+  int tip = -1;
+  for (size_t n = 0; n < moved.nodes.size(); ++n) {
+    if (moved.nodes[n].y() > -0.05) continue;
     moved.nodes[n] = R * moved.nodes[n];
     in_branch[n] = 1;
+    if (tip < 0 || e.layout.skeleton.nodes[n].y() < e.layout.skeleton.nodes[tip].y()) tip = int(n);
   }
+  REQUIRE(tip >= 0);
   std::vector<int> seg_plain, seg_moved;
   const Mesh plain = decode_sdm(e.image, {}, &seg_plain);
   DecodeOptions d;
@@ -121,7 +126,9 @@ TEST_CASE("Decoding onto a skeleton with one branch rotated 30 degrees bends tha
     const LayoutSegment& seg = e.layout.segments[seg_plain[v.idx()]];
     const Eigen::Vector3d p = point(plain, v), q = point(bent, bent.vertex_handle(v.idx()));
     if (in_branch[seg.a] && in_branch[seg.b]) {
-      CHECK((q - R * p).norm() <= tol);
+      // The frame turns by the minimal rotation between old and new axis, which equals R only for
+      // axes perpendicular to R's: bent segments follow R within the round-trip error.
+      CHECK((q - R * p).norm() <= 0.002 * bounding_box_diagonal(plain));
       ++rotated;
     } else if (!in_branch[seg.a] && !in_branch[seg.b]) {
       CHECK((q - p).norm() <= tol);
@@ -131,8 +138,8 @@ TEST_CASE("Decoding onto a skeleton with one branch rotated 30 degrees bends tha
   CHECK(rotated > 100);
   CHECK(kept > 1000);
   // The bent branch's tip really moved: by 2 sin(15 deg) times its distance from the junction.
-  const Eigen::Vector3d tip = e.layout.skeleton.nodes[2];
-  CHECK((moved.nodes[2] - tip).norm() == Approx(2 * std::sin(M_PI / 12) * tip.norm()));
+  const Eigen::Vector3d before = e.layout.skeleton.nodes[tip];
+  CHECK((moved.nodes[tip] - before).norm() == Approx(2 * std::sin(M_PI / 12) * before.norm()));
 }
 
 TEST_CASE("Decoding rejects a skeleton with another graph and bad levels", "[decode_sdm]") {
