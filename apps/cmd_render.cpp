@@ -131,7 +131,7 @@ Command add_render_command(CLI::App& parent) {
             }
             int columns = 1;
             while (columns * columns < o->views) ++columns;
-            if (o->compare_uv) columns = std::max(1, columns / 2);
+            if (o->compare_uv) columns = std::max(1, (columns + 1) / 2);  // each cell is a pair
             const stm::Image img = cells.size() == 1 ? cells[0] : stm::contact_sheet(cells, columns);
             stm::write_png(img, o->output);
             double min_psnr = std::numeric_limits<double>::infinity(), mean_psnr = 0;
