@@ -21,6 +21,9 @@ struct Command {
 Command add_info_command(CLI::App& parent);
 Command add_convert_command(CLI::App& parent);
 Command add_render_command(CLI::App& parent);
+Command add_encode_command(CLI::App& parent);
+Command add_decode_command(CLI::App& parent);
+Command add_roundtrip_command(CLI::App& parent);
 Command add_skeleton_command(CLI::App& parent);
 Command add_primitive_command(CLI::App& parent);
 Command add_stm_command(CLI::App& parent);

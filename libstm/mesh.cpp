@@ -306,6 +306,19 @@ Mesh build_mesh(const MeshSoup& soup) {
   return mesh;
 }
 
+MeshSoup mesh_to_soup(const Mesh& mesh) {
+  MeshSoup soup;
+  soup.points.reserve(mesh.n_vertices());
+  for (auto v : mesh.vertices()) soup.points.push_back(point(mesh, v));
+  for (auto f : mesh.faces()) {
+    std::array<int, 3> t{};
+    int c = 0;
+    for (auto v : mesh.fv_range(f)) t[c++] = v.idx();
+    soup.triangles.push_back(t);
+  }
+  return soup;
+}
+
 Mesh load_mesh(const std::string& path, std::string* texture) {
   MeshSoup soup = read_mesh_soup(path);
   MeshReport report = validate_mesh(soup);

@@ -39,6 +39,9 @@ MeshSoup read_mesh_soup(const std::string& path);
 // Texture coordinates, when present, are stored per halfedge.
 Mesh build_mesh(const MeshSoup& soup);
 
+// The triangle list of a built mesh, e.g. to validate a mesh the pipeline produced.
+MeshSoup mesh_to_soup(const Mesh& mesh);
+
 // Reads, validates and builds: the entry point every command uses. Throws InputError with the
 // validation report when the mesh cannot go through the pipeline (open, non-manifold, NaN, empty).
 // `texture` receives the material's texture path when there is one.

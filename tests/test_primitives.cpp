@@ -17,18 +17,6 @@
 
 namespace {
 
-stm::MeshSoup soup_of(const stm::Mesh& mesh) {
-  stm::MeshSoup soup;
-  for (auto v : mesh.vertices()) soup.points.push_back(stm::point(mesh, v));
-  for (auto f : mesh.faces()) {
-    std::array<int, 3> t{};
-    int k = 0;
-    for (auto v : mesh.fv_range(f)) t[k++] = v.idx();
-    soup.triangles.push_back(t);
-  }
-  return soup;
-}
-
 double signed_volume(const stm::Mesh& mesh) {
   double volume = 0;
   for (auto f : mesh.faces()) {
@@ -56,7 +44,7 @@ TEST_CASE("every primitive is a closed, outward, well-shaped 2-manifold of the p
     REQUIRE(kExpected.count(name) == 1);
     const Expected& e = kExpected.at(name);
     stm::Mesh mesh = stm::make_primitive(name);
-    stm::MeshReport r = stm::validate_mesh(soup_of(mesh));
+    stm::MeshReport r = stm::validate_mesh(stm::mesh_to_soup(mesh));
     CHECK(r.usable());
     CHECK(r.findings.empty());
     CHECK(r.boundary_loops == 0);
@@ -132,7 +120,7 @@ TEST_CASE("resolution is an approximate vertex count and keeps shape and topolog
   for (const auto& [name, target] : std::vector<std::pair<std::string, int>>{{"ypsilon", 1500}, {"donut", 5000}, {"capsule", 400}}) {
     INFO(name << " at " << target);
     stm::Mesh mesh = stm::make_primitive(name, target);
-    stm::MeshReport r = stm::validate_mesh(soup_of(mesh));
+    stm::MeshReport r = stm::validate_mesh(stm::mesh_to_soup(mesh));
     CHECK(r.usable());
     REQUIRE(r.parts == 1);
     CHECK(r.genus_per_part[0] == kExpected.at(name).genus);

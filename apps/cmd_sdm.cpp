@@ -1,0 +1,239 @@
+// sdm encode / decode / roundtrip: skeleton displacement maps.
+#include "apps/commands.h"
+#include "libsdm/decode_sdm.h"
+#include "libsdm/encode_sdm.h"
+#include "libsdm/sdm_exr.h"
+#include "libsdm/surface_distance.h"
+#include "libstm/errors.h"
+#include "libstm/extract_skeleton.h"
+#include "libstm/image.h"
+#include "libstm/layout.h"
+#include "libstm/mesh.h"
+#include "libstm/validate_mesh.h"
+
+#include <chrono>
+#include <cmath>
+#include <memory>
+
+namespace sdm_cli {
+namespace {
+
+double seconds_since(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+// The layout of a mesh: from a layout file, or from a skeleton file, or extracted here.
+stm::Layout layout_for(const stm::Mesh& mesh, const std::string& layout_path, const std::string& skeleton_path, int size) {
+  if (!layout_path.empty()) {
+    stm::Layout layout = stm::read_layout_json(layout_path);
+    if (layout.skeleton.vertex_node.size() != mesh.n_vertices())
+      throw stm::InputError("layout " + layout_path + " was made for a mesh with " +
+                            std::to_string(layout.skeleton.vertex_node.size()) + " vertices, this one has " +
+                            std::to_string(mesh.n_vertices()));
+    return layout;
+  }
+  stm::Skeleton skeleton;
+  if (!skeleton_path.empty()) {
+    skeleton = stm::read_skeleton_json(skeleton_path);
+  } else {
+    progress("extracting the skeleton");
+    skeleton = stm::extract_skeleton(mesh, {}, [](const std::string& s) { progress("  " + s); });
+  }
+  stm::LayoutOptions lo;
+  lo.size = size;
+  lo.progress = [](const std::string& s) { progress("  " + s); };
+  progress("computing the layout");
+  return stm::compute_layout(mesh, skeleton, lo);
+}
+
+// False colour of D (blue near the axis, red far) where A = 1, grey where A = 0, black outside.
+stm::Image false_colour(const stm::SdmImage& im) {
+  float lo = INFINITY, hi = -INFINITY;
+  for (size_t i = 0; i < im.D.size(); ++i)
+    if (im.A[i] > 0.5f) lo = std::min(lo, im.D[i]), hi = std::max(hi, im.D[i]);
+  stm::Image out;
+  out.width = im.width;
+  out.height = im.height;
+  out.channels = 4;
+  out.pixels.assign(size_t(im.width) * im.height * 4, 255);
+  for (size_t i = 0; i < im.D.size(); ++i) {
+    uint8_t* p = &out.pixels[4 * i];
+    if (im.A[i] > 0.5f) {
+      const double x = hi > lo ? (im.D[i] - lo) / (hi - lo) : 0.5;
+      p[0] = uint8_t(255 * std::clamp(1.5 * x - 0.25, 0.0, 1.0));
+      p[1] = uint8_t(255 * std::clamp(1.0 - std::abs(2 * x - 1), 0.0, 1.0));
+      p[2] = uint8_t(255 * std::clamp(1.25 - 1.5 * x, 0.0, 1.0));
+    } else if (im.D[i] != 0.0f) {
+      p[0] = p[1] = p[2] = 96;
+    } else {
+      p[0] = p[1] = p[2] = 0;
+    }
+  }
+  return out;
+}
+
+// --lod-segment ID=L
+std::map<int, int> parse_segment_levels(const std::vector<std::string>& items) {
+  std::map<int, int> out;
+  for (const auto& s : items) {
+    const auto eq = s.find('=');
+    try {
+      if (eq == std::string::npos) throw std::invalid_argument("");
+      size_t a = 0, b = 0;
+      const int id = std::stoi(s.substr(0, eq), &a);
+      const int level = std::stoi(s.substr(eq + 1), &b);
+      if (a != eq || b != s.size() - eq - 1) throw std::invalid_argument("");
+      out[id] = level;
+    } catch (const std::exception&) {
+      throw stm::InputError("--lod-segment '" + s + "' is not of the form ID=LEVEL (e.g. 3=1)");
+    }
+  }
+  return out;
+}
+
+bool closed_manifold(const stm::Mesh& m) { return stm::validate_mesh(stm::mesh_to_soup(m)).usable(); }
+
+}  // namespace
+
+Command add_encode_command(CLI::App& parent) {
+  struct Opts {
+    std::string mesh, out, layout, skeleton, png;
+    int size = 1024;
+    bool json = false;
+  };
+  auto o = std::make_shared<Opts>();
+  auto* app = parent.add_subcommand(
+      "encode", "Encode a closed mesh as a skeleton displacement map: one float OpenEXR file (channels D and A)\n"
+                "with the layout and base mesh in its header, so 'sdm decode' needs nothing else.");
+  app->add_option("mesh", o->mesh, "Input mesh (.obj, .off, .ply, .stl)")->required();
+  app->add_option("-o,--output", o->out, "Output map (.exr)")->required();
+  app->add_option("--size", o->size, "Atlas size in texels")->capture_default_str()->check(CLI::Range(16, 16384));
+  app->add_option("--layout", o->layout, "Use this layout (from 'sdm stm') instead of computing one");
+  app->add_option("--skeleton", o->skeleton, "Use this skeleton (from 'sdm skeleton') instead of extracting one");
+  app->add_option("--png", o->png, "Also write a false-colour picture of the map (.png)");
+  app->add_flag("--json", o->json, "Print one JSON object with the summary");
+  return {app, [o]() {
+            const auto t0 = std::chrono::steady_clock::now();
+            const stm::Mesh mesh = stm::load_mesh(o->mesh);
+            const stm::Layout layout = layout_for(mesh, o->layout, o->skeleton, o->size);
+            const double layout_s = seconds_since(t0);
+            const auto t1 = std::chrono::steady_clock::now();
+            stm::EncodeStats st;
+            stm::EncodeOptions eo;
+            eo.progress = [](const std::string& s) { progress("  " + s); };
+            const stm::SdmImage im = stm::encode_sdm(mesh, layout, eo, &st);
+            const double encode_s = seconds_since(t1);
+            stm::write_sdm_exr(im, o->out);
+            if (!o->png.empty()) stm::write_png(false_colour(im), o->png);
+            const double own = st.texels ? double(st.own_hits) / st.texels : 0.0;
+            if (o->json) {
+              print_json({{"output", o->out}, {"size", im.width}, {"segments", layout.segments.size()},
+                          {"texels", st.texels}, {"own_hits", st.own_hits}, {"other_hits", st.other_hits},
+                          {"filled", st.filled}, {"base_faces", st.base_faces}, {"layout_seconds", layout_s},
+                          {"encode_seconds", encode_s}});
+            } else {
+              std::cout << o->out << ": " << im.width << "x" << im.height << ", " << layout.segments.size() << " segments, "
+                        << st.base_faces << " base faces, " << std::round(1000 * own) / 10 << " % of segment texels on their own surface\n"
+                        << "  layout " << layout_s << " s, encode " << encode_s << " s\n";
+            }
+            return 0;
+          }};
+}
+
+Command add_decode_command(CLI::App& parent) {
+  struct Opts {
+    std::string map, out, skeleton;
+    int lod = 3;
+    std::vector<std::string> segment_lod;
+    bool json = false;
+  };
+  auto o = std::make_shared<Opts>();
+  auto* app = parent.add_subcommand(
+      "decode", "Rebuild a closed mesh from a skeleton displacement map, with a level of detail chosen globally\n"
+                "or per segment, optionally around a skeleton with moved nodes (same graph).");
+  app->add_option("map", o->map, "Input map (.exr from 'sdm encode')")->required();
+  app->add_option("-o,--output", o->out, "Output mesh (.obj, .ply, .off, .stl)")->required();
+  app->add_option("--lod", o->lod, "Level of detail: every base edge is cut into 2^L pieces")->capture_default_str()->check(CLI::Range(0, 8));
+  app->add_option("--lod-segment", o->segment_lod, "Per-segment level, ID=L (repeatable)");
+  app->add_option("--skeleton", o->skeleton, "Decode around this skeleton (same nodes and edges, moved positions)");
+  app->add_flag("--json", o->json, "Print one JSON object with the summary");
+  return {app, [o]() {
+            const auto t0 = std::chrono::steady_clock::now();
+            const stm::SdmImage im = stm::read_sdm_exr(o->map);
+            stm::DecodeOptions d;
+            d.level = o->lod;
+            d.segment_level = parse_segment_levels(o->segment_lod);
+            if (!o->skeleton.empty()) d.skeleton = stm::read_skeleton_json(o->skeleton);
+            const stm::Mesh mesh = stm::decode_sdm(im, d);
+            const double s = seconds_since(t0);
+            stm::write_mesh(mesh, o->out);
+            const bool closed = closed_manifold(mesh);
+            if (o->json) {
+              print_json({{"output", o->out}, {"vertices", mesh.n_vertices()}, {"faces", mesh.n_faces()},
+                          {"closed", closed}, {"seconds", s}});
+            } else {
+              std::cout << o->out << ": " << mesh.n_vertices() << " vertices, " << mesh.n_faces() << " faces, "
+                        << (closed ? "closed 2-manifold" : "NOT closed") << ", " << s << " s\n";
+            }
+            return 0;
+          }};
+}
+
+Command add_roundtrip_command(CLI::App& parent) {
+  struct Opts {
+    std::string mesh, out;
+    int size = 1024, lod = 3, samples = 100000;
+    double max_rms = -1;
+    bool json = false;
+  };
+  auto o = std::make_shared<Opts>();
+  auto* app = parent.add_subcommand(
+      "roundtrip", "Encode a mesh, decode it, and measure the reconstruction error: symmetric Hausdorff and RMS\n"
+                   "distance by dense sampling, as fractions of the bounding-box diagonal, and PSNR.\n"
+                   "Exits 3 when the RMS exceeds --max-rms.");
+  app->add_option("mesh", o->mesh, "Input mesh (.obj, .off, .ply, .stl)")->required();
+  app->add_option("--size", o->size, "Atlas size in texels")->capture_default_str()->check(CLI::Range(16, 16384));
+  app->add_option("--lod", o->lod, "Level of detail of the decode")->capture_default_str()->check(CLI::Range(0, 8));
+  app->add_option("--samples", o->samples, "Points sampled on each surface")->capture_default_str()->check(CLI::Range(1000, 10000000));
+  app->add_option("--max-rms", o->max_rms, "Fail (exit 3) when the RMS error, as a fraction of the diagonal, is larger");
+  app->add_option("-o,--output", o->out, "Also write the decoded mesh");
+  app->add_flag("--json", o->json, "Print one JSON object with the summary");
+  return {app, [o]() {
+            const auto t0 = std::chrono::steady_clock::now();
+            const stm::Mesh mesh = stm::load_mesh(o->mesh);
+            const stm::Layout layout = layout_for(mesh, "", "", o->size);
+            const auto t1 = std::chrono::steady_clock::now();
+            progress("encoding");
+            const stm::SdmImage im = stm::encode_sdm(mesh, layout);
+            const double encode_s = seconds_since(t1);
+            const auto t2 = std::chrono::steady_clock::now();
+            progress("decoding");
+            stm::DecodeOptions d;
+            d.level = o->lod;
+            const stm::Mesh out = stm::decode_sdm(im, d);
+            const double decode_s = seconds_since(t2);
+            if (!o->out.empty()) stm::write_mesh(out, o->out);
+            progress("measuring");
+            const stm::SurfaceDistance dist = stm::surface_distance(mesh, out, o->samples);
+            const double rms = dist.rms / dist.diagonal, hd = dist.hausdorff / dist.diagonal;
+            const double psnr = 20 * std::log10(1.0 / rms);
+            const bool closed = closed_manifold(out);
+            if (o->json) {
+              print_json({{"mesh", o->mesh}, {"size", o->size}, {"lod", o->lod}, {"segments", layout.segments.size()},
+                          {"rms", rms}, {"hausdorff", hd}, {"psnr", psnr}, {"faces", out.n_faces()},
+                          {"closed", closed}, {"encode_seconds", encode_s}, {"decode_seconds", decode_s},
+                          {"total_seconds", seconds_since(t0)}, {"samples", o->samples}});
+            } else {
+              std::cout << o->mesh << " at " << o->size << ", level " << o->lod << ": RMS " << 100 * rms << " %, Hausdorff "
+                        << 100 * hd << " % of the diagonal, PSNR " << psnr << " dB, " << out.n_faces() << " faces, "
+                        << (closed ? "closed" : "NOT closed") << "\n";
+            }
+            if (o->max_rms >= 0 && rms > o->max_rms) {
+              std::cerr << "sdm roundtrip: RMS " << rms << " exceeds --max-rms " << o->max_rms << std::endl;
+              return 3;
+            }
+            return 0;
+          }};
+}
+
+}  // namespace sdm_cli

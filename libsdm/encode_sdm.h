@@ -1,0 +1,35 @@
+#pragma once
+// Skeleton displacement map encoding (paper 5, DESIGN 4.8): for every texel of every segment's
+// rectangle, the distance along the texel's capsule ray (capsule_ray.h) to the segment's own
+// surface (D, model units) and whether that surface was hit (A). The layout and the base mesh
+// (base_mesh.h) travel in the header, so the file alone rebuilds the surface.
+#include "libsdm/sdm_exr.h"
+#include "libstm/layout.h"
+
+#include <functional>
+
+namespace stm {
+
+struct EncodeOptions {
+  int base_vertices = 0;  // size of the base mesh (0: chosen from the mesh)
+  std::function<void(const std::string&)> progress;
+};
+
+struct EncodeStats {
+  long texels = 0;      // texels inside the segments' rectangles
+  long own_hits = 0;    // A = 1: the ray meets the segment's own surface
+  long other_hits = 0;  // A = 0, D from the nearest other surface along the ray
+  long filled = 0;      // A = 0, D filled from neighbouring texels (the ray met nothing)
+  int base_faces = 0;
+};
+
+// Texels outside every rectangle get D = 0, A = 0. The layout must have been computed for `mesh`.
+SdmImage encode_sdm(const Mesh& mesh, const Layout& layout, const EncodeOptions& options = {}, EncodeStats* stats = nullptr);
+
+// The (u, v) of the centre of a segment's texel (ix, iy are atlas texel indices inside the
+// rectangle), and the D lookup used by the decoder: bilinear between texel centres, periodic
+// around the axis, clamped along it. Shared so encoder, decoder and tests agree on texel centres.
+Eigen::Vector2d texel_local_uv(const LayoutSegment& seg, int ix, int iy);
+double sample_displacement(const SdmImage& image, const LayoutSegment& seg, double u, double v);
+
+}  // namespace stm

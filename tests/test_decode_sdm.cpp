@@ -1,0 +1,151 @@
+// SDM decoding: closed output at any mix of levels, and a surface that follows a moved skeleton.
+#include "libsdm/decode_sdm.h"
+#include "libsdm/encode_sdm.h"
+#include "libsdm/surface_distance.h"
+#include "libstm/errors.h"
+#include "libstm/layout.h"
+#include "libstm/validate_mesh.h"
+#include "libstm/primitives.h"
+
+#include <catch2/catch.hpp>
+
+using namespace stm;
+
+namespace {
+
+MeshReport report_of(const Mesh& m) { return validate_mesh(mesh_to_soup(m)); }
+
+struct Encoded {
+  Mesh mesh;
+  Layout layout;
+  SdmImage image;
+};
+
+// The ypsilon primitive (libstm/primitives.h: tubes from the origin to (0,-1.1,0), (-0.78,0.78,0)
+// and (0.78,0.78,0)) with its ideal skeleton: junction 0, and per arm k nodes 2k+1 (middle) and
+// 2k+2 (end); each vertex goes to the nearest arm, then to the nearest of its nodes.
+Encoded encode_ypsilon() {
+  Encoded e;
+  e.mesh = make_primitive("ypsilon");
+  Skeleton s;
+  s.nodes.push_back(Eigen::Vector3d::Zero());
+  const Eigen::Vector3d ends[3] = {{0, -1.1, 0}, {-0.78, 0.78, 0}, {0.78, 0.78, 0}};
+  for (int k = 0; k < 3; ++k) {
+    s.nodes.push_back(0.5 * ends[k]);
+    s.nodes.push_back(ends[k]);
+    s.edges.push_back({0, 2 * k + 1});
+    s.edges.push_back({2 * k + 1, 2 * k + 2});
+  }
+  for (auto v : e.mesh.vertices()) {
+    const Eigen::Vector3d p = point(e.mesh, v);
+    int arm = 0;
+    double best = INFINITY, best_t = 0;
+    for (int k = 0; k < 3; ++k) {
+      const double t = std::clamp(p.dot(ends[k]) / ends[k].squaredNorm(), 0.0, 1.0);
+      const double dist = (p - t * ends[k]).norm();
+      if (dist < best) best = dist, arm = k, best_t = t;
+    }
+    const int step = int(std::lround(2 * best_t));
+    s.vertex_node.push_back(step == 0 ? 0 : 2 * arm + step);
+  }
+  LayoutOptions lo;
+  lo.size = 512;
+  e.layout = compute_layout(e.mesh, s, lo);
+  e.image = encode_sdm(e.mesh, e.layout);
+  return e;
+}
+
+}  // namespace
+
+TEST_CASE("Decoded meshes are closed 2-manifolds at every level and mix of levels", "[decode_sdm]") {
+  const Encoded e = encode_ypsilon();
+  const int segments = int(e.layout.segments.size());
+  REQUIRE(segments >= 5);
+  size_t previous = 0;
+  for (int level : {0, 1, 2, 3}) {
+    DecodeOptions d;
+    d.level = level;
+    const Mesh m = decode_sdm(e.image, d);
+    const MeshReport r = report_of(m);
+    INFO("level " << level << ": " << r.refusal("decoded"));
+    CHECK(r.usable());
+    CHECK(r.parts == 1);
+    CHECK(r.genus_per_part == std::vector<int>{0});
+    CHECK(m.n_faces() > previous);  // each level refines: 4x the faces
+    previous = m.n_faces();
+  }
+  // One segment at level 1 and the rest at 4: still closed, and fewer faces than all at 4.
+  DecodeOptions mixed;
+  mixed.level = 4;
+  mixed.segment_level[1] = 1;
+  const Mesh m = decode_sdm(e.image, mixed);
+  const MeshReport r = report_of(m);
+  CHECK(r.usable());
+  CHECK(r.findings.empty());
+  DecodeOptions all4;
+  all4.level = 4;
+  CHECK(m.n_faces() < decode_sdm(e.image, all4).n_faces());
+}
+
+TEST_CASE("The round trip of a branching shape is accurate", "[decode_sdm]") {
+  const Encoded e = encode_ypsilon();
+  const Mesh out = decode_sdm(e.image);
+  const SurfaceDistance d = surface_distance(e.mesh, out, 50000);
+  INFO("rms " << d.rms / d.diagonal << " hausdorff " << d.hausdorff / d.diagonal);
+  CHECK(d.rms / d.diagonal <= 0.002);
+  CHECK(d.hausdorff / d.diagonal <= 0.015);
+}
+
+TEST_CASE("Decoding onto a skeleton with one branch rotated 30 degrees bends that branch only", "[decode_sdm]") {
+  const Encoded e = encode_ypsilon();
+  // Arm 0 is the chain of nodes 1 and 2 leaving junction 0 along -y.
+  Skeleton moved = e.layout.skeleton;
+  const Eigen::Matrix3d R = Eigen::AngleAxisd(M_PI / 6, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  std::vector<char> in_branch(moved.nodes.size(), 0);
+  for (int n : {1, 2}) {
+    moved.nodes[n] = R * moved.nodes[n];
+    in_branch[n] = 1;
+  }
+  std::vector<int> seg_plain, seg_moved;
+  const Mesh plain = decode_sdm(e.image, {}, &seg_plain);
+  DecodeOptions d;
+  d.skeleton = moved;
+  const Mesh bent = decode_sdm(e.image, d, &seg_moved);
+  REQUIRE(plain.n_vertices() == bent.n_vertices());
+  REQUIRE(seg_plain == seg_moved);
+  // Segments whose both nodes moved are rigidly rotated; segments touching no moved node stay.
+  // Float32 displacements and the ill-conditioned angle next to a pole allow tiny differences.
+  const double tol = 1e-4 * bounding_box_diagonal(plain);
+  long rotated = 0, kept = 0;
+  for (auto v : plain.vertices()) {
+    const LayoutSegment& seg = e.layout.segments[seg_plain[v.idx()]];
+    const Eigen::Vector3d p = point(plain, v), q = point(bent, bent.vertex_handle(v.idx()));
+    if (in_branch[seg.a] && in_branch[seg.b]) {
+      CHECK((q - R * p).norm() <= tol);
+      ++rotated;
+    } else if (!in_branch[seg.a] && !in_branch[seg.b]) {
+      CHECK((q - p).norm() <= tol);
+      ++kept;
+    }
+  }
+  CHECK(rotated > 100);
+  CHECK(kept > 1000);
+  // The bent branch's tip really moved: by 2 sin(15 deg) times its distance from the junction.
+  const Eigen::Vector3d tip = e.layout.skeleton.nodes[2];
+  CHECK((moved.nodes[2] - tip).norm() == Approx(2 * std::sin(M_PI / 12) * tip.norm()));
+}
+
+TEST_CASE("Decoding rejects a skeleton with another graph and bad levels", "[decode_sdm]") {
+  const Encoded e = encode_ypsilon();
+  DecodeOptions d;
+  Skeleton other = e.layout.skeleton;
+  other.edges.pop_back();
+  d.skeleton = other;
+  CHECK_THROWS_AS(decode_sdm(e.image, d), InputError);
+  DecodeOptions bad_level;
+  bad_level.level = 9;
+  CHECK_THROWS_AS(decode_sdm(e.image, bad_level), InputError);
+  DecodeOptions bad_segment;
+  bad_segment.segment_level[999] = 1;
+  CHECK_THROWS_AS(decode_sdm(e.image, bad_segment), InputError);
+}
