@@ -4,25 +4,35 @@
 #include "libstm/image.h"
 #include "libstm/mesh.h"
 #include "libstm/render_mesh.h"
+#include "libstm/layout.h"
 #include "libstm/render_skeleton.h"
+#include "libstm/render_stm.h"
 #include "libstm/validate_mesh.h"
 
+#include <cmath>
+#include <iomanip>
+#include <limits>
 #include <memory>
 
 namespace sdm_cli {
 
 Command add_render_command(CLI::App& parent) {
   struct Opts {
-    std::string mesh, output, texture, skeleton;
-    int width = 800, height = 800;
+    std::string mesh, output, texture, skeleton, stm, layout;
+    int width = 800, height = 800, views = 1;
     double azimuth = 30, elevation = 20;
-    bool unlit = false, orthographic = false, flat = false, no_texture = false, json = false;
+    bool unlit = false, orthographic = false, flat = false, no_texture = false, json = false, compare_uv = false;
   };
   auto o = std::make_shared<Opts>();
   auto* app = parent.add_subcommand(
       "render", "Render a mesh to a PNG image, offscreen (headless OpenGL through EGL).\n"
                 "The camera frames the mesh's bounding box from the given azimuth and elevation; a mesh with uv\n"
-                "is drawn with its texture (the map_Kd of its MTL, or --texture). Open meshes are drawn too.");
+                "is drawn with its texture (the map_Kd of its MTL, or --texture). Open meshes are drawn too.\n"
+                "With --stm ATLAS.png --layout LAYOUT.json the mesh is drawn from its skeleton texture map, with\n"
+                "STM coordinates computed in the shaders from positions and the layout only (any uv is ignored);\n"
+                "--compare-uv then also draws it with its own uv and texture, writes both side by side (own uv\n"
+                "left, STM right) and prints the PSNR between them over the object's pixels.\n"
+                "--views N draws a turntable (N azimuths, 360/N degrees apart) as one contact sheet.");
   app->add_option("mesh", o->mesh, "Input mesh (.obj, .off, .ply, .stl)")->required();
   app->add_option("-o,--output", o->output, "Output image (.png)")->required();
   app->add_option("--width", o->width, "Image width in pixels")->capture_default_str()->check(CLI::Range(1, 16384));
@@ -36,6 +46,14 @@ Command add_render_command(CLI::App& parent) {
   app->add_flag("--orthographic", o->orthographic, "Orthographic instead of perspective (30 degree) projection");
   app->add_flag("--flat", o->flat, "Flat shading with face normals");
   app->add_option("--skeleton", o->skeleton, "Skeleton (.json from 'sdm skeleton') drawn over a semi-transparent mesh");
+  app->add_option("--stm", o->stm, "Atlas (.png from 'sdm remap') to draw the mesh with, coordinates computed on the fly; needs --layout");
+  app->add_option("--layout", o->layout, "Layout (.json) of the --stm atlas, made for this mesh");
+  app->add_flag("--compare-uv", o->compare_uv,
+                "With --stm: also draw the mesh with its own uv and texture, put both side by side and print the PSNR "
+                "(dB, over the pixels either render covers; use with --unlit for a pure texture comparison)");
+  app->add_option("--views", o->views, "Number of views around the up axis, starting at --azimuth (a contact sheet)")
+      ->check(CLI::Range(1, 64))
+      ->capture_default_str();
   app->add_flag("--json", o->json, "Print one JSON object describing the render");
   return {app, [o]() {
             // A picture is useful for any mesh, so unlike the pipeline commands, render also draws open
@@ -52,6 +70,8 @@ Command add_render_command(CLI::App& parent) {
             const std::string material_texture = soup.texture;
             std::string texture_path = o->texture.empty() ? material_texture : o->texture;
             if (o->no_texture) texture_path.clear();
+            // Drawn from the STM, the mesh's own uv and texture only serve the --compare-uv picture.
+            if (!o->stm.empty() && !o->compare_uv) texture_path.clear();
             stm::Image texture;
             if (!texture_path.empty()) {
               if (!mesh.has_halfedge_texcoords2D())
@@ -59,41 +79,82 @@ Command add_render_command(CLI::App& parent) {
                                       "' cannot be applied");
               texture = stm::read_png(texture_path);
             }
+            if (!o->stm.empty() && o->layout.empty()) throw stm::InputError("--stm needs the atlas's --layout LAYOUT.json");
+            if (o->stm.empty() && (!o->layout.empty() || o->compare_uv))
+              throw stm::InputError("--layout and --compare-uv go with --stm ATLAS.png");
+            if (o->compare_uv && texture_path.empty())
+              throw stm::InputError("--compare-uv needs the mesh's own texture: '" + o->mesh + "' names none (pass --texture)");
+            if (!o->stm.empty() && !o->skeleton.empty()) throw stm::InputError("--skeleton cannot be combined with --stm");
+            stm::Layout layout;
+            stm::Image atlas;
+            if (!o->stm.empty()) {
+              layout = stm::read_layout_json(o->layout);
+              atlas = stm::read_png(o->stm);
+            }
             stm::GlContext gl;
             progress("GL renderer: " + gl.renderer() + " (" + gl.version() + ", " + gl.platform() + ")");
             stm::RenderOptions ro;
             ro.width = o->width;
             ro.height = o->height;
-            ro.azimuth_deg = o->azimuth;
             ro.elevation_deg = o->elevation;
             ro.unlit = o->unlit;
             ro.orthographic = o->orthographic;
             ro.flat_shading = o->flat;
             if (!texture_path.empty()) ro.texture = &texture;
-            std::vector<uint8_t> mask;
-            stm::Image img;
-            if (!o->skeleton.empty()) {
-              const stm::Skeleton sk = stm::read_skeleton_json(o->skeleton);
-              img = stm::render_with_skeleton(gl, mesh, sk, ro);
-              stm::render_mesh(gl, mesh, ro, &mask);
-            } else {
-              img = stm::render_mesh(gl, mesh, ro, &mask);
-            }
-            stm::write_png(img, o->output);
+            std::vector<stm::Image> cells;
+            std::vector<double> psnrs;
             size_t covered = 0;
-            for (uint8_t m : mask) covered += m ? 1 : 0;
+            for (int view = 0; view < o->views; ++view) {
+              ro.azimuth_deg = o->azimuth + 360.0 * view / o->views;
+              std::vector<uint8_t> mask;
+              stm::Image img;
+              if (!o->stm.empty()) {
+                img = stm::render_stm(gl, mesh, layout, atlas, ro, &mask);
+                if (o->compare_uv) {
+                  std::vector<uint8_t> uv_mask;
+                  const stm::Image uv_img = stm::render_mesh(gl, mesh, ro, &uv_mask);
+                  const double p = stm::psnr(uv_img, img, &(mask = stm::mask_union(mask, uv_mask)));
+                  psnrs.push_back(p);
+                  progress("view " + std::to_string(view) + " (azimuth " + std::to_string(ro.azimuth_deg) + "): PSNR " +
+                           std::to_string(p) + " dB");
+                  img = stm::side_by_side({uv_img, img});
+                }
+              } else if (!o->skeleton.empty()) {
+                const stm::Skeleton sk = stm::read_skeleton_json(o->skeleton);
+                img = stm::render_with_skeleton(gl, mesh, sk, ro);
+                stm::render_mesh(gl, mesh, ro, &mask);
+              } else {
+                img = stm::render_mesh(gl, mesh, ro, &mask);
+              }
+              for (uint8_t m : mask) covered += m ? 1 : 0;
+              cells.push_back(std::move(img));
+            }
+            int columns = 1;
+            while (columns * columns < o->views) ++columns;
+            if (o->compare_uv) columns = std::max(1, (columns + 1) / 2);  // each cell is a pair
+            const stm::Image img = cells.size() == 1 ? cells[0] : stm::contact_sheet(cells, columns);
+            stm::write_png(img, o->output);
+            double min_psnr = std::numeric_limits<double>::infinity(), mean_psnr = 0;
+            for (double p : psnrs) min_psnr = std::min(min_psnr, p), mean_psnr += p / psnrs.size();
             if (o->json) {
-              print_json({{"output", o->output},
-                          {"width", img.width},
-                          {"height", img.height},
-                          {"texture", texture_path},
-                          {"covered_pixels", covered},
-                          {"renderer", gl.renderer()},
-                          {"gl_version", gl.version()},
-                          {"platform", gl.platform()}});
+              nlohmann::json j = {{"output", o->output},
+                                  {"width", img.width},
+                                  {"height", img.height},
+                                  {"views", o->views},
+                                  {"texture", o->stm.empty() ? texture_path : o->stm},
+                                  {"covered_pixels", covered},
+                                  {"renderer", gl.renderer()},
+                                  {"gl_version", gl.version()},
+                                  {"platform", gl.platform()}};
+              if (!o->stm.empty()) j["layout"] = o->layout;
+              if (o->compare_uv) j["psnr"] = {{"views", psnrs}, {"min", min_psnr}, {"mean", mean_psnr}};
+              print_json(j);
             } else {
-              std::cout << o->output << ": " << img.width << "x" << img.height << ", " << covered
-                        << " object pixels" << (texture_path.empty() ? "" : ", texture " + texture_path) << "\n";
+              std::cout << o->output << ": " << img.width << "x" << img.height << ", " << covered << " object pixels"
+                        << (o->stm.empty() ? (texture_path.empty() ? "" : ", texture " + texture_path) : ", STM " + o->stm) << "\n";
+              if (o->compare_uv)
+                std::cout << std::fixed << std::setprecision(2) << "PSNR own uv vs STM: min " << min_psnr << " dB, mean "
+                          << mean_psnr << " dB over " << psnrs.size() << " view(s)\n";
             }
             return 0;
           }};

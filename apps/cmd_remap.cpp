@@ -1,0 +1,104 @@
+#include "apps/commands.h"
+#include "libstm/errors.h"
+#include "libstm/extract_skeleton.h"
+#include "libstm/gl_context.h"
+#include "libstm/image.h"
+#include "libstm/layout.h"
+#include "libstm/mesh.h"
+#include "libstm/render_atlas.h"
+
+#include <chrono>
+#include <filesystem>
+#include <memory>
+
+namespace sdm_cli {
+
+Command add_remap_command(CLI::App& parent) {
+  struct Opts {
+    std::string mesh, output, texture, layout;
+    int size = 2048, margin = 8;
+    bool json = false;
+  };
+  auto o = std::make_shared<Opts>();
+  auto* app = parent.add_subcommand(
+      "remap", "Remap the texture of a textured mesh into its skeleton texture map (STM): every segment's\n"
+               "triangles drawn into its atlas rectangle at their capsule coordinates, margins filled with the\n"
+               "surface next to them, empty texels filled from their neighbours (headless OpenGL through EGL).\n"
+               "Writes the atlas PNG and, unless --layout is given, the layout next to it (ATLAS.json; the\n"
+               "skeleton is extracted and the layout computed first). Render the result with\n"
+               "'sdm render MESH --stm ATLAS.png --layout ATLAS.json' (no uv needed).");
+  app->add_option("mesh", o->mesh, "Input mesh with uv (.obj with its MTL), closed and manifold")->required();
+  app->add_option("-o,--output", o->output, "Atlas image to write (.png)")->required();
+  app->add_option("--texture", o->texture, "Source texture (.png); default: the map_Kd of the mesh's MTL");
+  app->add_option("--layout", o->layout, "Use this layout (.json from 'sdm stm' or 'sdm remap') instead of computing one");
+  app->add_option("--size", o->size, "Atlas width and height in texels (when the layout is computed)")
+      ->check(CLI::Range(16, 16384))
+      ->capture_default_str();
+  app->add_option("--margin", o->margin, "Texels of margin around every rectangle (when the layout is computed)")
+      ->check(CLI::Range(0, 256))
+      ->capture_default_str();
+  app->add_flag("--json", o->json, "Print one JSON object instead of text");
+  return {app, [o]() {
+            using clock = std::chrono::steady_clock;
+            auto seconds = [](clock::time_point a) { return std::chrono::duration<double>(clock::now() - a).count(); };
+            std::string material;
+            const stm::Mesh mesh = stm::load_mesh(o->mesh, &material);
+            const std::string texture_path = o->texture.empty() ? material : o->texture;
+            if (texture_path.empty())
+              throw stm::InputError("'" + o->mesh + "' names no texture in its material: pass --texture TEX.png");
+            if (!mesh.has_halfedge_texcoords2D())
+              throw stm::InputError("'" + o->mesh + "' has no texture coordinates, so its texture cannot be remapped");
+            const stm::Image source = stm::read_png(texture_path);
+            stm::Layout layout;
+            double t_skeleton = 0, t_layout = 0;
+            std::string layout_path = o->layout;
+            if (!o->layout.empty()) {
+              layout = stm::read_layout_json(o->layout);
+            } else {
+              auto t0 = clock::now();
+              const stm::Skeleton sk = stm::extract_skeleton(mesh, {}, progress);
+              t_skeleton = seconds(t0);
+              t0 = clock::now();
+              stm::LayoutOptions lo;
+              lo.size = o->size;
+              lo.margin = o->margin;
+              lo.progress = progress;
+              layout = stm::compute_layout(mesh, sk, lo);
+              t_layout = seconds(t0);
+              layout_path = (std::filesystem::path(o->output).replace_extension(".json")).string();
+            }
+            auto t0 = clock::now();
+            stm::GlContext gl;
+            progress("GL renderer: " + gl.renderer() + " (" + gl.version() + ", " + gl.platform() + ")");
+            stm::AtlasOptions ao;
+            ao.progress = progress;
+            std::vector<uint8_t> covered;
+            const stm::Image atlas = stm::render_atlas(gl, mesh, layout, source, ao, &covered);
+            const double t_atlas = seconds(t0);
+            stm::write_png(atlas, o->output);
+            if (o->layout.empty()) stm::write_layout_json(layout, layout_path);
+            size_t n = 0;
+            for (uint8_t c : covered) n += c ? 1 : 0;
+            const double covered_fraction = double(n) / double(covered.size());
+            if (o->json) {
+              print_json({{"atlas", o->output},
+                          {"layout", layout_path},
+                          {"layout_written", o->layout.empty()},
+                          {"texture", texture_path},
+                          {"size", layout.size},
+                          {"segments", layout.segments.size()},
+                          {"covered_texels", covered_fraction},
+                          {"coverage", layout.coverage},
+                          {"seconds", {{"skeleton", t_skeleton}, {"layout", t_layout}, {"atlas", t_atlas}}},
+                          {"renderer", gl.renderer()}});
+            } else {
+              std::cout << o->output << ": " << layout.size << "^2 atlas, " << layout.segments.size() << " segments, "
+                        << int(100 * covered_fraction + 0.5) << " % of texels drawn from the surface\n"
+                        << "  layout " << layout_path << (o->layout.empty() ? " (written)" : " (given)") << "\n"
+                        << "  texture " << texture_path << "\n";
+            }
+            return 0;
+          }};
+}
+
+}  // namespace sdm_cli

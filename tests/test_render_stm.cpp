@@ -1,0 +1,230 @@
+// Rendering with coordinates computed in the shaders (render_stm): the STM render of Spot matches
+// the render with its own uv, the seam at phi = 0 leaves no trace, and the shaders' coordinates
+// agree with the CPU capsule mapping.
+#include "libstm/gl_context.h"
+#include "libstm/render_atlas.h"
+#include "libstm/render_mesh.h"
+#include "libstm/render_stm.h"
+#include "libstm/segments.h"
+#include "stm_test_scenes.h"
+#include "test_util.h"
+
+#include <catch2/catch.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdlib>
+#include <memory>
+
+namespace {
+
+struct SpotScene {
+  stm::Mesh mesh;  // with uv
+  stm::Image texture;
+  stm::Layout layout;
+  stm::Image atlas;
+};
+
+// A hand-made skeleton of Spot (body, tail, neck and head, four legs, horns, ears): the rendering is tested
+// independently of the extraction's quality. Every vertex goes to the nearer end of its nearest
+// segment.
+stm::Skeleton spot_skeleton(const stm::Mesh& mesh) {
+  stm::Skeleton sk;
+  sk.nodes = {{0, 0.0, 1.0},   {0, -0.1, 0.62},    {0, -0.05, 0.1},   {0, 0.3, -0.25},  {0, 0.5, -0.42},
+              {0.2, -0.35, 0.07}, {-0.2, -0.35, 0.07}, {0.2, -0.65, 0.07}, {-0.2, -0.65, 0.07},
+              {0.17, -0.35, 0.66}, {-0.17, -0.35, 0.66}, {0.17, -0.65, 0.66}, {-0.17, -0.65, 0.66},
+              {0.17, 0.88, -0.27}, {-0.17, 0.88, -0.27}, {0.42, 0.68, -0.21}, {-0.42, 0.68, -0.21}};
+  sk.edges = {{0, 1}, {1, 2}, {2, 3}, {3, 4}, {2, 5}, {5, 7}, {2, 6}, {6, 8}, {1, 9}, {9, 11}, {1, 10}, {10, 12},
+              {4, 13}, {4, 14}, {4, 15}, {4, 16}};
+  for (auto v : mesh.vertices()) {
+    const Eigen::Vector3d p = stm::point(mesh, v);
+    double best = 1e300;
+    int node = 0;
+    for (const auto& e : sk.edges) {
+      double t = 0;
+      const double d = stm::distance_to_segment(p, sk.nodes[e[0]], sk.nodes[e[1]], &t);
+      if (d < best) best = d, node = t < 0.5 ? e[0] : e[1];
+    }
+    sk.vertex_node.push_back(node);
+  }
+  return sk;
+}
+
+// Skeleton, layout (2048 atlas) and atlas of Spot, made once for the tests below.
+const SpotScene& spot(stm::GlContext& gl) {
+  static std::unique_ptr<SpotScene> sc;
+  if (!sc) {
+    sc = std::make_unique<SpotScene>();
+    std::string tex;
+    sc->mesh = stm::load_mesh(std::string(SDM_EXAMPLES) + "/spot/spot_triangulated.obj", &tex);
+    REQUIRE(!tex.empty());
+    sc->texture = stm::read_png(tex);
+    const stm::Skeleton sk = spot_skeleton(sc->mesh);
+    stm::LayoutOptions lo;
+    lo.size = 2048;
+    lo.margin = 8;
+    sc->layout = stm::compute_layout(sc->mesh, sk, lo);
+    sc->atlas = stm::render_atlas(gl, sc->mesh, sc->layout, sc->texture);
+  }
+  return *sc;
+}
+
+}  // namespace
+
+TEST_CASE("Spot from its STM without uv matches Spot with its own uv", "[render_stm]") {
+  stm::GlContext gl;
+  const SpotScene& sc = spot(gl);
+  stm::Mesh bare = sc.mesh;
+  bare.release_halfedge_texcoords2D();
+  REQUIRE(!bare.has_halfedge_texcoords2D());
+  stm::RenderOptions ro;
+  ro.width = ro.height = 512;
+  ro.unlit = true;
+  ro.elevation_deg = 15;
+  for (int view = 0; view < 8; ++view) {
+    ro.azimuth_deg = 45.0 * view;
+    std::vector<uint8_t> m_uv, m_stm;
+    ro.texture = &sc.texture;
+    const stm::Image a = stm::render_mesh(gl, sc.mesh, ro, &m_uv);
+    ro.texture = nullptr;
+    const stm::Image b = stm::render_stm(gl, bare, sc.layout, sc.atlas, ro, &m_stm);
+    const std::vector<uint8_t> mask = stm::mask_union(m_uv, m_stm);
+    const double p = stm::psnr(a, b, &mask);
+    INFO("view " << view << " azimuth " << ro.azimuth_deg << ": PSNR " << p << " dB");
+    CHECK(p >= 30.0);
+
+    // SDM_TEST_DUMP=FOLDER keeps the pairs (own uv left, STM right) for looking at.
+    if (const char* dump = std::getenv("SDM_TEST_DUMP"))
+      stm::write_png(stm::side_by_side({a, b}), std::string(dump) + "/spot_view" + std::to_string(view) + ".png");
+  }
+}
+
+TEST_CASE("the shaders' STM coordinates match the CPU capsule mapping", "[render_stm]") {
+  stm::GlContext gl;
+  const SpotScene& sc = spot(gl);
+  stm::RenderOptions ro;
+  ro.width = ro.height = 256;
+  ro.azimuth_deg = 60;
+  stm::StmRenderProbe probe;
+  stm::render_stm(gl, sc.mesh, sc.layout, sc.atlas, ro, nullptr, &probe);
+  const std::vector<int> fs = stm::assign_faces(sc.mesh, sc.layout.skeleton);
+  int n = 0, near_pole = 0, other_segment = 0;
+  double worst = 0;
+  for (int i = 0; i < ro.width * ro.height; ++i) {
+    const float* p = &probe.positions.pixels[size_t(i) * 4];
+    const float* c = &probe.coordinates.pixels[size_t(i) * 4];
+    if (p[3] == 0) continue;
+    const int s = int(c[2]), face = int(c[3]);
+    REQUIRE(s >= 0);
+    REQUIRE(s < int(sc.layout.segments.size()));
+    REQUIRE(face >= 0);
+    REQUIRE(face < int(sc.mesh.n_faces()));
+    if (fs[face] != s) ++other_segment;
+    const stm::LayoutSegment& g = sc.layout.segments[s];
+    const stm::CapsuleUV cpu = stm::capsule_uv(stm::capsule_frame(sc.layout, s), g.w, g.h, g.d, Eigen::Vector3d(p[0], p[1], p[2]));
+    // Within a thousandth of the radius of the axis the angle is ill-conditioned in float.
+    if (cpu.rho < 1e-3 * g.radius) {
+      ++near_pole;
+      continue;
+    }
+    const Eigen::Vector2d want = stm::local_to_atlas(g, cpu.u, cpu.v);
+    Eigen::Vector2d d = Eigen::Vector2d(c[0], c[1]) - want;
+    // u = 0 and u = h are the same point: compare around the axis modulo h.
+    double& du = g.rotated ? d.x() : d.y();
+    du -= g.h * std::round(du / g.h);
+    worst = std::max(worst, d.cwiseAbs().maxCoeff());
+    ++n;
+  }
+  INFO("pixels " << n << ", near a pole " << near_pole << ", segment differs from assign_faces " << other_segment
+                 << ", worst difference " << worst << " texels");
+  CHECK(n > 10000);
+  CHECK(near_pole <= n / 1000);
+  CHECK(worst < 0.01);
+  CHECK(other_segment <= n / 100);  // float ties only
+}
+
+TEST_CASE("no seam line where the STM wraps around the axis", "[render_stm]") {
+  const stm_test::CylinderScene sc = stm_test::cylinder_scene(1024, 8);
+  const stm::Image source = stm_test::procedural_image(512, 256);
+  stm::GlContext gl;
+  const stm::Image atlas = stm::render_atlas(gl, sc.mesh, sc.layout, source);
+  stm::Mesh bare = sc.mesh;
+  bare.release_halfedge_texcoords2D();
+  // Look at the seam (phi = 0, direction e1) from a few azimuths close to it, so that it falls both
+  // between and inside the 2x2 pixel quads the derivatives come from; the probe tells which
+  // neighbouring pixels lie on either side of it.
+  const stm::LayoutSegment& g = sc.layout.segments[0];
+  const Eigen::Vector3d e1 = g.e1;
+  REQUIRE(std::abs(e1.y()) < 1e-9);
+  for (double offset : {0.0, 1.0, 2.0, 3.0}) {
+    stm::RenderOptions ro;
+    ro.width = ro.height = 256;
+    ro.unlit = true;
+    ro.samples = 1;
+    ro.elevation_deg = 0;
+    ro.texture = nullptr;
+    ro.azimuth_deg = std::atan2(e1.x(), e1.z()) * 180 / M_PI + offset;
+    std::vector<uint8_t> mask, uv_mask;
+    stm::StmRenderProbe probe;
+    const stm::Image img = stm::render_stm(gl, bare, sc.layout, atlas, ro, &mask, &probe);
+    ro.texture = &source;
+    const stm::Image uv_img = stm::render_mesh(gl, sc.mesh, ro, &uv_mask);
+    int x0 = ro.width, x1 = 0, y0 = ro.height, y1 = 0;
+    for (int y = 0; y < ro.height; ++y)
+      for (int x = 0; x < ro.width; ++x)
+        if (mask[size_t(y) * ro.width + x]) x0 = std::min(x0, x), x1 = std::max(x1, x), y0 = std::min(y0, y), y1 = std::max(y1, y);
+    // Rows well inside the side (away from the rims), columns in the middle half of the object.
+    const int quarter = (x1 - x0) / 4, cx = (x0 + x1) / 2;
+    const int ya = y0 + (y1 - y0) / 6, yb = y1 - (y1 - y0) / 6;
+    auto around = [&](int x, int y) {  // atlas coordinate around the axis
+      const float* c = probe.coordinates.at(x, y);
+      return g.rotated ? c[0] : c[1];
+    };
+    double seam = 0, elsewhere = 0;
+    int seam_pairs = 0;
+    for (int y = ya; y < yb; ++y)
+      for (int x = cx - quarter; x < cx + quarter; ++x) {
+        if (!mask[size_t(y) * ro.width + x] || !mask[size_t(y) * ro.width + x + 1]) continue;
+        double j = 0;
+        for (int k = 0; k < 3; ++k) j = std::max(j, std::abs(double(img.at(x + 1, y)[k]) - img.at(x, y)[k]));
+        // The pair across the seam and the pairs next to it (a quad straddling the seam).
+        bool near_seam = false;
+        for (int dx = -2; dx <= 2; ++dx)
+          near_seam |= x + dx >= 0 && x + dx + 1 < ro.width && std::abs(around(x + dx + 1, y) - around(x + dx, y)) > 0.5 * g.h;
+        if (std::abs(around(x + 1, y) - around(x, y)) > 0.5 * g.h) ++seam_pairs;
+        (near_seam ? seam : elsewhere) = std::max(near_seam ? seam : elsewhere, j);
+      }
+    const std::vector<uint8_t> both = stm::mask_union(mask, uv_mask);
+    const double p = stm::psnr(uv_img, img, &both);
+    INFO("azimuth offset " << offset << ": " << seam_pairs << " pixel pairs across the seam, largest jump there " << seam
+                           << ", elsewhere " << elsewhere << "; PSNR against own uv " << p << " dB");
+    CHECK(seam_pairs >= (yb - ya) / 2);
+    CHECK(seam <= elsewhere);
+    CHECK(elsewhere < 20);  // the texture is smooth at this scale: the comparison is meaningful
+    CHECK(p > 35);
+  }
+}
+
+TEST_CASE("sdm remap and sdm render --stm --compare-uv round trip", "[render_stm]") {
+  test_util::TempDir dir;
+  const stm_test::CylinderScene sc = stm_test::cylinder_scene(512, 8);
+  stm::write_mesh(sc.mesh, dir / "cyl.obj", dir / "tex.png");
+  stm::write_png(stm_test::procedural_image(256, 128), dir / "tex.png");
+  stm::write_layout_json(sc.layout, dir / "layout.json");
+  auto r = test_util::run_sdm("remap " + (dir / "cyl.obj") + " -o " + (dir / "atlas.png") + " --layout " + (dir / "layout.json"));
+  INFO(r.output);
+  REQUIRE(r.exit_code == 0);
+  REQUIRE(!std::filesystem::exists(dir / "atlas.json"));  // a given layout is not written again
+  const stm::Image atlas = stm::read_png(dir / "atlas.png");
+  CHECK(atlas.width == 512);
+  r = test_util::run_sdm("render " + (dir / "cyl.obj") + " -o " + (dir / "cmp.png") + " --stm " + (dir / "atlas.png") +
+                         " --layout " + (dir / "layout.json") + " --compare-uv --unlit --views 4 --width 128 --height 128 --json");
+  INFO(r.output);
+  REQUIRE(r.exit_code == 0);
+  const auto j = nlohmann::json::parse(r.output.substr(r.output.find('{')));
+  REQUIRE(j.at("psnr").at("views").size() == 4);
+  CHECK(j.at("psnr").at("min").get<double>() > 30);
+  // Missing layout: input error.
+  r = test_util::run_sdm("render " + (dir / "cyl.obj") + " -o " + (dir / "x.png") + " --stm " + (dir / "atlas.png"));
+  CHECK(r.exit_code == 2);
+}
