@@ -1,6 +1,7 @@
 #include "libstm/render_stm.h"
 
 #include "libstm/errors.h"
+#include "libstm/segments.h"
 #include "libstm/shaders.h"
 
 #define GL_GLEXT_PROTOTYPES 1
@@ -121,7 +122,17 @@ Image render_stm(GlContext& gl, const Mesh& mesh, const Layout& L, const Image& 
     const Eigen::Vector3d n = normal[v.idx()].norm() > 0 ? normal[v.idx()].normalized() : Eigen::Vector3d(0, 0, 1);
     verts.insert(verts.end(), {float(p.x()), float(p.y()), float(p.z()), float(n.x()), float(n.y()), float(n.z())});
   }
-  const std::vector<int>& nodes = L.skeleton.vertex_node;
+  // Per vertex: its skeleton node and the orientation of its part, which assign_faces' rule needs
+  // (a vertex's faces all lie in one part: parts are connected through shared edges, and OpenMesh
+  // cannot hold a vertex shared by two fans). A mesh from load_mesh is outward already, but a
+  // library caller may pass one wound inside out.
+  const std::vector<int> face_orient = face_orientation(mesh);
+  std::vector<int> vertex_orient(mesh.n_vertices(), 1);
+  for (auto f : mesh.faces())
+    for (auto v : mesh.fv_range(f)) vertex_orient[v.idx()] = face_orient[f.idx()];
+  std::vector<int> nodes;  // (node, orientation) per vertex
+  nodes.reserve(2 * mesh.n_vertices());
+  for (size_t v = 0; v < mesh.n_vertices(); ++v) nodes.insert(nodes.end(), {L.skeleton.vertex_node[v], vertex_orient[v]});
   // Segments: 6 RGBA32F texels each: a, b (relative to the framing centre), e1, e2, rect, (d, rotated).
   std::vector<float> seg;
   for (size_t s = 0; s < L.segments.size(); ++s) {
@@ -170,16 +181,18 @@ Image render_stm(GlContext& gl, const Mesh& mesh, const Layout& L, const Image& 
   glNamedBufferData(bufs[4], GLsizeiptr(incidence.size() * sizeof(GLint)), incidence.data(), GL_STATIC_DRAW);
   glCreateVertexArrays(1, &vao);
   glVertexArrayVertexBuffer(vao, 0, bufs[0], 0, 6 * sizeof(float));
-  glVertexArrayVertexBuffer(vao, 1, bufs[1], 0, sizeof(int));
+  glVertexArrayVertexBuffer(vao, 1, bufs[1], 0, 2 * sizeof(int));
   glVertexArrayElementBuffer(vao, bufs[2]);
   for (GLuint a = 0; a < 2; ++a) {
     glEnableVertexArrayAttrib(vao, a);
     glVertexArrayAttribFormat(vao, a, 3, GL_FLOAT, GL_FALSE, a * 3 * sizeof(float));
     glVertexArrayAttribBinding(vao, a, 0);
   }
-  glEnableVertexArrayAttrib(vao, 2);
-  glVertexArrayAttribIFormat(vao, 2, 1, GL_INT, 0);
-  glVertexArrayAttribBinding(vao, 2, 1);
+  for (GLuint a = 2; a < 4; ++a) {
+    glEnableVertexArrayAttrib(vao, a);
+    glVertexArrayAttribIFormat(vao, a, 1, GL_INT, (a - 2) * sizeof(int));
+    glVertexArrayAttribBinding(vao, a, 1);
+  }
   texs[0] = upload_atlas(atlas);
   glCreateTextures(GL_TEXTURE_BUFFER, 2, texs + 1);
   glTextureBuffer(texs[1], GL_RGBA32F, bufs[3]);

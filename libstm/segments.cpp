@@ -86,16 +86,66 @@ double face_stretch(const Eigen::Vector3d p[3], double orient, const Eigen::Vect
   return std::sqrt(0.5 * (Ss.squaredNorm() + St.squaredNorm()));
 }
 
+// How segment a -> b would map face p (the part of assign_faces' rule that looks at one candidate).
+// shaders/stm.geom.glsl mirrors rate_candidate and better_candidate line by line, in float: keep
+// them in step.
+struct Candidate {
+  int rank = 0;       // 0: mapped well, 1: mapped the right way round but stretched, 2: folded over
+  double stretch = 0; // face_stretch, infinity when the map flattens the face
+  double score = 0;   // outward normal against the capsule's radial direction, mean cosine
+  double dist = 0;    // centroid's distance to the segment
+  double len = 0;     // segment length
+};
+
+// The capsule projects the surface radially, from the axis over the cylinder part and from the
+// end node over a cap. The candidate maps the face as its capsule would, with the face's own
+// distance from the axis as the radius (so the map is locally isometric where the face is
+// parallel to the capsule), and the L2 stretch of that triangle map decides: it is 1 for a face
+// lying over its segment's axis, grows where the face tilts away from the radial direction or
+// lies past the end node, and is infinite where the face would be mapped edge-on or folded
+// over (a face on the far side of a junction seen through another segment's cap).
+Candidate rate_candidate(const Eigen::Vector3d p[3], double orient, const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
+  Candidate x;
+  const Eigen::Vector3d c = (p[0] + p[1] + p[2]) / 3.0;
+  Eigen::Vector3d n = (p[1] - p[0]).cross(p[2] - p[0]);
+  if (n.norm() > 0) n.normalize();
+  n *= orient;
+  bool folded = false;
+  x.stretch = face_stretch(p, orient, a, b, &folded);
+  x.rank = folded ? 2 : x.stretch < kGoodStretch ? 0 : 1;
+  const Eigen::Vector3d ab = b - a;
+  const double l2 = ab.squaredNorm();
+  for (const Eigen::Vector3d& q : {p[0], p[1], p[2], c}) {
+    const double t = l2 > 0 ? std::clamp((q - a).dot(ab) / l2, 0.0, 1.0) : 0.0;
+    const Eigen::Vector3d r = q - (a + t * ab);
+    const double rn = r.norm();
+    if (rn > 0) x.score += n.dot(r) / rn;
+  }
+  x.score /= 4;
+  x.dist = distance_to_segment(c, a, b);
+  x.len = std::sqrt(l2);
+  return x;
+}
+
+// Whether candidate x beats best, the candidate kept so far (candidates come in increasing index,
+// so an exact tie keeps the lower index). Exact ties (a face across a node's plane in a symmetric
+// tessellation) go to the nearer segment; the tolerances keep float noise (a rotated copy of the
+// mesh) from flipping the choice. An infinite stretch loses to any finite one.
+bool better_candidate(const Candidate& x, const Candidate& best) {
+  const double tol = 1e-9;
+  if (x.rank != best.rank) return x.rank < best.rank;
+  if (x.rank == 0 && std::abs(x.score - best.score) > tol) return x.score > best.score;
+  if (x.rank > 0) {
+    const bool x_inf = std::isinf(x.stretch), best_inf = std::isinf(best.stretch);
+    if (x_inf != best_inf) return best_inf;
+    if (!x_inf && std::abs(x.stretch - best.stretch) > tol * best.stretch) return x.stretch < best.stretch;
+  }
+  return x.dist < best.dist - tol * (x.dist + x.len);
+}
+
 }  // namespace
 
-std::vector<int> assign_faces(const Mesh& mesh, const Skeleton& sk) {
-  check_inputs(mesh, sk);
-  std::vector<std::vector<int>> node_edges(sk.nodes.size());
-  for (size_t e = 0; e < sk.edges.size(); ++e) {
-    node_edges[sk.edges[e][0]].push_back(int(e));
-    if (sk.edges[e][1] != sk.edges[e][0]) node_edges[sk.edges[e][1]].push_back(int(e));
-  }
-  // The rule needs outward normals: a part wound inside out (negative signed volume) is flipped.
+std::vector<int> face_orientation(const Mesh& mesh) {
   std::vector<int> part(mesh.n_faces(), -1);
   std::vector<double> volume;
   for (auto f0 : mesh.faces()) {
@@ -115,9 +165,22 @@ std::vector<int> assign_faces(const Mesh& mesh, const Skeleton& sk) {
         if (part[g.idx()] < 0) part[g.idx()] = id, stack.push_back(g);
     }
   }
+  std::vector<int> result(mesh.n_faces());
+  for (size_t f = 0; f < result.size(); ++f) result[f] = volume[part[f]] < 0 ? -1 : 1;
+  return result;
+}
+
+std::vector<int> assign_faces(const Mesh& mesh, const Skeleton& sk) {
+  check_inputs(mesh, sk);
+  std::vector<std::vector<int>> node_edges(sk.nodes.size());
+  for (size_t e = 0; e < sk.edges.size(); ++e) {
+    node_edges[sk.edges[e][0]].push_back(int(e));
+    if (sk.edges[e][1] != sk.edges[e][0]) node_edges[sk.edges[e][1]].push_back(int(e));
+  }
+  // The rule needs outward normals: a part wound inside out is flipped.
+  const std::vector<int> orientation = face_orientation(mesh);
   std::vector<int> result(mesh.n_faces(), -1);
   std::vector<int> cand;
-  const double tol = 1e-9;
   for (auto f : mesh.faces()) {
     Eigen::Vector3d p[3];
     int k = 0;
@@ -130,49 +193,12 @@ std::vector<int> assign_faces(const Mesh& mesh, const Skeleton& sk) {
     cand.erase(std::unique(cand.begin(), cand.end()), cand.end());
     if (cand.empty())  // nodes without edges: any segment may take the face
       for (size_t e = 0; e < sk.edges.size(); ++e) cand.push_back(int(e));
-    const Eigen::Vector3d c = (p[0] + p[1] + p[2]) / 3.0;
-    Eigen::Vector3d n = (p[1] - p[0]).cross(p[2] - p[0]);
-    if (n.norm() > 0) n.normalize();
-    if (volume[part[f.idx()]] < 0) n = -n;
-    // The capsule projects the surface radially, from the axis over the cylinder part and from the
-    // end node over a cap. Each candidate maps the face as its capsule would, with the face's own
-    // distance from the axis as the radius (so the map is locally isometric where the face is
-    // parallel to the capsule), and the L2 stretch of that triangle map decides: it is 1 for a face
-    // lying over its segment's axis, grows where the face tilts away from the radial direction or
-    // lies past the end node, and is infinite where the face would be mapped edge-on or folded
-    // over (a face on the far side of a junction seen through another segment's cap).
+    const double orient = orientation[f.idx()];
     int best = -1;
-    double best_stretch = 0, best_score = 0, best_dist = 0;
-    int best_rank = 0;
+    Candidate best_fit;
     for (int e : cand) {
-      const Eigen::Vector3d& a = sk.nodes[sk.edges[e][0]];
-      const Eigen::Vector3d& b = sk.nodes[sk.edges[e][1]];
-      bool folded = false;
-      const double stretch = face_stretch(p, volume[part[f.idx()]] < 0 ? -1.0 : 1.0, a, b, &folded);
-      // 0: mapped well, 1: mapped the right way round but stretched, 2: folded over.
-      const int rank = folded ? 2 : stretch < kGoodStretch ? 0 : 1;
-      const Eigen::Vector3d ab = b - a;
-      const double l2 = ab.squaredNorm();
-      double score = 0;
-      for (const Eigen::Vector3d& q : {p[0], p[1], p[2], c}) {
-        const double t = l2 > 0 ? std::clamp((q - a).dot(ab) / l2, 0.0, 1.0) : 0.0;
-        const Eigen::Vector3d r = q - (a + t * ab);
-        const double rn = r.norm();
-        if (rn > 0) score += n.dot(r) / rn;
-      }
-      score /= 4;
-      const double dist = distance_to_segment(c, a, b);
-      // Exact ties (a face across a node's plane in a symmetric tessellation) go to the nearer
-      // segment, then to the lower index; the tolerances keep float noise (a rotated copy of the
-      // mesh) from flipping the choice.
-      const double len = std::sqrt(l2);
-      bool better = false;
-      if (best < 0) better = true;
-      else if (rank != best_rank) better = rank < best_rank;
-      else if (rank == 0 && std::abs(score - best_score) > tol) better = score > best_score;
-      else if (rank > 0 && std::abs(stretch - best_stretch) > tol * best_stretch) better = stretch < best_stretch;
-      else better = dist < best_dist - tol * (dist + len);
-      if (better) best = e, best_stretch = stretch, best_score = score, best_dist = dist, best_rank = rank;
+      const Candidate x = rate_candidate(p, orient, sk.nodes[sk.edges[e][0]], sk.nodes[sk.edges[e][1]]);
+      if (best < 0 || better_candidate(x, best_fit)) best = e, best_fit = x;
     }
     result[f.idx()] = best;
     if (best < 0) throw InputError("face " + std::to_string(f.idx()) + " has no skeleton segment in reach");

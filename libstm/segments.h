@@ -9,16 +9,23 @@
 namespace stm {
 
 // face -> segment (skeleton edge index). Candidates are the segments incident to the nodes of the
-// face's vertices. The paper (4) takes the one whose axis is most perpendicular to the face normal;
-// here the one whose capsule sees the face most squarely wins: the outward face normal against the
-// capsule's radial direction (from the nearest point of the axis segment, so from the end node over
-// a cap), the cosine averaged over the corners and the centroid. On a tube that is the paper's rule
+// face's vertices (all segments when there are none). The paper (4) takes the one whose axis is
+// most perpendicular to the face normal; here each candidate maps the face with its capsule map,
+// the face's mean distance to the segment as radius, and the L2 stretch of that triangle map
+// decides: candidates with stretch < 2 that do not fold the face win, and among them the one whose
+// radial direction best matches the outward normal (cosine averaged over the corners and the
+// centroid); otherwise the lowest stretch; folded ones last. On a tube that is the paper's rule
 // restricted to the segment the face lies over; at junctions it refuses segments that would map
 // the face edge-on or folded over. Ties go to the segment nearer the centroid, then to the lower
-// index, so the result is deterministic. Normals are made outward per connected part (signed volume).
-// Throws InputError when the skeleton has no edge, vertex_node does not match the mesh, or a face
-// has no segment in reach.
+// index, so the result is deterministic. Normals are made outward per connected part
+// (face_orientation). Throws InputError when the skeleton has no edge, vertex_node does not match
+// the mesh, or a face has no segment in reach.
+// The per-candidate rule is mirrored by the geometry shader of render_stm (shaders/stm.geom.glsl).
 std::vector<int> assign_faces(const Mesh& mesh, const Skeleton& skeleton);
+
+// face -> +1, or -1 when the face's connected part (through shared edges) is wound inside out
+// (negative signed volume): the factor that makes the face's normal outward in assign_faces.
+std::vector<int> face_orientation(const Mesh& mesh);
 
 struct SegmentGeometry {
   double radius = 0;  // area-weighted mean distance of the segment's surface to its axis segment

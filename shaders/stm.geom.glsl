@@ -1,10 +1,10 @@
 #version 450 core
 // Mesh pass of render_stm: chooses each triangle's segment with the rule of assign_faces
-// (libstm/segments.cpp; keep them in step): candidates are the segments incident to the nodes of
-// the triangle's vertices (all segments when there are none); among those over which the centroid
-// lies (axial parameter in [0, 1]) the one whose axis is most perpendicular to the face normal
-// wins, otherwise the one nearest to the centroid; ties go to the corners' distance, then to the
-// lower index. It also picks the angle the fragment shader unwraps phi against (the centroid's).
+// (libstm/segments.cpp). distance_to_segment, face_stretch, rate_candidate and better_candidate
+// below mirror the C++ functions of the same names line by line, in float: keep them in step.
+// Candidates are the segments incident to the nodes of the triangle's vertices (all segments when
+// there are none), visited in increasing index like the C++ (the order decides exact ties).
+// The pass also picks the angle the fragment shader unwraps phi against (the centroid's).
 layout(triangles) in;
 layout(triangle_strip, max_vertices = 3) out;
 
@@ -12,6 +12,7 @@ in vec3 vg_position[];
 in vec3 vg_view_position[];
 in vec3 vg_normal[];
 flat in int vg_node[];
+flat in int vg_orient[];  // face_orientation: +1, or -1 for a part wound inside out
 
 uniform samplerBuffer u_segments;  // 6 texels per segment, see render_stm.cpp
 uniform isamplerBuffer u_nodes;    // node n's segments: entries [offset(n), offset(n + 1)), offsets first
@@ -25,56 +26,149 @@ flat out int v_segment;
 flat out float v_phi_ref;
 flat out int v_face;
 
-const float kTol = 1e-5;  // float counterpart of assign_faces' 1e-9 tie tolerance
+const float kPi = 3.14159265358979;
+const float kGoodStretch = 2.0;  // as in segments.cpp
+// Float counterparts of the C++ tolerances: ties (1e-9 there), a corner on the axis (1e-9) and a
+// face mapped flat (1e-12). kTol sits just above float noise: at 1e-5, two Spot faces whose
+// normal scores differ by 9e-6 became ties here and went to the nearer segment, unlike on the CPU.
+const float kTol = 2e-6;
+const float kAxisEps = 1e-6;
+const float kFlatEps = 1e-6;
+const float kInf = 3.0e38;  // stands for the C++ infinity (compared explicitly, never computed with)
 
-float distance_to_segment(vec3 p, vec3 a, vec3 b, out float t) {
+float distance_to_segment(vec3 p, vec3 a, vec3 b) {
   vec3 ab = b - a;
   float l2 = dot(ab, ab);
-  t = l2 > 0.0 ? dot(p - a, ab) / l2 : 0.0;
-  return length(p - (a + clamp(t, 0.0, 1.0) * ab));
+  float tt = l2 > 0.0 ? dot(p - a, ab) / l2 : 0.0;
+  float c = clamp(tt, 0.0, 1.0);
+  return length(p - (a + c * ab));
 }
 
-int best_over = -1, best_near = -1;
-float over_cos = 0.0, over_dist = 0.0, near_dist = 0.0, near_cos = 0.0, near_corners = 0.0;
-
-void consider(int e, vec3 c, vec3 n, float nn) {
-  vec3 a = texelFetch(u_segments, 6 * e).xyz;
-  vec3 b = texelFetch(u_segments, 6 * e + 1).xyz;
-  float t, tk;
-  float dist = distance_to_segment(c, a, b, t);
-  float len = length(b - a);
-  float cs = len > 0.0 && nn > 0.0 ? abs(dot(n, b - a)) / len : 1.0;
-  float corners = distance_to_segment(vg_position[0], a, b, tk) + distance_to_segment(vg_position[1], a, b, tk) +
-                  distance_to_segment(vg_position[2], a, b, tk);
-  float dtol = kTol * (dist + len), ctol = kTol * (corners + len);
-  if (len > 0.0 && nn > 0.0 && t >= -kTol && t <= 1.0 + kTol) {
-    bool better = best_over < 0 || cs < over_cos - kTol ||
-                  (cs <= over_cos + kTol && (corners < over_dist - ctol || (corners <= over_dist + ctol && e < best_over)));
-    if (better) best_over = e, over_cos = cs, over_dist = corners;
+float face_stretch(vec3 p[3], float orient, vec3 a, vec3 b, out bool folded) {
+  folded = false;
+  vec3 ab = b - a;
+  float len = length(ab);
+  if (!(len > 0.0)) return kInf;
+  vec3 axis = ab / len;
+  vec3 e1 = abs(axis.x) < 0.9 ? vec3(1.0, 0.0, 0.0) : vec3(0.0, 1.0, 0.0);
+  e1 = normalize(e1 - axis * dot(axis, e1));
+  vec3 e2 = cross(axis, e1);
+  float r = 0.0;
+  for (int k = 0; k < 3; ++k) r += distance_to_segment(p[k], a, b) / 3.0;
+  if (!(r > 0.0)) return kInf;
+  float phi[3], v[3], rho[3];
+  for (int k = 0; k < 3; ++k) {
+    vec3 x = p[k] - a;
+    float t = dot(x, axis) / len;
+    rho[k] = length(vec2(dot(x, e1), dot(x, e2)));
+    phi[k] = rho[k] > 0.0 ? atan(dot(x, e2), dot(x, e1)) : 0.0;  // atan(0, 0) is undefined in GLSL
+    if (t < 0.0) v[k] = -r * atan(-dot(x, axis), rho[k]);
+    else if (t > 1.0) v[k] = len + r * atan(dot(p[k] - b, axis), rho[k]);
+    else v[k] = t * len;
   }
-  bool better = best_near < 0 || dist < near_dist - dtol ||
-                (dist <= near_dist + dtol &&
-                 (cs < near_cos - kTol ||
-                  (cs <= near_cos + kTol && (corners < near_corners - ctol || (corners <= near_corners + ctol && e < best_near)))));
-  if (better) best_near = e, near_dist = dist, near_cos = cs, near_corners = corners;
+  float eps = kAxisEps * (r + len);
+  int ref = -1;
+  for (int k = 0; k < 3 && ref < 0; ++k)
+    if (rho[k] > eps) ref = k;
+  if (ref < 0) return kInf;
+  float mean = 0.0;
+  int cnt = 0;
+  for (int k = 0; k < 3; ++k)
+    if (rho[k] > eps) {
+      float d = phi[k] - phi[ref];
+      phi[k] = phi[ref] + (d - 2.0 * kPi * roundEven(d / (2.0 * kPi)));  // std::remainder
+      mean += phi[k], ++cnt;
+    }
+  for (int k = 0; k < 3; ++k)
+    if (rho[k] <= eps) phi[k] = mean / float(cnt);
+  vec2 s0 = vec2(r * phi[0], v[0]), s1 = vec2(r * phi[1], v[1]), s2 = vec2(r * phi[2], v[2]);
+  float a2 = orient * 0.5 * ((s1 - s0).x * (s2 - s0).y - (s2 - s0).x * (s1 - s0).y);
+  float a3 = 0.5 * length(cross(p[1] - p[0], p[2] - p[0]));
+  folded = a2 < 0.0;
+  if (!(abs(a2) > kFlatEps * a3)) return kInf;
+  vec3 Ss = (p[0] * (s1.y - s2.y) + p[1] * (s2.y - s0.y) + p[2] * (s0.y - s1.y)) / (2.0 * a2);
+  vec3 St = (p[0] * (s2.x - s1.x) + p[1] * (s0.x - s2.x) + p[2] * (s1.x - s0.x)) / (2.0 * a2);
+  return sqrt(0.5 * (dot(Ss, Ss) + dot(St, St)));
 }
 
-void main() {
-  vec3 c = (vg_position[0] + vg_position[1] + vg_position[2]) / 3.0;
-  vec3 n = cross(vg_position[1] - vg_position[0], vg_position[2] - vg_position[0]);
-  float nn = length(n);
-  if (nn > 0.0) n /= nn;
-  int candidates = 0;
+struct Candidate {
+  int rank;
+  float stretch;
+  float score;
+  float dist;
+  float len;
+};
+
+Candidate rate_candidate(vec3 p[3], float orient, vec3 a, vec3 b) {
+  Candidate x = Candidate(0, 0.0, 0.0, 0.0, 0.0);
+  vec3 c = (p[0] + p[1] + p[2]) / 3.0;
+  vec3 n = cross(p[1] - p[0], p[2] - p[0]);
+  if (length(n) > 0.0) n = normalize(n);
+  n *= orient;
+  bool folded = false;
+  x.stretch = face_stretch(p, orient, a, b, folded);
+  x.rank = folded ? 2 : x.stretch < kGoodStretch ? 0 : 1;
+  vec3 ab = b - a;
+  float l2 = dot(ab, ab);
+  for (int k = 0; k < 4; ++k) {
+    vec3 q = k < 3 ? p[k] : c;
+    float t = l2 > 0.0 ? clamp(dot(q - a, ab) / l2, 0.0, 1.0) : 0.0;
+    vec3 r = q - (a + t * ab);
+    float rn = length(r);
+    if (rn > 0.0) x.score += dot(n, r) / rn;
+  }
+  x.score /= 4.0;
+  x.dist = distance_to_segment(c, a, b);
+  x.len = sqrt(l2);
+  return x;
+}
+
+bool better_candidate(Candidate x, Candidate best) {
+  if (x.rank != best.rank) return x.rank < best.rank;
+  if (x.rank == 0 && abs(x.score - best.score) > kTol) return x.score > best.score;
+  if (x.rank > 0) {
+    bool x_inf = x.stretch >= kInf, best_inf = best.stretch >= kInf;
+    if (x_inf != best_inf) return best_inf;
+    if (!x_inf && abs(x.stretch - best.stretch) > kTol * best.stretch) return x.stretch < best.stretch;
+  }
+  return x.dist < best.dist - kTol * (x.dist + x.len);
+}
+
+// The smallest segment index above prev incident to a corner's node; -1 when there is none. Going
+// through the candidates this way visits them sorted and once each, like assign_faces' list.
+int next_candidate(int prev) {
+  int next = -1;
   for (int k = 0; k < 3; ++k) {
     int node = vg_node[k];
     int end = texelFetch(u_nodes, node + 1).x;
-    for (int i = texelFetch(u_nodes, node).x; i < end; ++i, ++candidates) consider(texelFetch(u_nodes, i).x, c, n, nn);
+    for (int i = texelFetch(u_nodes, node).x; i < end; ++i) {
+      int e = texelFetch(u_nodes, i).x;
+      if (e > prev && (next < 0 || e < next)) next = e;
+    }
   }
-  if (candidates == 0)
-    for (int e = 0; e < u_segment_count; ++e) consider(e, c, n, nn);
-  int s = best_over >= 0 ? best_over : best_near;
+  return next;
+}
+
+int best = -1;
+Candidate best_fit;
+
+void consider(int e, vec3 p[3], float orient) {
+  Candidate x = rate_candidate(p, orient, texelFetch(u_segments, 6 * e).xyz, texelFetch(u_segments, 6 * e + 1).xyz);
+  if (best < 0 || better_candidate(x, best_fit)) best = e, best_fit = x;
+}
+
+void main() {
+  vec3 p[3] = vec3[3](vg_position[0], vg_position[1], vg_position[2]);
+  // One part, one orientation: the corners agree, so the first one's will do.
+  float orient = vg_orient[0] < 0 ? -1.0 : 1.0;
+  int e = next_candidate(-1);
+  if (e < 0)  // nodes without edges: any segment may take the face
+    for (int i = 0; i < u_segment_count; ++i) consider(i, p, orient);
+  for (; e >= 0; e = next_candidate(e)) consider(e, p, orient);
+  int s = best;
 
   // Reference angle: the centroid's, or a corner's when the centroid lies on the axis.
+  vec3 c = (p[0] + p[1] + p[2]) / 3.0;
   vec3 a = texelFetch(u_segments, 6 * s).xyz;
   vec3 e1 = texelFetch(u_segments, 6 * s + 2).xyz;
   vec3 e2 = texelFetch(u_segments, 6 * s + 3).xyz;

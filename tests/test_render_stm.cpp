@@ -143,6 +143,34 @@ TEST_CASE("the shaders' STM coordinates match the CPU capsule mapping", "[render
   CHECK(other_segment <= n / 100);  // float ties only
 }
 
+TEST_CASE("the shader chooses the segments of assign_faces on a mesh wound inside out", "[render_stm]") {
+  stm::GlContext gl;
+  const SpotScene& sc = spot(gl);
+  stm::MeshSoup soup = stm::mesh_to_soup(sc.mesh);
+  soup.uv.clear();
+  for (auto& t : soup.triangles) std::swap(t[1], t[2]);
+  const stm::Mesh inverted = stm::build_mesh(soup);
+  REQUIRE(inverted.n_faces() == sc.mesh.n_faces());
+  // Made outward per part, the rule does not see the winding.
+  const std::vector<int> fs = stm::assign_faces(inverted, sc.layout.skeleton);
+  CHECK(fs == stm::assign_faces(sc.mesh, sc.layout.skeleton));
+  stm::RenderOptions ro;
+  ro.width = ro.height = 256;
+  ro.azimuth_deg = 240;
+  stm::StmRenderProbe probe;
+  stm::render_stm(gl, inverted, sc.layout, sc.atlas, ro, nullptr, &probe);
+  int n = 0, other_segment = 0;
+  for (int i = 0; i < ro.width * ro.height; ++i) {
+    const float* c = &probe.coordinates.pixels[size_t(i) * 4];
+    if (probe.positions.pixels[size_t(i) * 4 + 3] == 0) continue;
+    ++n;
+    if (fs[int(c[3])] != int(c[2])) ++other_segment;
+  }
+  INFO("pixels " << n << ", segment differs from assign_faces " << other_segment);
+  CHECK(n > 10000);
+  CHECK(other_segment <= n / 100);
+}
+
 TEST_CASE("no seam line where the STM wraps around the axis", "[render_stm]") {
   const stm_test::CylinderScene sc = stm_test::cylinder_scene(1024, 8);
   const stm::Image source = stm_test::procedural_image(512, 256);
