@@ -49,7 +49,14 @@ print(f"  {sys.argv[2]:18s} {j['segments']:3d} segments, coverage {100*j['covera
 PY
 done
 
-step "4. Skeleton displacement maps: encode (float EXR), decode at two levels, round-trip error"
+step "4. Texture remap: Spot's texture into its STM, Spot drawn from the STM with no uv (coordinates in shaders)"
+"$SDM" remap "$SPOT" -o "$OUT/spot.stm.png" --size 2048 2>/dev/null | sed 's/^/  /'
+"$SDM" render "$SPOT" --stm "$OUT/spot.stm.png" --layout "$OUT/spot.stm.json" --compare-uv --unlit --views 8 \
+  --width 512 --height 512 -o "$OUT/spot.stm-vs-uv.png" 2>/dev/null | grep PSNR | sed 's/^/  8 views, own uv (left) vs STM (right) in spot.stm-vs-uv.png: /'
+"$SDM" render "$SPOT" --stm "$OUT/spot.stm.png" --layout "$OUT/spot.stm.json" --azimuth 150 \
+  --width 512 --height 512 -o "$OUT/spot.stm-view.png" 2>/dev/null >/dev/null
+
+step "5. Skeleton displacement maps: encode (float EXR), decode at two levels, round-trip error"
 for s in $SHAPES spot; do
   m="$OUT/$s.obj"; [ "$s" = spot ] && m="$SPOT"
   "$SDM" encode "$m" --layout "$OUT/$s.layout.json" -o "$OUT/$s.sdm.exr" --png "$OUT/$s.sdm.png" 2>/dev/null >/dev/null
