@@ -261,7 +261,7 @@ TEST_CASE("transfer onto a new tessellation of Spot reproduces its texture", "[t
   REQUIRE(!tex_path.empty());
   const stm::Image tex = stm::read_png(tex_path);
   const stm::Skeleton sa = spot_skeleton(a);
-  const stm::Mesh b = remeshed(a, 1.3);
+  const stm::Mesh b = remeshed(a, 0.9);
   REQUIRE(b.n_vertices() != a.n_vertices());
   // The target's skeleton has the same branching with other node counts: the long edges cut in three.
   const stm::Skeleton sb = spot_skeleton(b, 0.3);
