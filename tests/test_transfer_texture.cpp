@@ -13,7 +13,6 @@
 #include "libstm/render_atlas.h"
 #include "libstm/render_mesh.h"
 #include "libstm/segments.h"
-#include "libstm/split_segments.h"
 #include "libstm/triangle_bvh.h"
 #include "test_util.h"
 
@@ -240,8 +239,6 @@ TEST_CASE("transfer onto a new tessellation of the ypsilon reproduces the source
     INFO("view " << v << ": PSNR " << p[v] << " dB");
     CHECK(p[v] >= 28.0);
   }
-  WARN("ypsilon remeshed: PSNR per view " << p[0] << " " << p[1] << " " << p[2] << " " << p[3] << " " << p[4] << " " << p[5] << " "
-                                          << p[6] << " " << p[7]);
 }
 
 // With skeletons extracted from each tessellation the capsules differ by the extraction's noise;
@@ -280,8 +277,6 @@ TEST_CASE("transfer onto a new tessellation of Spot reproduces its texture", "[t
     INFO("view " << v << ": PSNR " << p[v] << " dB");
     CHECK(p[v] >= 28.0);
   }
-  WARN("Spot remeshed: PSNR per view " << p[0] << " " << p[1] << " " << p[2] << " " << p[3] << " " << p[4] << " " << p[5] << " "
-                                       << p[6] << " " << p[7]);
 }
 
 TEST_CASE("a band painted on one branch lands on the same branch of a bent and thickened target", "[transfer_texture]") {
@@ -335,7 +330,6 @@ TEST_CASE("a band painted on one branch lands on the same branch of a bent and t
   ro.unlit = true;
   ro.samples = 1;
   ro.background = {0, 0, 255, 255};  // neither band red nor label white
-  long band_total = 0;
   // Views across the plane the arm bends in (direction (-1, 1, 0): azimuth -90, elevation 45), from
   // both sides, and one oblique.
   for (auto [az, el] : {std::pair<double, double>{-90, 45}, {90, -45}, {-60, 30}}) {
@@ -365,12 +359,10 @@ TEST_CASE("a band painted on one branch lands on the same branch of a bent and t
     CHECK(on_arm >= 0.98 * band);
     CHECK(band > 0.9 * band_source);
     CHECK(band < 2.0 * band_source);
-    band_total += band;
     if (const char* dump = std::getenv("SDM_TEST_DUMP"))
       stm::write_png(stm::side_by_side({src, img, lab}), std::string(dump) + "/band_az" + std::to_string(int(az)) + "_el" +
                                                            std::to_string(int(el)) + ".png");
   }
-  WARN("band: " << band_total << " band pixels over 3 views");
 }
 
 namespace {
