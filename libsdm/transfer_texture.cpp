@@ -5,6 +5,7 @@
 #include "libstm/segment_frames.h"
 #include "libstm/segments.h"
 
+#include <Eigen/SVD>
 #include <algorithm>
 #include <cmath>
 
@@ -52,6 +53,7 @@ struct Side {
   std::vector<char> reversed;                // traversed against its stored direction
   std::vector<Polyline> lines;               // per source chain
   std::vector<int> edge_chain;               // this skeleton's edge -> source chain
+  std::vector<Eigen::Vector3d> key_position;  // shared key k's position (a pure cycle's may move)
 };
 
 double chain_radius(const ReducedSkeleton::Chain& c, const std::vector<SegmentGeometry>& geo) {
@@ -69,7 +71,7 @@ Skeleton resample(const Side& side, const ReducedSkeleton& red, const std::vecto
   Skeleton out;
   out.nodes.resize(total_nodes);
   out.edges = edges;
-  for (int k = 0; k < nk; ++k) out.nodes[k] = sk.nodes[side.key_node[k]];
+  for (int k = 0; k < nk; ++k) out.nodes[k] = side.key_position[k];
   const int nc = int(n.size());
   for (int c = 0; c < nc; ++c)
     for (int j = 1; j < n[c]; ++j) out.nodes[inner[c][j - 1]] = side.lines[c].at(double(j) / n[c]);
@@ -149,11 +151,25 @@ SharedSkeletons share_skeletons(const Mesh& mesh_a, const Skeleton& a, const Mes
   const std::vector<SegmentGeometry> geo_b = segment_geometry(mesh_b, b, assign_faces(mesh_b, b));
   const int nk = int(m.a.keys.size()), nc = int(m.a.chains.size());
 
-  Side sa{&mesh_a, &a, {}, {}, {}, {}, {}}, sb{&mesh_b, &b, {}, {}, {}, {}, {}};
+  Side sa{&mesh_a, &a, {}, {}, {}, {}, {}, {}}, sb{&mesh_b, &b, {}, {}, {}, {}, {}, {}};
   for (int k = 0; k < nk; ++k) {
     sa.key_node.push_back(m.a.keys[k]);
     sb.key_node.push_back(m.b.keys[m.key_a_to_b[k]]);
+    sa.key_position.push_back(a.nodes[sa.key_node[k]]);
+    sb.key_position.push_back(b.nodes[sb.key_node[k]]);
   }
+  // Centres and RMS sizes, to place a point of a on b. A pure cycle's start is arbitrary, and so is
+  // the match's rotation about its axis (it aligns the rings' starts): rings are lined up by pose.
+  auto centre_and_size = [](const Skeleton& s, Eigen::Vector3d& c) {
+    c.setZero();
+    for (const auto& p : s.nodes) c += p;
+    c /= double(std::max<size_t>(1, s.nodes.size()));
+    double r2 = 0;
+    for (const auto& p : s.nodes) r2 += (p - c).squaredNorm();
+    return std::sqrt(r2 / double(std::max<size_t>(1, s.nodes.size())));
+  };
+  Eigen::Vector3d ca0, cb0;
+  const double size_a = centre_and_size(a, ca0), size_b = centre_and_size(b, cb0);
   sa.edge_chain.assign(a.edges.size(), -1);
   sb.edge_chain.assign(b.edges.size(), -1);
   std::vector<int> n(nc, 1);
@@ -167,6 +183,23 @@ SharedSkeletons share_skeletons(const Mesh& mesh_a, const Skeleton& a, const Mes
     for (int x : ca.nodes) pa.push_back(a.nodes[x]);
     for (int x : cb.nodes) pb.push_back(b.nodes[x]);
     if (rev) std::reverse(pb.begin(), pb.end());
+    if (ca.from == ca.to && m.a.key_degree[ca.from] == 2 && pb.size() > 2) {
+      // A pure cycle: its key node is an arbitrary node of the ring (reduce_skeleton), so b's ring
+      // starts over at the point nearest to where a's key lands, and the two rings line up.
+      const Polyline ring(pb);
+      const double f0 = ring.project(cb0 + (size_a > 0 ? size_b / size_a : 1.0) * (pa.front() - ca0));
+      std::vector<Eigen::Vector3d> shifted{ring.at(f0)};
+      for (size_t k = 1; k < pb.size(); ++k)
+        if (ring.s[k] / ring.total() > f0) shifted.push_back(pb[k]);
+      for (size_t k = 1; k < pb.size(); ++k)
+        if (ring.s[k] / ring.total() <= f0) shifted.push_back(pb[k]);
+      shifted.push_back(shifted.front());
+      pb.clear();
+      for (const auto& q : shifted)  // no zero-length pieces where the new start falls on a node
+        if (pb.empty() || (q - pb.back()).norm() > 1e-12 * std::max(1.0, ring.total())) pb.push_back(q);
+      if ((pb.back() - shifted.front()).norm() > 0) pb.push_back(shifted.front());
+      sb.key_position[ca.from] = pb.front();
+    }
     sa.lines.emplace_back(pa);
     sb.lines.emplace_back(pb);
     for (int e : ca.edges) sa.edge_chain[e] = c;
@@ -199,6 +232,18 @@ SharedSkeletons share_skeletons(const Mesh& mesh_a, const Skeleton& a, const Mes
   for (int k = 0; k < nk; ++k) key_a[sa.key_node[k]] = k, key_b[sb.key_node[k]] = k;
   r.a = resample(sa, m.a, n, nk, inner, edges, total_nodes, key_a);
   r.b = resample(sb, m.b, n, nk, inner, edges, total_nodes, key_b);
+  // The rotation between the shared skeletons (Kabsch over corresponding nodes): the match's,
+  // except around pure cycles lined up above.
+  Eigen::Vector3d sa0 = Eigen::Vector3d::Zero(), sb0 = Eigen::Vector3d::Zero();
+  for (int i = 0; i < total_nodes; ++i) sa0 += r.a.nodes[i] / total_nodes, sb0 += r.b.nodes[i] / total_nodes;
+  Eigen::Matrix3d H = Eigen::Matrix3d::Zero();
+  for (int i = 0; i < total_nodes; ++i) H += (r.a.nodes[i] - sa0) * (r.b.nodes[i] - sb0).transpose();
+  Eigen::JacobiSVD<Eigen::Matrix3d> svd(H, Eigen::ComputeFullU | Eigen::ComputeFullV);
+  Eigen::Matrix3d D = Eigen::Matrix3d::Identity();
+  if ((svd.matrixV() * svd.matrixU().transpose()).determinant() < 0) D(2, 2) = -1;
+  r.rotation = svd.matrixV() * D * svd.matrixU().transpose();
+  // Too few nodes to fix a rotation (a single straight chain): the match's.
+  if (svd.singularValues()(1) <= 1e-9 * std::max(1e-300, svd.singularValues()(0))) r.rotation = m.rotation;
   return r;
 }
 
@@ -261,7 +306,7 @@ TextureTransfer transfer_texture(GlContext& gl, const Mesh& source, const Image&
   lo.split_ratio = 0;  // the chains are resampled already: both models must keep the same graph
   lo.progress = opt.progress;
   r.layout_a = compute_layout(source, r.skeletons.a, lo);
-  r.layout_b = carry_layout(r.layout_a, target, r.skeletons.b, r.skeletons.match.rotation);
+  r.layout_b = carry_layout(r.layout_a, target, r.skeletons.b, r.skeletons.rotation);
   say("remapping the source texture into its STM atlas");
   AtlasOptions ao;
   ao.progress = opt.progress;

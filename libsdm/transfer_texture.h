@@ -25,12 +25,16 @@ struct SharedSkeletons {
   Skeleton a, b;
   SkeletonMatch match;
   std::vector<std::vector<int>> chain_edges;  // per chain of match.a: its edges in the shared graph, in order
+  Eigen::Matrix3d rotation = Eigen::Matrix3d::Identity();  // best rotation of a's shared nodes onto b's
 };
 
 // Matches b to a (match_skeletons with the `fixed` key node pairs) and resamples every matched pair
 // of chains at equal arc-length steps into n segments: n = the larger of the two chains' edge counts,
 // raised so that no segment of either model is longer than split_ratio times the chain's mean
 // radius (as LayoutOptions::split_ratio; <= 0: no such rule). Key nodes keep their positions.
+// A pure cycle (a ring with no junction) has no natural start: b's ring is restarted at the point
+// nearest to a's start placed on b by centres and sizes (the same pose assumed), as the ring's turn
+// about its axis cannot be told from shape. `rotation` is then fitted to the shared nodes.
 // Every vertex is reassigned by projecting it onto the chain of the nearest edge at its old node
 // (arc-length position, rounded to the nearest new node); a node left without vertices takes the
 // vertex of its chain nearest to it in arc length from a node that has more than one.
