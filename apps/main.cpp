@@ -23,6 +23,7 @@ int main(int argc, char** argv) {
       sdm_cli::add_primitive_command(app),
       sdm_cli::add_stm_command(app),
       sdm_cli::add_remap_command(app),
+      sdm_cli::add_transfer_command(app),
   };
   try {
     app.parse(argc, argv);

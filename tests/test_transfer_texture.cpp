@@ -1,0 +1,529 @@
+// Texture transfer between models with the same skeleton branching (transfer_texture): the same
+// shape tessellated anew gets the same picture (PSNR per view against the source), a colour band
+// painted on one branch lands on the same branch of a bent and thickened target, and a target
+// with another branching is refused with nothing written.
+#include "libsdm/decode_sdm.h"
+#include "libsdm/encode_sdm.h"
+#include "libsdm/sdm_exr.h"
+#include "libsdm/transfer_texture.h"
+#include "libstm/extract_skeleton.h"
+#include "libstm/gl_context.h"
+#include "libstm/isotropic_remesh.h"
+#include "libstm/primitives.h"
+#include "libstm/render_atlas.h"
+#include "libstm/render_mesh.h"
+#include "libstm/segments.h"
+#include "libstm/triangle_bvh.h"
+#include "test_util.h"
+
+#include <catch2/catch.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <functional>
+#include <nlohmann/json.hpp>
+
+namespace {
+
+// The right arm of the ypsilon primitive (primitives.cpp): from the origin towards (0.78, 0.78, 0).
+const Eigen::Vector3d kArm = Eigen::Vector3d(1, 1, 0).normalized();
+
+// A smooth colour over space (a few periods across the models), in [0, 1].
+Eigen::Vector3d smooth_colour(const Eigen::Vector3d& p) {
+  return {0.5 + 0.35 * std::sin(3.1 * p.x() + 1.3 * p.z()), 0.5 + 0.35 * std::cos(2.7 * p.y() - 0.9 * p.x()),
+          0.5 + 0.35 * std::sin(2.3 * p.z() + 1.9 * p.y() + 0.5)};
+}
+
+// The same plus a pure red band across the right arm (axial distance 0.6 to 0.8 along it).
+Eigen::Vector3d band_colour(const Eigen::Vector3d& p) {
+  const double s = p.dot(kArm), off = (p - s * kArm).norm();
+  if (s > 0.6 && s < 0.8 && off < 0.5) return {1, 0, 0};
+  Eigen::Vector3d c = smooth_colour(p);
+  c.x() *= 0.6;  // keep the rest of the model clearly not red
+  return c;
+}
+
+// Gives `mesh` uv (its own STM) and returns a texture in which colour(p) is painted: the atlas of
+// surface positions is rendered and every texel coloured from its position.
+stm::Image bake_texture(stm::GlContext& gl, stm::Mesh& mesh, const stm::Skeleton& sk, Eigen::Vector3d (*colour)(const Eigen::Vector3d&)) {
+  stm::LayoutOptions lo;
+  lo.size = 1024;
+  lo.margin = 6;
+  const stm::Layout layout = stm::compute_layout(mesh, sk, lo);
+  std::vector<Eigen::Vector4f> corners;
+  for (auto f : mesh.faces())
+    for (auto v : mesh.fv_range(f)) {
+      const Eigen::Vector3d p = stm::point(mesh, v);
+      corners.emplace_back(float(p.x()), float(p.y()), float(p.z()), 1.f);
+    }
+  const stm::FloatImage pos = stm::render_atlas_values(gl, mesh, layout, corners);
+  stm::Image tex(pos.width, pos.height, 4, 255);
+  for (int y = 0; y < pos.height; ++y)
+    for (int x = 0; x < pos.width; ++x) {
+      const float* q = pos.at(x, y);
+      const Eigen::Vector3d c = colour(Eigen::Vector3d(q[0], q[1], q[2]));
+      for (int k = 0; k < 3; ++k) tex.at(x, y)[k] = uint8_t(std::lround(255 * std::clamp(c[k], 0.0, 1.0)));
+    }
+  mesh = stm::stm_coordinates(mesh, layout).mesh;
+  return tex;
+}
+
+double mean_edge(const stm::Mesh& m) {
+  double s = 0;
+  for (auto e : m.edges()) s += m.calc_edge_length(e);
+  return s / double(m.n_edges());
+}
+
+// A copy of `mesh` with another tessellation, its vertices on the original surface.
+stm::Mesh remeshed(const stm::Mesh& mesh, double edge_factor) {
+  const stm::TriangleBvh bvh(stm::vertex_matrix(mesh), stm::face_matrix(mesh));
+  stm::Mesh copy = mesh;
+  copy.release_halfedge_texcoords2D();
+  stm::isotropic_remesh(copy, edge_factor * mean_edge(mesh), 4, [&](const Eigen::Vector3d& p) { return bvh.closest_point(p).point; });
+  return copy;
+}
+
+// PSNR per view between the source (own uv) and the target (transferred uv), unlit, over the
+// pixels both cover.
+std::vector<double> compare_views(stm::GlContext& gl, const stm::Mesh& a, const stm::Image& ta, const stm::Mesh& b,
+                                  const stm::Image& tb, const std::string& dump_name) {
+  stm::RenderOptions ro;
+  ro.width = ro.height = 512;
+  ro.unlit = true;
+  ro.elevation_deg = 15;
+  stm::bounding_box(a, ro.bbox_min, ro.bbox_max);
+  std::vector<double> out;
+  for (int view = 0; view < 8; ++view) {
+    ro.azimuth_deg = 45.0 * view;
+    std::vector<uint8_t> ma, mb;
+    ro.texture = &ta;
+    const stm::Image ia = stm::render_mesh(gl, a, ro, &ma);
+    ro.texture = &tb;
+    const stm::Image ib = stm::render_mesh(gl, b, ro, &mb);
+    for (size_t i = 0; i < ma.size(); ++i) ma[i] = ma[i] && mb[i] ? 255 : 0;
+    out.push_back(stm::psnr(ia, ib, &ma));
+    if (const char* dump = std::getenv("SDM_TEST_DUMP"))
+      stm::write_png(stm::side_by_side({ia, ib}), std::string(dump) + "/" + dump_name + std::to_string(view) + ".png");
+  }
+  return out;
+}
+
+// Every vertex goes to the nearer end of its nearest skeleton edge (a hand-made skeleton's vertex map).
+void assign_vertices(const stm::Mesh& mesh, stm::Skeleton& sk) {
+  sk.vertex_node.clear();
+  for (auto v : mesh.vertices()) {
+    const Eigen::Vector3d p = stm::point(mesh, v);
+    double best = 1e300;
+    int node = 0;
+    for (const auto& e : sk.edges) {
+      double t = 0;
+      const double d = stm::distance_to_segment(p, sk.nodes[e[0]], sk.nodes[e[1]], &t);
+      if (d < best) best = d, node = t < 0.5 ? e[0] : e[1];
+    }
+    sk.vertex_node.push_back(node);
+  }
+}
+
+// Every edge longer than `longer` cut into `pieces` straight pieces (the same polyline, more nodes).
+stm::Skeleton subdivided(const stm::Skeleton& sk, double longer, int pieces) {
+  stm::Skeleton out;
+  out.nodes = sk.nodes;
+  for (const auto& e : sk.edges) {
+    const Eigen::Vector3d a = sk.nodes[e[0]], b = sk.nodes[e[1]];
+    if ((b - a).norm() <= longer) {
+      out.edges.push_back(e);
+      continue;
+    }
+    int prev = e[0];
+    for (int k = 1; k < pieces; ++k) {
+      out.nodes.push_back(a + (b - a) * (double(k) / pieces));
+      out.edges.push_back({prev, int(out.nodes.size()) - 1});
+      prev = int(out.nodes.size()) - 1;
+    }
+    out.edges.push_back({prev, e[1]});
+  }
+  return out;
+}
+
+// Spot's hand-made skeleton (as in test_render_stm).
+stm::Skeleton spot_skeleton(const stm::Mesh& mesh, double cut_longer = 1e9) {
+  stm::Skeleton sk;
+  sk.nodes = {{0, 0.0, 1.0},   {0, -0.1, 0.62},    {0, -0.05, 0.1},   {0, 0.3, -0.25},  {0, 0.5, -0.42},
+              {0.2, -0.35, 0.07}, {-0.2, -0.35, 0.07}, {0.2, -0.65, 0.07}, {-0.2, -0.65, 0.07},
+              {0.17, -0.35, 0.66}, {-0.17, -0.35, 0.66}, {0.17, -0.65, 0.66}, {-0.17, -0.65, 0.66},
+              {0.17, 0.88, -0.27}, {-0.17, 0.88, -0.27}, {0.42, 0.68, -0.21}, {-0.42, 0.68, -0.21}};
+  sk.edges = {{0, 1}, {1, 2}, {2, 3}, {3, 4}, {2, 5}, {5, 7}, {2, 6}, {6, 8}, {1, 9}, {9, 11}, {1, 10}, {10, 12},
+              {4, 13}, {4, 14}, {4, 15}, {4, 16}};
+  sk = subdivided(sk, cut_longer, 3);
+  assign_vertices(mesh, sk);
+  return sk;
+}
+
+// The deformation of the bent target: the ypsilon's right arm bent by `degrees` out of the Y's plane
+// towards +z (progressively, from 0.3 along the arm on) and thickened by `thicken` (radially, same
+// ramp). Out of the plane, so that the bent Y is not an in-plane Y with its arms relabelled: bent
+// within the plane towards the stem, the Y's angles fit a match with stem and left arm exchanged
+// better than the true one, and match_skeletons rightly ranks shape before pose.
+Eigen::Vector3d bend_point(const Eigen::Vector3d& p, double degrees, double thicken) {
+  const Eigen::Vector3d pivot = 0.3 * kArm;
+  const double s = (p - pivot).dot(kArm);
+  if (s <= 0) return p;
+  const double w = std::min(1.0, s / 0.4);
+  const Eigen::Vector3d radial = (p - pivot) - s * kArm;
+  const Eigen::Vector3d q = s * kArm + (1 + thicken * w) * radial;
+  const Eigen::Vector3d across = Eigen::Vector3d::UnitZ().cross(kArm);  // in the plane, across the arm
+  return pivot + Eigen::AngleAxisd(-degrees * M_PI / 180 * w, across).toRotationMatrix() * q;
+}
+
+// The ypsilon's ideal skeleton (junction at the origin, arms along the primitive's capsule axes),
+// arm k cut into per_arm[k] edges, every node moved by `move`.
+stm::Skeleton ypsilon_skeleton(const stm::Mesh& mesh, std::array<int, 3> per_arm,
+                               const std::function<Eigen::Vector3d(const Eigen::Vector3d&)>& move = nullptr) {
+  const Eigen::Vector3d ends[3] = {{0, -1.1, 0}, {-0.78, 0.78, 0}, {0.78, 0.78, 0}};
+  stm::Skeleton sk;
+  sk.nodes.push_back(Eigen::Vector3d::Zero());
+  for (int k = 0; k < 3; ++k) {
+    int prev = 0;
+    for (int i = 1; i <= per_arm[k]; ++i) {
+      const Eigen::Vector3d p = ends[k] * (double(i) / per_arm[k]);
+      sk.nodes.push_back(move ? move(p) : p);
+      sk.edges.push_back({prev, int(sk.nodes.size()) - 1});
+      prev = int(sk.nodes.size()) - 1;
+    }
+  }
+  assign_vertices(mesh, sk);
+  return sk;
+}
+
+}  // namespace
+
+// The source with skeleton sa and a baked smooth texture, the target with skeleton sb: transfer, then
+// compare 8 views.
+std::vector<double> transfer_round(stm::GlContext& gl, stm::Mesh a, const stm::Skeleton& sa, const stm::Mesh& b, const stm::Skeleton& sb,
+                                  stm::TextureTransfer* out = nullptr) {
+  const stm::Image tex = bake_texture(gl, a, sa, smooth_colour);
+  stm::TransferOptions to;
+  to.size = 1024;
+  stm::TextureTransfer r = stm::transfer_texture(gl, a, tex, sa, b, sb, to);
+  const std::vector<double> p = compare_views(gl, a, tex, r.target, r.atlas, "ypsilon_transfer_view");
+  if (out) *out = std::move(r);
+  return p;
+}
+
+TEST_CASE("transfer onto a new tessellation of the ypsilon reproduces the source", "[transfer_texture]") {
+  stm::GlContext gl;
+  const stm::Mesh a = stm::make_primitive("ypsilon", 2000);
+  const stm::Mesh b = remeshed(a, 0.75);
+  REQUIRE(b.n_vertices() != a.n_vertices());
+  // Skeletons with the same branching and other node counts on each arm.
+  const stm::Skeleton sa = ypsilon_skeleton(a, {2, 2, 2}), sb = ypsilon_skeleton(b, {3, 1, 4});
+  stm::TextureTransfer r;
+  const std::vector<double> p = transfer_round(gl, a, sa, b, sb, &r);
+  // Both skeletons share one graph with every chain at the larger count (or more, by the split rule).
+  CHECK(r.skeletons.a.edges == r.skeletons.b.edges);
+  CHECK(r.skeletons.a.edges.size() >= 9);
+  CHECK(r.skeletons.match.confidence > 0.3);
+  for (const auto* sk : {&r.skeletons.a, &r.skeletons.b}) {
+    std::vector<int> count(sk->nodes.size(), 0);
+    for (int x : sk->vertex_node) ++count[x];
+    CHECK(*std::min_element(count.begin(), count.end()) >= 1);
+  }
+  // Matched segments' frames correspond (same pose, so the same directions).
+  for (size_t s = 0; s < r.layout_a.segments.size(); ++s) {
+    CHECK(r.layout_a.segments[s].e1.dot(r.layout_b.segments[s].e1) > 0.999);
+    CHECK(r.layout_a.segments[s].axis.dot(r.layout_b.segments[s].axis) > 0.999);
+  }
+  for (size_t v = 0; v < p.size(); ++v) {
+    INFO("view " << v << ": PSNR " << p[v] << " dB");
+    CHECK(p[v] >= 28.0);
+  }
+}
+
+// With skeletons extracted from each tessellation the capsules differ by the extraction's noise;
+// not run by default (the extractor is being reworked): run it with its tag to measure.
+TEST_CASE("transfer onto a new tessellation of the ypsilon with extracted skeletons", "[.][transfer_texture_extracted]") {
+  stm::GlContext gl;
+  const stm::Mesh a = stm::make_primitive("ypsilon", 2000);
+  const stm::Mesh b = remeshed(a, 0.75);
+  const stm::Skeleton sa = stm::extract_skeleton(a), sb = stm::extract_skeleton(b);
+  REQUIRE(stm::branching_difference(sa, sb).empty());
+  const std::vector<double> p = transfer_round(gl, a, sa, b, sb);
+  WARN("ypsilon remeshed, extracted skeletons: PSNR per view " << p[0] << " " << p[1] << " " << p[2] << " " << p[3] << " " << p[4]
+                                                             << " " << p[5] << " " << p[6] << " " << p[7]);
+  CHECK(*std::min_element(p.begin(), p.end()) >= 22.0);
+}
+
+// A ring skeleton around z (radius 1, in the plane z = 0) with n nodes, the first at angle `start`.
+stm::Skeleton ring_skeleton(const stm::Mesh& mesh, int n, double start) {
+  stm::Skeleton sk;
+  for (int i = 0; i < n; ++i) {
+    const double t = start + 2 * M_PI * i / n;
+    sk.nodes.emplace_back(std::cos(t), std::sin(t), 0);
+    sk.edges.push_back({i, (i + 1) % n});
+  }
+  assign_vertices(mesh, sk);
+  return sk;
+}
+
+TEST_CASE("transfer onto a new tessellation of the donut lines up the rings", "[transfer_texture]") {
+  stm::GlContext gl;
+  const stm::Mesh a = stm::make_primitive("donut");
+  const stm::Mesh b = remeshed(a, 0.8);
+  // Pure cycles: the rings' first nodes (their key nodes) lie at other angles.
+  const stm::Skeleton sa = ring_skeleton(a, 8, 0.0), sb = ring_skeleton(b, 11, 2.0);
+  const std::vector<double> p = transfer_round(gl, a, sa, b, sb);
+  for (size_t v = 0; v < p.size(); ++v) {
+    INFO("view " << v << ": PSNR " << p[v] << " dB");
+    CHECK(p[v] >= 28.0);
+  }
+}
+
+TEST_CASE("transfer onto a new tessellation of Spot reproduces its texture", "[transfer_texture]") {
+  stm::GlContext gl;
+  std::string tex_path;
+  const stm::Mesh a = stm::load_mesh(std::string(SDM_EXAMPLES) + "/spot/spot_triangulated.obj", &tex_path);
+  REQUIRE(!tex_path.empty());
+  const stm::Image tex = stm::read_png(tex_path);
+  const stm::Skeleton sa = spot_skeleton(a);
+  const stm::Mesh b = remeshed(a, 0.9);
+  REQUIRE(b.n_vertices() != a.n_vertices());
+  // The target's skeleton has the same branching with other node counts: the long edges cut in three.
+  const stm::Skeleton sb = spot_skeleton(b, 0.3);
+  REQUIRE(sb.nodes.size() > sa.nodes.size());
+  stm::TransferOptions to;
+  to.size = 2048;
+  const stm::TextureTransfer r = stm::transfer_texture(gl, a, tex, sa, b, sb, to);
+  CHECK(r.skeletons.a.edges == r.skeletons.b.edges);
+  CHECK(r.skeletons.a.edges.size() >= sb.edges.size());
+  const std::vector<double> p = compare_views(gl, a, tex, r.target, r.atlas, "spot_transfer_view");
+  for (size_t v = 0; v < p.size(); ++v) {
+    INFO("view " << v << ": PSNR " << p[v] << " dB");
+    CHECK(p[v] >= 28.0);
+  }
+}
+
+TEST_CASE("a band painted on one branch lands on the same branch of a bent and thickened target", "[transfer_texture]") {
+  stm::GlContext gl;
+  stm::Mesh a = stm::make_primitive("ypsilon", 2000);
+  const stm::Skeleton sa = ypsilon_skeleton(a, {2, 2, 2});
+  const stm::Image tex = bake_texture(gl, a, sa, band_colour);
+  // Target: the right arm bent 50 degrees out of the plane and 40 % thicker, then tessellated anew. Faces of
+  // the bent copy are labelled "arm" when their undeformed centroid lies past 0.3 along the arm;
+  // the remeshed target's faces take the label of the nearest face of the bent copy.
+  auto bend = [](const Eigen::Vector3d& p) { return bend_point(p, 50, 0.4); };
+  stm::Mesh bent = stm::make_primitive("ypsilon", 2000);
+  for (auto v : bent.vertices()) {
+    const Eigen::Vector3d q = bend(stm::point(bent, v));
+    bent.set_point(v, stm::Mesh::Point(q.x(), q.y(), q.z()));
+  }
+  std::vector<char> bent_arm(bent.n_faces(), 0);
+  for (auto f : a.faces()) {
+    Eigen::Vector3d c = Eigen::Vector3d::Zero();
+    for (auto v : a.fv_range(f)) c += stm::point(a, v) / 3;
+    bent_arm[f.idx()] = c.dot(kArm) > 0.3 && (c - c.dot(kArm) * kArm).norm() < 0.5;
+  }
+  const stm::TriangleBvh bvh(stm::vertex_matrix(bent), stm::face_matrix(bent));
+  stm::Mesh b = bent;
+  stm::isotropic_remesh(b, 0.8 * mean_edge(bent), 4, [&](const Eigen::Vector3d& p) { return bvh.closest_point(p).point; });
+  // Its skeleton: the ideal one bent the same way, with more nodes on the bent arm.
+  const stm::Skeleton sb = ypsilon_skeleton(b, {2, 3, 5}, bend);
+  stm::TransferOptions to;
+  to.size = 1024;
+  const stm::TextureTransfer r = stm::transfer_texture(gl, a, tex, sa, b, sb, to);
+
+  // Label texture: white on the left half, black on the right; arm faces sample the white half.
+  stm::Image label(64, 64, 4, 255);
+  for (int y = 0; y < 64; ++y)
+    for (int x = 32; x < 64; ++x)
+      for (int k = 0; k < 3; ++k) label.at(x, y)[k] = 0;
+  stm::Mesh labelled = b;
+  labelled.request_halfedge_texcoords2D();
+  int arm_faces = 0;
+  for (auto f : labelled.faces()) {
+    Eigen::Vector3d c = Eigen::Vector3d::Zero();
+    for (auto v : labelled.fv_range(f)) c += stm::point(labelled, v) / 3;
+    const bool arm = bent_arm[bvh.closest_point(c).face];
+    arm_faces += arm;
+    for (auto h : labelled.fh_range(f)) labelled.set_texcoord2D(h, stm::Mesh::TexCoord2D(arm ? 0.25 : 0.75, 0.5));
+  }
+  REQUIRE(arm_faces > 0);
+
+  stm::RenderOptions ro;
+  ro.width = ro.height = 512;
+  ro.unlit = true;
+  ro.samples = 1;
+  ro.background = {0, 0, 255, 255};  // neither band red nor label white
+  // Views across the plane the arm bends in (direction (-1, 1, 0): azimuth -90, elevation 45), from
+  // both sides, and one oblique.
+  for (auto [az, el] : {std::pair<double, double>{-90, 45}, {90, -45}, {-60, 30}}) {
+    ro.azimuth_deg = az;
+    ro.elevation_deg = el;
+    ro.texture = &r.atlas;
+    const stm::Image img = stm::render_mesh(gl, r.target, ro);
+    ro.texture = &label;
+    const stm::Image lab = stm::render_mesh(gl, labelled, ro);
+    long band = 0, on_arm = 0;
+    for (int y = 0; y < img.height; ++y)
+      for (int x = 0; x < img.width; ++x) {
+        const uint8_t* c = img.at(x, y);
+        if (!(c[0] > 200 && c[1] < 50 && c[2] < 50)) continue;
+        ++band;
+        on_arm += lab.at(x, y)[0] > 128;
+      }
+    // The source's band from the same camera: the target's is as wide along the arm and about 1.4
+    // times as thick, so it covers somewhat more pixels, never several times more or less.
+    ro.texture = &tex;
+    const stm::Image src = stm::render_mesh(gl, a, ro);
+    long band_source = 0;
+    for (int y = 0; y < src.height; ++y)
+      for (int x = 0; x < src.width; ++x) band_source += src.at(x, y)[0] > 200 && src.at(x, y)[1] < 50 && src.at(x, y)[2] < 50;
+    INFO("azimuth " << az << " elevation " << el << ": " << band << " band pixels, " << on_arm << " on the bent arm; " << band_source << " in the source");
+    CHECK(band > 500);
+    CHECK(on_arm >= 0.98 * band);
+    CHECK(band > 0.9 * band_source);
+    CHECK(band < 2.0 * band_source);
+    if (const char* dump = std::getenv("SDM_TEST_DUMP"))
+      stm::write_png(stm::side_by_side({src, img, lab}), std::string(dump) + "/band_az" + std::to_string(int(az)) + "_el" +
+                                                           std::to_string(int(el)) + ".png");
+  }
+}
+
+namespace {
+
+// Writes the ypsilon with a baked smooth texture as OBJ + MTL + PNG into `dir`; returns the OBJ path.
+std::string write_textured_ypsilon(stm::GlContext& gl, const test_util::TempDir& dir, stm::Mesh* mesh = nullptr,
+                                   stm::Image* texture = nullptr) {
+  stm::Mesh a = stm::make_primitive("ypsilon", 1200);
+  const stm::Image tex = bake_texture(gl, a, ypsilon_skeleton(a, {2, 2, 2}), smooth_colour);
+  stm::write_png(tex, dir / "source.png");
+  stm::write_mesh(a, dir / "source.obj", dir / "source.png");
+  if (mesh) *mesh = a;
+  if (texture) *texture = tex;
+  return dir / "source.obj";
+}
+
+}  // namespace
+
+TEST_CASE("sdm transfer writes the target with uv and its atlas and preview", "[transfer_texture]") {
+  stm::GlContext gl;
+  test_util::TempDir dir;
+  stm::Mesh a;
+  stm::Image tex;
+  const std::string src = write_textured_ypsilon(gl, dir, &a, &tex);
+  const stm::Mesh b = remeshed(a, 0.8);
+  stm::write_mesh(b, dir / "target.obj");
+  // Skeletons given as files (the extractor's result on these tessellations is tested elsewhere).
+  stm::write_skeleton_json(ypsilon_skeleton(a, {2, 2, 2}), dir / "source.json");
+  stm::write_skeleton_json(ypsilon_skeleton(b, {1, 3, 2}), dir / "target.json");
+  const auto res = test_util::run_sdm("transfer --source " + src + " --target " + (dir / "target.obj") + " -o " + (dir / "out.obj") +
+                                      " --source-skeleton " + (dir / "source.json") + " --target-skeleton " + (dir / "target.json") +
+                                      " --size 1024 --json");
+  INFO(res.output);
+  REQUIRE(res.exit_code == 0);
+  const auto j = nlohmann::json::parse(res.output.substr(res.output.find("{\n")));
+  CHECK(j.at("chains").size() == 3);
+  CHECK(j.at("keys").size() == 4);
+  CHECK(j.at("confidence").get<double>() > 0);
+  CHECK(std::filesystem::exists(dir / "out_atlas.png"));
+  CHECK(std::filesystem::exists(dir / "out_preview.png"));
+  CHECK(std::filesystem::exists(dir / "out.mtl"));
+  std::string atlas_path;
+  const stm::Mesh out = stm::load_mesh(dir / "out.obj", &atlas_path);
+  REQUIRE(out.has_halfedge_texcoords2D());
+  REQUIRE(std::filesystem::equivalent(atlas_path, dir / "out_atlas.png"));
+  const stm::Image atlas = stm::read_png(atlas_path);
+  // The written target, with the written atlas, looks like the source.
+  stm::RenderOptions ro;
+  ro.width = ro.height = 512;
+  ro.unlit = true;
+  stm::bounding_box(a, ro.bbox_min, ro.bbox_max);
+  for (double az : {0.0, 135.0}) {
+    ro.azimuth_deg = az;
+    std::vector<uint8_t> ma, mb;
+    ro.texture = &tex;
+    const stm::Image ia = stm::render_mesh(gl, a, ro, &ma);
+    ro.texture = &atlas;
+    const stm::Image ib = stm::render_mesh(gl, out, ro, &mb);
+    for (size_t i = 0; i < ma.size(); ++i) ma[i] = ma[i] && mb[i] ? 255 : 0;
+    const double p = stm::psnr(ia, ib, &ma);
+    INFO("azimuth " << az << ": PSNR " << p);
+    CHECK(p >= 28.0);
+  }
+}
+
+TEST_CASE("sdm transfer refuses a target with another branching and writes nothing", "[transfer_texture]") {
+  stm::GlContext gl;
+  test_util::TempDir dir;
+  const std::string src = write_textured_ypsilon(gl, dir);
+  stm::write_mesh(stm::make_primitive("crossed-cylinders", 1200), dir / "target.obj");
+  const auto before = std::distance(std::filesystem::directory_iterator(dir.path), std::filesystem::directory_iterator());
+  const auto res = test_util::run_sdm("transfer --source " + src + " --target " + (dir / "target.obj") + " -o " + (dir / "out.obj"));
+  INFO(res.output);
+  CHECK(res.exit_code == 2);
+  CHECK(res.output.find("branching differs") != std::string::npos);
+  CHECK(res.output.find("ends ") != std::string::npos);
+  const auto after = std::distance(std::filesystem::directory_iterator(dir.path), std::filesystem::directory_iterator());
+  CHECK(after == before);
+  CHECK(!std::filesystem::exists(dir / "out.obj"));
+  CHECK(!std::filesystem::exists(dir / "out_atlas.png"));
+}
+
+TEST_CASE("an SDM decodes around a target skeleton with the same branching and other node counts", "[transfer_texture]") {
+  const stm::Mesh y = stm::make_primitive("ypsilon");
+  // The ideal skeleton lies in the plane z = 0, so turning it about z turns every frame with it
+  // (decode carries e1 by the minimal rotation between old and new axes).
+  stm::LayoutOptions lo;
+  lo.size = 256;
+  lo.split_ratio = 0;
+  const stm::Layout layout = stm::compute_layout(y, ypsilon_skeleton(y, {2, 2, 2}), lo);
+  const stm::SdmImage im = stm::encode_sdm(y, layout);
+  const stm::Skeleton& graph = layout.skeleton;
+  // Target: the map's skeleton turned 30 degrees about z, every edge cut at its middle, nodes listed
+  // in reverse order; the same polylines, so the resampled nodes are the turned originals.
+  const Eigen::Matrix3d R = Eigen::AngleAxisd(30 * M_PI / 180, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  stm::Skeleton target;
+  const int n = int(graph.nodes.size());
+  for (int i = n - 1; i >= 0; --i) target.nodes.push_back(R * graph.nodes[i]);
+  for (const auto& e : graph.edges) {
+    const int mid = int(target.nodes.size());
+    target.nodes.push_back(R * 0.5 * (graph.nodes[e[0]] + graph.nodes[e[1]]));
+    target.edges.push_back({n - 1 - e[0], mid});
+    target.edges.push_back({mid, n - 1 - e[1]});
+  }
+  stm::SkeletonMatch m;
+  const stm::Skeleton moved = stm::skeleton_onto_graph(graph, target, {}, &m);
+  REQUIRE(moved.edges == graph.edges);
+  double node_error = 0;
+  for (int i = 0; i < n; ++i) node_error = std::max(node_error, (moved.nodes[i] - R * graph.nodes[i]).norm());
+  CHECK(node_error < 1e-9);
+  stm::DecodeOptions d;
+  d.level = 2;
+  const stm::Mesh plain = stm::decode_sdm(im, d);
+  d.skeleton = moved;
+  const stm::Mesh turned = stm::decode_sdm(im, d);
+  REQUIRE(turned.n_vertices() == plain.n_vertices());
+  double err = 0;
+  for (auto v : plain.vertices()) err = std::max(err, (stm::point(turned, v) - R * stm::point(plain, v)).norm());
+  INFO("largest distance to the turned decode " << err);
+  CHECK(err < 1e-6 * stm::bounding_box_diagonal(plain));
+
+  // The command line does the same from files; another branching is refused.
+  test_util::TempDir dir;
+  stm::write_sdm_exr(im, dir / "map.exr");
+  stm::write_skeleton_json(target, dir / "target.json");
+  auto res = test_util::run_sdm("transfer --sdm " + (dir / "map.exr") + " --target-skeleton " + (dir / "target.json") + " --lod 2 -o " +
+                                (dir / "out.obj"));
+  INFO(res.output);
+  REQUIRE(res.exit_code == 0);
+  CHECK(stm::load_mesh(dir / "out.obj").n_vertices() == plain.n_vertices());
+  target.nodes.push_back(Eigen::Vector3d(5, 5, 5));
+  target.edges.push_back({n, int(target.nodes.size()) - 1});  // a middle node becomes a junction
+  stm::write_skeleton_json(target, dir / "other.json");
+  res = test_util::run_sdm("transfer --sdm " + (dir / "map.exr") + " --target-skeleton " + (dir / "other.json") + " -o " + (dir / "other.obj"));
+  CHECK(res.exit_code == 2);
+  CHECK(res.output.find("branchings differ") != std::string::npos);
+  CHECK(!std::filesystem::exists(dir / "other.obj"));
+}
+
