@@ -20,6 +20,7 @@ struct Command {
 
 Command add_info_command(CLI::App& parent);
 Command add_convert_command(CLI::App& parent);
+Command add_remesh_command(CLI::App& parent);
 Command add_render_command(CLI::App& parent);
 Command add_encode_command(CLI::App& parent);
 Command add_decode_command(CLI::App& parent);

@@ -15,6 +15,7 @@ int main(int argc, char** argv) {
   std::vector<sdm_cli::Command> commands = {
       sdm_cli::add_info_command(app),
       sdm_cli::add_convert_command(app),
+      sdm_cli::add_remesh_command(app),
       sdm_cli::add_render_command(app),
       sdm_cli::add_encode_command(app),
       sdm_cli::add_decode_command(app),

@@ -1,0 +1,50 @@
+#include "apps/commands.h"
+#include "libstm/isotropic_remesh.h"
+#include "libstm/mesh.h"
+#include "libstm/triangle_bvh.h"
+
+#include <memory>
+
+namespace sdm_cli {
+
+Command add_remesh_command(CLI::App& parent) {
+  struct Opts {
+    std::string mesh, out;
+    double edge = 0, factor = 1.0;
+    int iterations = 8;
+  };
+  auto o = std::make_shared<Opts>();
+  auto* app = parent.add_subcommand(
+      "remesh", "Isotropic remeshing: the same surface with new, well-shaped triangles of about one edge length\n"
+                "(vertices projected back onto the input). Topology is kept; uv is not. Walls thinner than about\n"
+                "the edge length can snap together: use a smaller --factor for thin CAD parts.");
+  app->add_option("mesh", o->mesh, "Input mesh (.obj, .off, .ply, .stl)")->required();
+  app->add_option("-o,--output", o->out, "Output mesh")->required();
+  app->add_option("--edge-length", o->edge, "Target edge length in model units (default: the equilateral edge for the input's area and vertex count, times --factor)")
+      ->check(CLI::PositiveNumber);
+  app->add_option("--factor", o->factor, "Scale of the default target edge length")->capture_default_str()->check(CLI::Range(0.1, 10.0));
+  app->add_option("--iterations", o->iterations, "Remeshing iterations")->capture_default_str()->check(CLI::Range(1, 100));
+  return {app, [o]() {
+            const stm::Mesh input = stm::load_mesh(o->mesh);
+            double edge = o->edge;
+            if (edge <= 0) {
+              // The edge of an equilateral mesh with as many vertices over the same area (F = 2V,
+              // A = 2V * sqrt(3)/4 * L^2): unlike the mean edge, not inflated by long slivers.
+              double area = 0;
+              for (auto f : input.faces()) area += input.calc_face_area(f);
+              edge = std::sqrt(2.0 * area / (std::sqrt(3.0) * double(input.n_vertices()))) * o->factor;
+            }
+            const stm::TriangleBvh bvh(stm::vertex_matrix(input), stm::face_matrix(input));
+            stm::Mesh mesh = input;
+            mesh.release_halfedge_texcoords2D();
+            stm::isotropic_remesh(mesh, edge, o->iterations,
+                                  [&](const Eigen::Vector3d& p) { return bvh.closest_point(p).point; });
+            stm::write_mesh(mesh, o->out);
+            std::cout << o->out << ": " << mesh.n_vertices() << " vertices, " << mesh.n_faces() << " faces (input "
+                      << input.n_vertices() << "), edge length " << edge << ", smallest angle "
+                      << stm::min_triangle_angle_degrees(mesh) << " degrees\n";
+            return 0;
+          }};
+}
+
+}  // namespace sdm_cli
