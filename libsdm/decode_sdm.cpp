@@ -76,18 +76,36 @@ Mesh decode_sdm(const SdmImage& image, const DecodeOptions& options, std::vector
       reference[f][c] = ray.origin + seg.radius * ray.direction;
     }
   }
+  // Where a base face's corners land: their (u, v) are exact, so these are reliable.
+  auto place = [&](int s, const Eigen::Vector3d& q) {
+    const LayoutSegment& seg = layout.segments[s];
+    const CapsuleUV uv = capsule_uv(frames[s], seg.w, seg.h, seg.d, q);
+    const CapsuleRay ray = capsule_ray(frames[s], seg.w, seg.h, seg.d, uv.u, uv.v);
+    return Eigen::Vector3d(ray.origin + sample_displacement(image, seg, uv.u, uv.v) * ray.direction);
+  };
+  std::vector<std::array<Eigen::Vector3d, 3>> corner(base.triangles.rows());
+  std::vector<double> reach(base.triangles.rows());
+  for (int f = 0; f < base.triangles.rows(); ++f) {
+    for (int c = 0; c < 3; ++c) corner[f][c] = place(base.face_segment[f], reference[f][c]);
+    double longest = 0;
+    for (int c = 0; c < 3; ++c) longest = std::max(longest, (corner[f][c] - corner[f][(c + 1) % 3]).norm());
+    reach[f] = 0.5 * longest;
+  }
   Mesh out;
   std::vector<Mesh::VertexHandle> vh(tess.point_face.size());
   if (vertex_segment) vertex_segment->resize(tess.point_face.size());
   for (size_t i = 0; i < tess.point_face.size(); ++i) {
     const int f = tess.point_face[i];
     const int s = base.face_segment[f];
-    const LayoutSegment& seg = layout.segments[s];
     const Eigen::Vector3d& b = tess.point_bary[i];
     const Eigen::Vector3d q = b[0] * reference[f][0] + b[1] * reference[f][1] + b[2] * reference[f][2];
-    const CapsuleUV uv = capsule_uv(frames[s], seg.w, seg.h, seg.d, q);
-    const CapsuleRay ray = capsule_ray(frames[s], seg.w, seg.h, seg.d, uv.u, uv.v);
-    const Eigen::Vector3d p = ray.origin + sample_displacement(image, seg, uv.u, uv.v) * ray.direction;
+    Eigen::Vector3d p = place(s, q);
+    // Safeguard: near junctions a texel's ray can leave the segment's region and meet a far
+    // surface; a point displaced farther from its decoded base triangle than half the triangle's
+    // longest edge comes from such a ray and is pulled back to that distance.
+    const Eigen::Vector3d flat = b[0] * corner[f][0] + b[1] * corner[f][1] + b[2] * corner[f][2];
+    const double off = (p - flat).norm();
+    if (off > reach[f]) p = flat + (p - flat) * (reach[f] / off);
     vh[i] = out.add_vertex(Mesh::Point(p.x(), p.y(), p.z()));
     if (vertex_segment) (*vertex_segment)[i] = s;
   }
