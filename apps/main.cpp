@@ -20,6 +20,7 @@ int main(int argc, char** argv) {
       sdm_cli::add_encode_command(app),
       sdm_cli::add_decode_command(app),
       sdm_cli::add_roundtrip_command(app),
+      sdm_cli::add_bench_command(app),
       sdm_cli::add_skeleton_command(app),
       sdm_cli::add_primitive_command(app),
       sdm_cli::add_stm_command(app),
