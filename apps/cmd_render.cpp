@@ -1,4 +1,5 @@
 #include "apps/commands.h"
+#include "libstm/draw_atlas.h"
 #include "libstm/errors.h"
 #include "libstm/gl_context.h"
 #include "libstm/image.h"
@@ -19,6 +20,7 @@ namespace sdm_cli {
 Command add_render_command(CLI::App& parent) {
   struct Opts {
     std::string mesh, output, texture, skeleton, stm, layout;
+    bool checker = false;
     int width = 800, height = 800, views = 1;
     double azimuth = 30, elevation = 20;
     bool unlit = false, orthographic = false, flat = false, no_texture = false, json = false, compare_uv = false;
@@ -48,6 +50,9 @@ Command add_render_command(CLI::App& parent) {
   app->add_option("--skeleton", o->skeleton, "Skeleton (.json from 'sdm skeleton') drawn over a semi-transparent mesh");
   app->add_option("--stm", o->stm, "Atlas (.png from 'sdm remap') to draw the mesh with, coordinates computed on the fly; needs --layout");
   app->add_option("--layout", o->layout, "Layout (.json) of the --stm atlas, made for this mesh");
+  app->add_flag("--checker", o->checker,
+                "With --layout (and no --stm): a checkerboard in STM coordinates, each segment in its colour, "
+                "coordinates computed in the shaders (the standard look at a parameterization)");
   app->add_flag("--compare-uv", o->compare_uv,
                 "With --stm: also draw the mesh with its own uv and texture, put both side by side and print the PSNR "
                 "(dB, over the pixels either render covers; use with --unlit for a pure texture comparison)");
@@ -71,7 +76,7 @@ Command add_render_command(CLI::App& parent) {
             std::string texture_path = o->texture.empty() ? material_texture : o->texture;
             if (o->no_texture) texture_path.clear();
             // Drawn from the STM, the mesh's own uv and texture only serve the --compare-uv picture.
-            if (!o->stm.empty() && !o->compare_uv) texture_path.clear();
+            if ((!o->stm.empty() || o->checker) && !o->compare_uv) texture_path.clear();
             stm::Image texture;
             if (!texture_path.empty()) {
               if (!mesh.has_halfedge_texcoords2D())
@@ -80,8 +85,10 @@ Command add_render_command(CLI::App& parent) {
               texture = stm::read_png(texture_path);
             }
             if (!o->stm.empty() && o->layout.empty()) throw stm::InputError("--stm needs the atlas's --layout LAYOUT.json");
-            if (o->stm.empty() && (!o->layout.empty() || o->compare_uv))
-              throw stm::InputError("--layout and --compare-uv go with --stm ATLAS.png");
+            if (o->checker && (o->layout.empty() || !o->stm.empty()))
+              throw stm::InputError("--checker needs --layout LAYOUT.json and no --stm");
+            if (o->stm.empty() && !o->checker && (!o->layout.empty() || o->compare_uv))
+              throw stm::InputError("--layout and --compare-uv go with --stm ATLAS.png (or --layout with --checker)");
             if (o->compare_uv && texture_path.empty())
               throw stm::InputError("--compare-uv needs the mesh's own texture: '" + o->mesh + "' names none (pass --texture)");
             if (!o->stm.empty() && !o->skeleton.empty()) throw stm::InputError("--skeleton cannot be combined with --stm");
@@ -90,7 +97,11 @@ Command add_render_command(CLI::App& parent) {
             if (!o->stm.empty()) {
               layout = stm::read_layout_json(o->layout);
               atlas = stm::read_png(o->stm);
+            } else if (o->checker) {
+              layout = stm::read_layout_json(o->layout);
+              atlas = stm::checker_atlas(layout, std::max(4, layout.size / 64));
             }
+            const bool from_stm = !o->stm.empty() || o->checker;
             stm::GlContext gl;
             progress("GL renderer: " + gl.renderer() + " (" + gl.version() + ", " + gl.platform() + ")");
             stm::RenderOptions ro;
@@ -108,7 +119,7 @@ Command add_render_command(CLI::App& parent) {
               ro.azimuth_deg = o->azimuth + 360.0 * view / o->views;
               std::vector<uint8_t> mask;
               stm::Image img;
-              if (!o->stm.empty()) {
+              if (from_stm) {
                 img = stm::render_stm(gl, mesh, layout, atlas, ro, &mask);
                 if (o->compare_uv) {
                   std::vector<uint8_t> uv_mask;

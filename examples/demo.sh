@@ -36,13 +36,14 @@ for s in $MODELS; do
   quiet "$SDM" render "$m" --skeleton "$OUT/$s.skeleton.json" -o "$OUT/$s.skeleton.png" --width 512 --height 512 --no-texture
 done
 
-step "3. Skeleton texture map layout: STM uv (open *.stm-uv.obj in any viewer) and the packed atlas"
+step "3. Skeleton texture map layout: checkerboard views (*.checker.png), packed atlases (*.atlas.png), STM uv (*.stm-uv.obj)"
 for s in $MODELS; do
   m=$(mesh_of "$s")
   "$SDM" stm "$m" --skeleton "$OUT/$s.skeleton.json" -o "$OUT/$s.layout.json" --uv-obj "$OUT/$s.stm-uv.obj" \
     --atlas-png "$OUT/$s.atlas.png" 2>/dev/null >"$OUT/$s.layout.txt"
   awk -v n="$s" '/^  segments/{s=$2} /^  coverage/{c=$2} /L2 stretch/{t=$3}
     END{printf "  %-18s %3d segments, coverage %.1f %%, L2 stretch %.3f\n", n, s, 100*c, t}' "$OUT/$s.layout.txt"
+  quiet "$SDM" render "$m" --layout "$OUT/$s.layout.json" --checker -o "$OUT/$s.checker.png" --width 512 --height 512 --azimuth 150
 done
 
 step "4. Texture remap: Spot's texture into its STM, Spot drawn from the STM with no uv (coordinates in shaders)"

@@ -83,4 +83,29 @@ void write_atlas_png(const Mesh& mesh, const Layout& L, const std::vector<int>& 
   });
 }
 
+Image checker_atlas(const Layout& layout, int square) {
+  Image im;
+  im.width = im.height = layout.size;
+  im.channels = 4;
+  im.pixels.assign(size_t(layout.size) * layout.size * 4, 160);
+  for (size_t i = 3; i < im.pixels.size(); i += 4) im.pixels[i] = 255;
+  square = std::max(1, square);
+  for (size_t s = 0; s < layout.segments.size(); ++s) {
+    const LayoutSegment& seg = layout.segments[s];
+    const int ex = seg.rotated ? seg.h : seg.w, ey = seg.rotated ? seg.w : seg.h;
+    const auto c = segment_colour(int(s));
+    for (int y = seg.y - layout.margin; y < seg.y + ey + layout.margin; ++y)
+      for (int x = seg.x - layout.margin; x < seg.x + ex + layout.margin; ++x) {
+        if (x < 0 || y < 0 || x >= layout.size || y >= layout.size) continue;
+        // Local coordinates, wrapped around the axis so the margins continue the pattern.
+        int u = seg.rotated ? x - seg.x : y - seg.y, v = seg.rotated ? y - seg.y : x - seg.x;
+        u = ((u % seg.h) + seg.h) % seg.h;
+        const bool dark = ((u / square) + ((v + square * 1024) / square)) % 2;
+        std::uint8_t* p = &im.pixels[(size_t(layout.size - 1 - y) * layout.size + x) * 4];
+        for (int k = 0; k < 3; ++k) p[k] = std::uint8_t(dark ? c[k] / 2 : std::min(255, c[k] / 2 + 128));
+      }
+  }
+  return im;
+}
+
 }  // namespace stm
