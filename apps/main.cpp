@@ -12,20 +12,21 @@ int main(int argc, char** argv) {
       "render, encode and transfer textures and displacement."};
   app.require_subcommand(1);
   app.set_version_flag("--version", "sdm 0.1.0");
+  // Pipeline order: --help lists them so.
   std::vector<sdm_cli::Command> commands = {
       sdm_cli::add_info_command(app),
       sdm_cli::add_convert_command(app),
       sdm_cli::add_remesh_command(app),
+      sdm_cli::add_primitive_command(app),
+      sdm_cli::add_skeleton_command(app),
+      sdm_cli::add_stm_command(app),
+      sdm_cli::add_remap_command(app),
       sdm_cli::add_render_command(app),
       sdm_cli::add_encode_command(app),
       sdm_cli::add_decode_command(app),
       sdm_cli::add_roundtrip_command(app),
-      sdm_cli::add_bench_command(app),
-      sdm_cli::add_skeleton_command(app),
-      sdm_cli::add_primitive_command(app),
-      sdm_cli::add_stm_command(app),
-      sdm_cli::add_remap_command(app),
       sdm_cli::add_transfer_command(app),
+      sdm_cli::add_bench_command(app),
   };
   try {
     app.parse(argc, argv);
