@@ -24,6 +24,7 @@ Command add_render_command(CLI::App& parent);
 Command add_skeleton_command(CLI::App& parent);
 Command add_primitive_command(CLI::App& parent);
 Command add_stm_command(CLI::App& parent);
+Command add_bench_command(CLI::App& parent);
 
 // Progress lines go to stderr, so stdout stays clean for results and --json.
 inline void progress(const std::string& line) { std::cerr << line << std::endl; }

@@ -19,6 +19,7 @@ int main(int argc, char** argv) {
       sdm_cli::add_skeleton_command(app),
       sdm_cli::add_primitive_command(app),
       sdm_cli::add_stm_command(app),
+      sdm_cli::add_bench_command(app),
   };
   try {
     app.parse(argc, argv);
