@@ -10,7 +10,7 @@ namespace sdm_cli {
 Command add_skeleton_command(CLI::App& parent) {
   struct Opts {
     std::string mesh, out, obj;
-    bool json = false;
+    bool json = false, uniform = false;
     stm::SkeletonOptions sk;
   };
   auto o = std::make_shared<Opts>();
@@ -21,13 +21,18 @@ Command add_skeleton_command(CLI::App& parent) {
   app->add_option("-o,--output", o->out, "Output skeleton JSON file")->required();
   app->add_option("--obj", o->obj, "Also write the skeleton as an OBJ polyline");
   app->add_flag("--json", o->json, "Print the summary as one JSON object");
-  app->add_flag("--cotangent", o->sk.contraction.cotangent,
-                "Contract with cotangent weights (Au et al.) instead of uniform weights");
-  app->add_option("--laplacian-weight", o->sk.contraction.laplacian_weight, "Initial Laplacian weight (relative)");
-  app->add_option("--laplacian-scale", o->sk.contraction.laplacian_scale, "Growth of the Laplacian weight per iteration");
+  app->add_flag("--uniform", o->uniform, "Contract the proxy with uniform instead of cotangent weights (Au et al.)");
+  app->add_option("--prune-radius", o->sk.prune_radius,
+                  "End branches shorter than this multiple of their junction's radius are pruned");
+  app->add_option("--proxy-vertices", o->sk.proxy_max_vertices, "Parts with more vertices are contracted through a remeshed proxy of about this size (0: never)");
+  app->add_option("--laplacian-weight", o->sk.contraction.laplacian_weight, "Initial Laplacian weight of the proxy contraction (relative)");
+  app->add_option("--laplacian-scale", o->sk.contraction.laplacian_scale, "Growth of the proxy Laplacian weight per iteration");
+  app->add_option("--max-iterations", o->sk.contraction.max_iterations, "Most proxy contraction iterations");
+  app->add_option("--cot-min", o->sk.contraction.cot_min, "Lower clamp of the cotangent weights");
   app->add_option("--sampling-weight", o->sk.sampling_weight, "Weight of the sampling term of the collapse cost");
   return {app, [o]() {
             const stm::Mesh mesh = stm::load_mesh(o->mesh);
+            if (o->uniform) o->sk.contraction = stm::uniform_contraction();
             stm::SkeletonStats st;
             const stm::Skeleton sk = stm::extract_skeleton(mesh, o->sk, progress, &st);
             stm::write_skeleton_json(sk, o->out);
@@ -42,6 +47,8 @@ Command add_skeleton_command(CLI::App& parent) {
                                 {"contraction_seconds", st.contraction_seconds},
                                 {"surgery_seconds", st.surgery_seconds},
                                 {"refinement_seconds", st.refinement_seconds},
+                                {"proxy_vertices", st.proxy_vertices},
+                                {"proxy_seconds", st.proxy_seconds},
                                 {"outside_edges", st.outside_edges}};
             if (o->json) {
               print_json(j);

@@ -18,12 +18,11 @@ double seconds_since(Clock::time_point t) { return std::chrono::duration<double>
 
 // Cotangent of the angle between u and v, clamped: contracted triangles degenerate, and an
 // unbounded weight would make the system singular.
-double clamped_cot(const Eigen::Vector3d& u, const Eigen::Vector3d& v) {
+double clamped_cot(const Eigen::Vector3d& u, const Eigen::Vector3d& v, double lo, double hi) {
   const double c = u.dot(v);
   const double s = u.cross(v).norm();
-  const double lim = 1e3;
-  if (s <= std::abs(c) / lim) return c >= 0 ? lim : -lim;
-  return std::clamp(c / s, -lim, lim);
+  if (s <= std::abs(c) / hi) return c >= 0 ? hi : lo;
+  return std::clamp(c / s, lo, hi);
 }
 
 }  // namespace
@@ -119,7 +118,7 @@ ContractResult contract_mesh(const Eigen::MatrixX3d& V0, const Eigen::MatrixX3i&
     for (int f = 0; f < m; ++f) {
       for (int k = 0; k < 3; ++k) {
         const int c = F(f, k), a = F(f, (k + 1) % 3), b = F(f, (k + 2) % 3);
-        const double w = opt.cotangent ? clamped_cot(V.row(a) - V.row(c), V.row(b) - V.row(c)) : 0.5;
+        const double w = opt.cotangent ? clamped_cot(V.row(a) - V.row(c), V.row(b) - V.row(c), opt.cot_min, opt.cot_max) : 0.5;
         lrow[a][face_slots[f][2 * k]] += w;
         lrow[b][face_slots[f][2 * k + 1]] += w;
       }

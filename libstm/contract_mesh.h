@@ -12,18 +12,18 @@
 namespace stm {
 
 struct ContractOptions {
-  // Weights of the Laplacian. Au et al. use cotangent weights of the current shape; on meshes
-  // with long thin triangles (CAD models such as anchor or rotor) those weights blow up as the
-  // shape degenerates and the contraction diverges even with clamping and pinning. Uniform
-  // (umbrella) weights stay bounded and contract every test model into its volume; the node
-  // positions come from the original vertices anyway (refinement), so the tangential drift of
-  // uniform weights does not show in the skeleton.
-  bool cotangent = false;
-  // Initial Laplacian weight W_L0 = laplacian_weight * sqrt(total area / mean face area). The
-  // cotangent Laplacian has no unit, so this is Au et al.'s 1/sqrt(mean face area) made
-  // independent of the model's unit (W_H0 = 1); it grows with resolution because finer meshes
-  // need a stronger Laplacian to move a cross-section by the same amount.
-  double laplacian_weight = 1.0;
+  // Weights of the Laplacian: cotangent weights of the current (contracted) shape, as Au et al.,
+  // clamped to [cot_min, cot_max] so that degenerating triangles neither blow up nor turn the
+  // Laplacian indefinite. They need well-shaped triangles to start from: on raw CAD meshes (long
+  // thin triangles) they diverge, which is why extract_skeleton contracts an isotropic proxy.
+  // Uniform (umbrella) weights are the fallback for meshes that cannot be remeshed.
+  bool cotangent = true;
+  double cot_min = 0.0, cot_max = 1e4;
+  // Initial Laplacian weight W_L0 = laplacian_weight * sqrt(total area / mean face area) =
+  // laplacian_weight / sqrt(mean face area) in coordinates of unit total area: Au et al.'s rule,
+  // independent of the model's unit (W_H0 = 1). Small, so that thin limbs contract into their axis
+  // and get pinned before the Laplacian is strong enough to pull them into the body.
+  double laplacian_weight = 0.1;
   double laplacian_scale = 2.0;     // s_L: W_L is multiplied by it each iteration
   double max_laplacian_growth = 2048;  // W_L stops growing at this multiple of W_L0
   double area_ratio_stop = 1e-6;    // stop when the area falls below this fraction of the original

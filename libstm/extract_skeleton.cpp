@@ -1,6 +1,8 @@
 #include "libstm/extract_skeleton.h"
 
 #include "libstm/inside_mesh.h"
+#include "libstm/isotropic_remesh.h"
+#include "libstm/triangle_bvh.h"
 
 #include <algorithm>
 #include <array>
@@ -322,6 +324,9 @@ void refine(Graph& g, const Eigen::MatrixX3d& O, const InsideMesh& in, double di
       }
   };
   const double min_branch = opt.min_branch * diag;
+  double max_radius = 0;
+  for (int a = 0; a < n; ++a) max_radius = std::max(max_radius, radius(a));
+
   for (bool changed = true; changed;) {
     changed = false;
     // End branches shorter than min_branch: merged into the junction they hang from.
@@ -331,13 +336,15 @@ void refine(Graph& g, const Eigen::MatrixX3d& O, const InsideMesh& in, double di
       double len = 0;
       int prev = a, cur = adj[a][0];
       len += (g.pos[a] - g.pos[cur]).norm();
-      while (adj[cur].size() == 2 && len < min_branch) {
+      const double limit = std::max(min_branch, opt.prune_radius * max_radius);
+      while (adj[cur].size() == 2 && len < limit) {
         const int next = adj[cur][0] == prev ? adj[cur][1] : adj[cur][0];
         chain.push_back(cur);
         len += (g.pos[cur] - g.pos[next]).norm();
         prev = cur, cur = next;
       }
-      if (adj[cur].size() >= 3 && len < min_branch) {
+      // A branch that does not protrude from its junction's cross-section is a bump, not a limb.
+      if (adj[cur].size() >= 3 && (len < min_branch || len < opt.prune_radius * radius(cur))) {
         for (auto it = chain.rbegin(); it != chain.rend(); ++it) merge(cur, *it, true);
         changed = true;
       }
@@ -383,6 +390,89 @@ void refine(Graph& g, const Eigen::MatrixX3d& O, const InsideMesh& in, double di
   g = std::move(out);
 }
 
+
+// The contraction proxy: the part remeshed isotropically to about proxy_max_vertices vertices,
+// its vertices projected onto the part's surface. An equilateral mesh of area A and edge length l has about
+// 2 A / (sqrt(3) l^2) vertices.
+void make_proxy(const Eigen::MatrixX3d& V, const Eigen::MatrixX3i& F, const SkeletonOptions& opt, Eigen::MatrixX3d& XV,
+                Eigen::MatrixX3i& XF) {
+  double area = 0;
+  for (int f = 0; f < F.rows(); ++f)
+    area += 0.5 * (V.row(F(f, 1)) - V.row(F(f, 0))).cross(V.row(F(f, 2)) - V.row(F(f, 0))).norm();
+  const int target = std::max(opt.proxy_max_vertices, 4);
+  const double len = std::sqrt(2.0 * area / (std::sqrt(3.0) * target));
+  Mesh m;
+  std::vector<Mesh::VertexHandle> h(V.rows());
+  for (int i = 0; i < V.rows(); ++i) h[i] = m.add_vertex({V(i, 0), V(i, 1), V(i, 2)});
+  for (int f = 0; f < F.rows(); ++f) m.add_face(h[F(f, 0)], h[F(f, 1)], h[F(f, 2)]);
+  const TriangleBvh bvh(V, F);
+  isotropic_remesh(m, len, 8, [&](const Eigen::Vector3d& p) { return bvh.closest_point(p).point; });
+  XV = vertex_matrix(m);
+  XF = face_matrix(m);
+}
+
+// Every vertex of the part goes to the node of the nearest corner of its closest proxy face,
+// unless that face looks the other way (the far side of a thin sheet): then to the nearest proxy
+// vertex whose normal agrees. A node that receives no vertex takes the nearest vertex of a node
+// that owns several, so every node owns at least one.
+std::vector<int> map_to_nodes(const Eigen::MatrixX3d& V, const Eigen::MatrixX3i& F, const Eigen::MatrixX3d& XV,
+                              const Eigen::MatrixX3i& XF, const Graph& g) {
+  auto normals = [](const Eigen::MatrixX3d& P, const Eigen::MatrixX3i& T, Eigen::MatrixX3d& fn) {
+    Eigen::MatrixX3d vn = Eigen::MatrixX3d::Zero(P.rows(), 3);
+    fn.resize(T.rows(), 3);
+    for (int f = 0; f < T.rows(); ++f) {
+      const Eigen::Vector3d n = (P.row(T(f, 1)) - P.row(T(f, 0))).cross(P.row(T(f, 2)) - P.row(T(f, 0)));
+      fn.row(f) = n.normalized();
+      for (int k = 0; k < 3; ++k) vn.row(T(f, k)) += n;
+    }
+    vn.rowwise().normalize();
+    return vn;
+  };
+  Eigen::MatrixX3d fn, xfn;
+  const Eigen::MatrixX3d vn = normals(V, F, fn), xvn = normals(XV, XF, xfn);
+  std::vector<int> xnode(XV.rows(), -1);
+  for (size_t a = 0; a < g.verts.size(); ++a)
+    for (int v : g.verts[a]) xnode[v] = int(a);
+  const TriangleBvh bvh(XV, XF);
+  std::vector<int> owner(V.rows());
+  for (int i = 0; i < V.rows(); ++i) {
+    const Eigen::Vector3d p = V.row(i), n = vn.row(i);
+    const auto c = bvh.closest_point(p);
+    int best = -1;
+    if (Eigen::Vector3d(xfn.row(c.face)).dot(n) > 0) {
+      double d = INFINITY;
+      for (int k = 0; k < 3; ++k) {
+        const double e = (XV.row(XF(c.face, k)).transpose() - c.point).squaredNorm();
+        if (e < d) d = e, best = XF(c.face, k);
+      }
+    } else {
+      double d = INFINITY;
+      for (int x = 0; x < XV.rows(); ++x) {
+        const double e = (XV.row(x).transpose() - p).squaredNorm();
+        if (Eigen::Vector3d(xvn.row(x)).dot(n) > 0 && e < d) d = e, best = x;
+      }
+      if (best < 0) best = XF(c.face, 0);
+    }
+    owner[i] = xnode[best];
+  }
+  std::vector<int> count(g.pos.size(), 0);
+  for (int o : owner) ++count[o];
+  for (size_t a = 0; a < g.pos.size(); ++a) {
+    if (count[a] > 0) continue;
+    int best = -1;
+    double d = INFINITY;
+    for (int i = 0; i < V.rows(); ++i) {
+      const double e = (V.row(i).transpose() - g.pos[a]).squaredNorm();
+      if (count[owner[i]] > 1 && e < d) d = e, best = i;
+    }
+    if (best < 0) continue;
+    --count[owner[best]];
+    owner[best] = int(a);
+    ++count[a];
+  }
+  return owner;
+}
+
 }  // namespace
 
 Skeleton extract_skeleton(const Mesh& mesh, const SkeletonOptions& opt, const Progress& progress, SkeletonStats* stats) {
@@ -423,13 +513,21 @@ Skeleton extract_skeleton(const Mesh& mesh, const SkeletonOptions& opt, const Pr
     const double diag = (PV.colwise().maxCoeff() - PV.colwise().minCoeff()).norm();
 
     auto t0 = Clock::now();
-    const ContractResult cr = contract_mesh(PV, PF, opt.contraction, progress);
+    // Large parts are contracted through a proxy (cotangent weights); parts up to the proxy's size
+    // as they are, with the raw contraction options (uniform weights by default).
+    const bool use_proxy = opt.proxy_max_vertices > 0 && PV.rows() > opt.proxy_max_vertices;
+    Eigen::MatrixX3d XV = PV;
+    Eigen::MatrixX3i XF = PF;
+    if (use_proxy) make_proxy(PV, PF, opt, XV, XF);
+    st.proxy_vertices += int(XV.rows());
+    st.proxy_seconds += seconds_since(t0);
+    const ContractResult cr = contract_mesh(XV, XF, use_proxy ? opt.contraction : opt.raw_contraction, progress);
     st.contraction_seconds += seconds_since(t0);
     st.iterations = std::max(st.iterations, cr.iterations);
 
     t0 = Clock::now();
     const InsideMesh in(PV, PF);
-    Graph g = surgery(PV, cr.positions, PF, in, opt, st);
+    Graph g = surgery(XV, cr.positions, XF, in, opt, st);
     st.surgery_seconds += seconds_since(t0);
     if (progress) {
       std::vector<int> deg(g.pos.size(), 0);
@@ -440,16 +538,23 @@ Skeleton extract_skeleton(const Mesh& mesh, const SkeletonOptions& opt, const Pr
     }
 
     t0 = Clock::now();
-    refine(g, PV, in, diag, opt);
+    refine(g, XV, in, diag, opt);
+    const auto t1 = Clock::now();
+    std::vector<int> owner(PV.rows());
+    if (use_proxy) {
+      owner = map_to_nodes(PV, PF, XV, XF, g);
+    } else {
+      for (size_t a = 0; a < g.verts.size(); ++a)
+        for (int v : g.verts[a]) owner[v] = int(a);
+    }
+    st.proxy_seconds += seconds_since(t1);
     for (const auto& e : g.edges)
       if (!in.segment_inside(g.pos[e.first], g.pos[e.second])) ++st.outside_edges;
     st.refinement_seconds += seconds_since(t0);
 
     const int base = int(sk.nodes.size());
-    for (size_t a = 0; a < g.pos.size(); ++a) {
-      sk.nodes.push_back(g.pos[a]);
-      for (int v : g.verts[a]) sk.vertex_node[global[v]] = base + int(a);
-    }
+    for (size_t a = 0; a < g.pos.size(); ++a) sk.nodes.push_back(g.pos[a]);
+    for (size_t v = 0; v < global.size(); ++v) sk.vertex_node[global[v]] = base + owner[v];
     for (const auto& e : g.edges) sk.edges.push_back({base + e.first, base + e.second});
   }
   if (stats) *stats = st;
