@@ -1,5 +1,7 @@
 #include "libstm/gl_context.h"
 
+#include "libstm/errors.h"
+
 #include "libstm/shaders.h"
 
 #include <EGL/egl.h>
@@ -425,6 +427,39 @@ unsigned Framebuffer::float_texture() {
   if (!has_float_) throw std::runtime_error("Framebuffer::float_texture: made without a float attachment");
   resolve();
   return float_tex_;
+}
+
+GLuint upload_texture(const Image& img, bool repeat, bool keep_alpha) {
+  if (img.width <= 0 || img.height <= 0 || img.channels < 1 || img.channels > 4 ||
+      img.pixels.size() != size_t(img.width) * img.height * img.channels)
+    throw InputError("texture image is empty or inconsistent");
+  GLint max_size = 0;
+  glGetIntegerv(GL_MAX_TEXTURE_SIZE, &max_size);
+  if (img.width > max_size || img.height > max_size)
+    throw InputError("texture of " + std::to_string(img.width) + "x" + std::to_string(img.height) +
+                     " exceeds the GL limit of " + std::to_string(max_size));
+  std::vector<uint8_t> rgba(size_t(img.width) * img.height * 4);
+  for (int y = 0; y < img.height; ++y)
+    for (int x = 0; x < img.width; ++x) {
+      const uint8_t* s = img.at(x, img.height - 1 - y);
+      uint8_t* d = &rgba[(size_t(y) * img.width + x) * 4];
+      for (int k = 0; k < 3; ++k) d[k] = s[img.channels >= 3 ? k : 0];
+      d[3] = !keep_alpha ? 255 : img.channels == 4 ? s[3] : img.channels == 2 ? s[1] : 255;
+    }
+  int levels = 1;
+  while ((std::max(img.width, img.height) >> levels) > 0) ++levels;
+  GLuint t = 0;
+  glCreateTextures(GL_TEXTURE_2D, 1, &t);
+  glTextureStorage2D(t, levels, GL_RGBA8, img.width, img.height);
+  glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+  glTextureSubImage2D(t, 0, 0, 0, img.width, img.height, GL_RGBA, GL_UNSIGNED_BYTE, rgba.data());
+  glGenerateTextureMipmap(t);
+  glTextureParameteri(t, GL_TEXTURE_MIN_FILTER, GL_LINEAR_MIPMAP_LINEAR);
+  glTextureParameteri(t, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+  const GLint wrap = repeat ? GL_REPEAT : GL_CLAMP_TO_EDGE;
+  glTextureParameteri(t, GL_TEXTURE_WRAP_S, wrap);
+  glTextureParameteri(t, GL_TEXTURE_WRAP_T, wrap);
+  return t;
 }
 
 }  // namespace stm

@@ -56,6 +56,13 @@ unsigned link_program(const char* vertex_source, const char* fragment_source, co
 // Throws std::runtime_error naming `where` when glGetError reports an error.
 void check_gl(const char* where);
 
+// Uploads an image as a mipmapped RGBA8 texture with trilinear filtering, rows flipped so that
+// texture coordinate (0, 0) is the image's bottom-left corner (OBJ uv and atlas convention).
+// `repeat` wraps, otherwise clamps to the edge; without `keep_alpha` alpha is 255. Throws
+// InputError for an empty or inconsistent image or one larger than the GL limit. The caller owns
+// the texture (glDeleteTextures). Needs a current context.
+unsigned upload_texture(const Image& img, bool repeat, bool keep_alpha);
+
 // An offscreen render target: RGBA8 colour (attachment 0), an optional RGBA32F attachment 1 (for
 // positions, displacement, coordinates), and a 24-bit depth buffer. With samples > 1 it renders
 // multisampled and resolves into single-sample textures before reading.

@@ -43,37 +43,6 @@ std::array<Eigen::Vector2d, 3> local_triangle(const Layout& L, int s, const std:
   return {Eigen::Vector2d(u[0], c[0].v), Eigen::Vector2d(u[1], c[1].v), Eigen::Vector2d(u[2], c[2].v)};
 }
 
-GLuint upload_source(const Image& img) {
-  if (img.width <= 0 || img.height <= 0 || img.pixels.size() != size_t(img.width) * img.height * img.channels)
-    throw InputError("source texture is empty or inconsistent");
-  std::vector<uint8_t> rgba(size_t(img.width) * img.height * 4);
-  for (int y = 0; y < img.height; ++y)
-    for (int x = 0; x < img.width; ++x) {
-      const uint8_t* s = img.at(x, img.height - 1 - y);  // uv (0,0) is the image's bottom left
-      uint8_t* d = &rgba[(size_t(y) * img.width + x) * 4];
-      for (int k = 0; k < 3; ++k) d[k] = s[img.channels >= 3 ? k : 0];
-      d[3] = 255;
-    }
-  GLint max_size = 0;
-  glGetIntegerv(GL_MAX_TEXTURE_SIZE, &max_size);
-  if (img.width > max_size || img.height > max_size)
-    throw InputError("source texture of " + std::to_string(img.width) + "x" + std::to_string(img.height) +
-                     " exceeds the GL limit of " + std::to_string(max_size));
-  int levels = 1;
-  while ((std::max(img.width, img.height) >> levels) > 0) ++levels;
-  GLuint t = 0;
-  glCreateTextures(GL_TEXTURE_2D, 1, &t);
-  glTextureStorage2D(t, levels, GL_RGBA8, img.width, img.height);
-  glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
-  glTextureSubImage2D(t, 0, 0, 0, img.width, img.height, GL_RGBA, GL_UNSIGNED_BYTE, rgba.data());
-  glGenerateTextureMipmap(t);
-  glTextureParameteri(t, GL_TEXTURE_MIN_FILTER, GL_LINEAR_MIPMAP_LINEAR);
-  glTextureParameteri(t, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
-  glTextureParameteri(t, GL_TEXTURE_WRAP_S, GL_REPEAT);
-  glTextureParameteri(t, GL_TEXTURE_WRAP_T, GL_REPEAT);
-  return t;
-}
-
 // The triangles of the atlas pass, kFloats per corner. value(f, k) is the attribute of corner k.
 template <class Value>
 std::vector<float> atlas_vertices(const Mesh& mesh, const Layout& L, const std::vector<int>& fs, Value value) {
@@ -165,7 +134,7 @@ AtlasPass draw_atlas_pass(GlContext& gl, const Layout& L, const std::vector<floa
     glVertexArrayAttribBinding(vao, a, 0);
   }
   if (source) {
-    tex = upload_source(*source);
+    tex = upload_texture(*source, true, false);
   } else {
     const uint8_t white[4] = {255, 255, 255, 255};
     glCreateTextures(GL_TEXTURE_2D, 1, &tex);

@@ -105,42 +105,6 @@ std::vector<float> corner_vertices(const Mesh& mesh, const Eigen::Vector3d& orig
   return out;
 }
 
-// RGBA8 texture, mipmapped and repeating; rows flipped so that uv (0,0) is the image's bottom left.
-GLuint upload_texture(const Image& img) {
-  if (img.width <= 0 || img.height <= 0 || img.pixels.size() != size_t(img.width) * img.height * img.channels)
-    throw InputError("texture image is empty or inconsistent");
-  std::vector<uint8_t> rgba(size_t(img.width) * img.height * 4);
-  for (int y = 0; y < img.height; ++y)
-    for (int x = 0; x < img.width; ++x) {
-      const uint8_t* s = img.at(x, img.height - 1 - y);
-      uint8_t* d = &rgba[(size_t(y) * img.width + x) * 4];
-      if (img.channels >= 3) {
-        d[0] = s[0], d[1] = s[1], d[2] = s[2];
-      } else {
-        d[0] = d[1] = d[2] = s[0];
-      }
-      d[3] = img.channels == 4 ? s[3] : img.channels == 2 ? s[1] : 255;
-    }
-  GLint max_size = 0;
-  glGetIntegerv(GL_MAX_TEXTURE_SIZE, &max_size);
-  if (img.width > max_size || img.height > max_size)
-    throw InputError("texture of " + std::to_string(img.width) + "x" + std::to_string(img.height) +
-                     " exceeds the GL limit of " + std::to_string(max_size));
-  int levels = 1;
-  while ((std::max(img.width, img.height) >> levels) > 0) ++levels;
-  GLuint t = 0;
-  glCreateTextures(GL_TEXTURE_2D, 1, &t);
-  glTextureStorage2D(t, levels, GL_RGBA8, img.width, img.height);
-  glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
-  glTextureSubImage2D(t, 0, 0, 0, img.width, img.height, GL_RGBA, GL_UNSIGNED_BYTE, rgba.data());
-  glGenerateTextureMipmap(t);
-  glTextureParameteri(t, GL_TEXTURE_MIN_FILTER, GL_LINEAR_MIPMAP_LINEAR);
-  glTextureParameteri(t, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
-  glTextureParameteri(t, GL_TEXTURE_WRAP_S, GL_REPEAT);
-  glTextureParameteri(t, GL_TEXTURE_WRAP_T, GL_REPEAT);
-  return t;
-}
-
 Eigen::Matrix4f to_float(const Eigen::Matrix4d& m) { return m.cast<float>(); }
 
 }  // namespace
@@ -184,7 +148,7 @@ Image render_mesh(GlContext& gl, const Mesh& mesh, const RenderOptions& opt, std
     glVertexArrayAttribFormat(vao, a, sizes[a], GL_FLOAT, GL_FALSE, offsets[a]);
     glVertexArrayAttribBinding(vao, a, 0);
   }
-  if (textured) tex = upload_texture(*opt.texture);
+  if (textured) tex = upload_texture(*opt.texture, true, true);
 
   const GLuint prog = gl.program("mesh.vert.glsl", "mesh.frag.glsl");
   // Positions are relative to the box centre, so the model-view includes that translation; it is

@@ -55,30 +55,6 @@ GLuint stm_program() {
   return p;
 }
 
-GLuint upload_atlas(const Image& img) {
-  std::vector<uint8_t> rgba(size_t(img.width) * img.height * 4);
-  for (int y = 0; y < img.height; ++y)
-    for (int x = 0; x < img.width; ++x) {
-      const uint8_t* s = img.at(x, img.height - 1 - y);  // atlas y = 0 is the image's bottom row
-      uint8_t* d = &rgba[(size_t(y) * img.width + x) * 4];
-      for (int k = 0; k < 3; ++k) d[k] = s[img.channels >= 3 ? k : 0];
-      d[3] = 255;
-    }
-  int levels = 1;
-  while ((std::max(img.width, img.height) >> levels) > 0) ++levels;
-  GLuint t = 0;
-  glCreateTextures(GL_TEXTURE_2D, 1, &t);
-  glTextureStorage2D(t, levels, GL_RGBA8, img.width, img.height);
-  glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
-  glTextureSubImage2D(t, 0, 0, 0, img.width, img.height, GL_RGBA, GL_UNSIGNED_BYTE, rgba.data());
-  glGenerateTextureMipmap(t);
-  glTextureParameteri(t, GL_TEXTURE_MIN_FILTER, GL_LINEAR_MIPMAP_LINEAR);
-  glTextureParameteri(t, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
-  glTextureParameteri(t, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
-  glTextureParameteri(t, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
-  return t;
-}
-
 }  // namespace
 
 Image render_stm(GlContext& gl, const Mesh& mesh, const Layout& L, const Image& atlas, const RenderOptions& opt,
@@ -193,7 +169,7 @@ Image render_stm(GlContext& gl, const Mesh& mesh, const Layout& L, const Image& 
     glVertexArrayAttribIFormat(vao, a, 1, GL_INT, (a - 2) * sizeof(int));
     glVertexArrayAttribBinding(vao, a, 1);
   }
-  texs[0] = upload_atlas(atlas);
+  texs[0] = upload_texture(atlas, false, false);  // clamped: margins, not wrapping, make filtering right
   glCreateTextures(GL_TEXTURE_BUFFER, 2, texs + 1);
   glTextureBuffer(texs[1], GL_RGBA32F, bufs[3]);
   glTextureBuffer(texs[2], GL_R32I, bufs[4]);
