@@ -194,16 +194,19 @@ Image render_mesh(GlContext& gl, const Mesh& mesh, const RenderOptions& opt, std
   Image img = fb.read_rgba8();
   glBindFramebuffer(GL_FRAMEBUFFER, 0);
 
-  // Premultiplied colour (cleared to 0) over the background, alpha = coverage.
+  composite_over_background(img, opt.background, mask);
+  return img;
+}
+
+void composite_over_background(Image& img, const std::array<uint8_t, 4>& background, std::vector<uint8_t>* mask) {
   if (mask) mask->assign(size_t(img.width) * img.height, 0);
   for (size_t i = 0, n = size_t(img.width) * img.height; i < n; ++i) {
     uint8_t* p = &img.pixels[i * 4];
     const int a = p[3];
-    for (int k = 0; k < 3; ++k) p[k] = uint8_t(std::min(255, p[k] + (opt.background[k] * (255 - a) + 127) / 255));
-    p[3] = uint8_t(std::min(255, a + (opt.background[3] * (255 - a) + 127) / 255));
+    for (int k = 0; k < 3; ++k) p[k] = uint8_t(std::min(255, p[k] + (background[k] * (255 - a) + 127) / 255));
+    p[3] = uint8_t(std::min(255, a + (background[3] * (255 - a) + 127) / 255));
     if (mask && a >= 128) (*mask)[i] = 255;
   }
-  return img;
 }
 
 }  // namespace stm

@@ -65,4 +65,8 @@ struct RenderOptions {
 // Throws InputError for an empty mesh, a texture without uv, or an invalid image size.
 Image render_mesh(GlContext& gl, const Mesh& mesh, const RenderOptions& options, std::vector<uint8_t>* mask = nullptr);
 
+// Renders are read back premultiplied over transparent black (alpha = coverage): this puts them
+// over `background` and, when `mask` is given, marks the pixels at least half covered (255).
+void composite_over_background(Image& img, const std::array<uint8_t, 4>& background, std::vector<uint8_t>* mask);
+
 }  // namespace stm

@@ -236,14 +236,7 @@ Image render_stm(GlContext& gl, const Mesh& mesh, const Layout& L, const Image& 
   glUseProgram(0);
   glBindFramebuffer(GL_FRAMEBUFFER, 0);
 
-  if (mask) mask->assign(size_t(img.width) * img.height, 0);
-  for (size_t i = 0, n = size_t(img.width) * img.height; i < n; ++i) {
-    uint8_t* p = &img.pixels[i * 4];
-    const int a = p[3];
-    for (int k = 0; k < 3; ++k) p[k] = uint8_t(std::min(255, p[k] + (opt.background[k] * (255 - a) + 127) / 255));
-    p[3] = uint8_t(std::min(255, a + (opt.background[3] * (255 - a) + 127) / 255));
-    if (mask && a >= 128) (*mask)[i] = 255;
-  }
+  composite_over_background(img, opt.background, mask);
   return img;
 }
 
