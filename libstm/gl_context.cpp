@@ -226,13 +226,16 @@ bool GlContext::software() const {
   return false;
 }
 
-unsigned GlContext::program(const std::string& vertex_shader, const std::string& fragment_shader) {
+unsigned GlContext::program(const std::string& vertex_shader, const std::string& fragment_shader,
+                            const std::string& geometry_shader) {
   make_current();
-  const auto key = std::make_pair(vertex_shader, fragment_shader);
+  const std::array<std::string, 3> key = {vertex_shader, fragment_shader, geometry_shader};
   auto it = programs_.find(key);
   if (it != programs_.end()) return it->second;
   const unsigned p = link_program(shader_source(vertex_shader), shader_source(fragment_shader),
-                                  vertex_shader + " + " + fragment_shader);
+                                  vertex_shader + " + " + (geometry_shader.empty() ? "" : geometry_shader + " + ") +
+                                      fragment_shader,
+                                  geometry_shader.empty() ? nullptr : shader_source(geometry_shader));
   programs_[key] = p;
   return p;
 }
@@ -250,28 +253,28 @@ GLuint compile(GLenum type, const char* source, const std::string& label) {
     std::string log(std::max(n, 1), '\0');
     glGetShaderInfoLog(s, n, nullptr, &log[0]);
     glDeleteShader(s);
-    throw std::runtime_error("cannot compile " + std::string(type == GL_VERTEX_SHADER ? "vertex" : "fragment") +
-                             " shader of " + label + ":\n" + log.c_str());
+    const char* stage = type == GL_VERTEX_SHADER ? "vertex" : type == GL_GEOMETRY_SHADER ? "geometry" : "fragment";
+    throw std::runtime_error("cannot compile " + std::string(stage) + " shader of " + label + ":\n" + log.c_str());
   }
   return s;
 }
 }  // namespace
 
-unsigned link_program(const char* vertex_source, const char* fragment_source, const std::string& label) {
-  GLuint vs = compile(GL_VERTEX_SHADER, vertex_source, label);
-  GLuint fs = 0;
+unsigned link_program(const char* vertex_source, const char* fragment_source, const std::string& label,
+                      const char* geometry_source) {
+  std::vector<GLuint> stages;
   try {
-    fs = compile(GL_FRAGMENT_SHADER, fragment_source, label);
+    stages.push_back(compile(GL_VERTEX_SHADER, vertex_source, label));
+    if (geometry_source) stages.push_back(compile(GL_GEOMETRY_SHADER, geometry_source, label));
+    stages.push_back(compile(GL_FRAGMENT_SHADER, fragment_source, label));
   } catch (...) {
-    glDeleteShader(vs);
+    for (GLuint s : stages) glDeleteShader(s);
     throw;
   }
   GLuint p = glCreateProgram();
-  glAttachShader(p, vs);
-  glAttachShader(p, fs);
+  for (GLuint s : stages) glAttachShader(p, s);
   glLinkProgram(p);
-  glDeleteShader(vs);  // flagged; freed with the program
-  glDeleteShader(fs);
+  for (GLuint s : stages) glDeleteShader(s);  // flagged; freed with the program
   GLint ok = 0;
   glGetProgramiv(p, GL_LINK_STATUS, &ok);
   if (!ok) {

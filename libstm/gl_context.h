@@ -9,6 +9,7 @@
 // <GL/glcorearb.h>, resolved by GLVND's libOpenGL: no loader is needed.
 #include "libstm/image.h"
 
+#include <array>
 #include <map>
 #include <string>
 #include <utility>
@@ -37,21 +38,25 @@ class GlContext {
   int minor_version() const { return minor_; }
   bool software() const;  // llvmpipe / softpipe / swrast
 
-  // A linked program from two embedded shaders (names of shaders/*.glsl), built once per context
-  // and cached. Throws std::runtime_error with the compiler or linker log.
-  unsigned program(const std::string& vertex_shader, const std::string& fragment_shader);
+  // A linked program from embedded shaders (names of shaders/*.glsl; the geometry stage is
+  // optional), built once per context and cached: the context owns it. Throws
+  // std::runtime_error with the compiler or linker log.
+  unsigned program(const std::string& vertex_shader, const std::string& fragment_shader,
+                   const std::string& geometry_shader = "");
 
  private:
   void* display_ = nullptr;  // EGLDisplay
   void* context_ = nullptr;  // EGLContext
   std::string renderer_, version_, platform_;
   int major_ = 0, minor_ = 0;
-  std::map<std::pair<std::string, std::string>, unsigned> programs_;
+  std::map<std::array<std::string, 3>, unsigned> programs_;
 };
 
 // Compiles and links a program from GLSL source text; `label` names it in the error message.
 // Throws std::runtime_error with the info log on failure. A GL context must be current.
-unsigned link_program(const char* vertex_source, const char* fragment_source, const std::string& label);
+// `geometry_source` may be null (no geometry stage).
+unsigned link_program(const char* vertex_source, const char* fragment_source, const std::string& label,
+                      const char* geometry_source = nullptr);
 
 // Throws std::runtime_error naming `where` when glGetError reports an error.
 void check_gl(const char* where);

@@ -2,7 +2,6 @@
 
 #include "libstm/errors.h"
 #include "libstm/segments.h"
-#include "libstm/shaders.h"
 
 #define GL_GLEXT_PROTOTYPES 1
 #include <GL/glcorearb.h>
@@ -12,50 +11,6 @@
 #include <stdexcept>
 
 namespace stm {
-
-namespace {
-
-GLuint compile_stage(GLenum type, const char* name) {
-  const char* src = shader_source(name);
-  GLuint s = glCreateShader(type);
-  glShaderSource(s, 1, &src, nullptr);
-  glCompileShader(s);
-  GLint ok = 0;
-  glGetShaderiv(s, GL_COMPILE_STATUS, &ok);
-  if (!ok) {
-    GLint n = 0;
-    glGetShaderiv(s, GL_INFO_LOG_LENGTH, &n);
-    std::string log(size_t(std::max(n, 1)), '\0');
-    glGetShaderInfoLog(s, n, nullptr, log.data());
-    glDeleteShader(s);
-    throw std::runtime_error(std::string("cannot compile shader ") + name + ":\n" + log);
-  }
-  return s;
-}
-
-// GlContext::program links two stages; the STM pass also has a geometry shader.
-GLuint stm_program() {
-  const GLuint vs = compile_stage(GL_VERTEX_SHADER, "stm.vert.glsl");
-  const GLuint gs = compile_stage(GL_GEOMETRY_SHADER, "stm.geom.glsl");
-  const GLuint fs = compile_stage(GL_FRAGMENT_SHADER, "stm.frag.glsl");
-  const GLuint p = glCreateProgram();
-  for (GLuint s : {vs, gs, fs}) glAttachShader(p, s);
-  glLinkProgram(p);
-  for (GLuint s : {vs, gs, fs}) glDeleteShader(s);
-  GLint ok = 0;
-  glGetProgramiv(p, GL_LINK_STATUS, &ok);
-  if (!ok) {
-    GLint n = 0;
-    glGetProgramiv(p, GL_INFO_LOG_LENGTH, &n);
-    std::string log(size_t(std::max(n, 1)), '\0');
-    glGetProgramInfoLog(p, n, nullptr, log.data());
-    glDeleteProgram(p);
-    throw std::runtime_error("cannot link the STM program:\n" + log);
-  }
-  return p;
-}
-
-}  // namespace
 
 Image render_stm(GlContext& gl, const Mesh& mesh, const Layout& L, const Image& atlas, const RenderOptions& opt,
                  std::vector<uint8_t>* mask, StmRenderProbe* probe) {
@@ -139,16 +94,15 @@ Image render_stm(GlContext& gl, const Mesh& mesh, const Layout& L, const Image& 
   if (atlas.width > max_tex) throw InputError("atlas of " + std::to_string(atlas.width) + "^2 exceeds the GL limit of " + std::to_string(max_tex));
   GLuint bufs[5] = {0, 0, 0, 0, 0};  // vertices, nodes, indices, segments, incidence
   GLuint texs[3] = {0, 0, 0};        // atlas, segments, incidence
-  GLuint vao = 0, prog = 0;
+  GLuint vao = 0;
   struct Cleanup {
-    GLuint *bufs, *texs, &vao, &prog;
+    GLuint *bufs, *texs, &vao;
     ~Cleanup() {
       glDeleteBuffers(5, bufs);
       glDeleteTextures(3, texs);
       glDeleteVertexArrays(1, &vao);
-      glDeleteProgram(prog);
     }
-  } cleanup{bufs, texs, vao, prog};
+  } cleanup{bufs, texs, vao};
   glCreateBuffers(5, bufs);
   glNamedBufferData(bufs[0], GLsizeiptr(verts.size() * sizeof(float)), verts.data(), GL_STATIC_DRAW);
   glNamedBufferData(bufs[1], GLsizeiptr(nodes.size() * sizeof(int)), nodes.data(), GL_STATIC_DRAW);
@@ -173,7 +127,8 @@ Image render_stm(GlContext& gl, const Mesh& mesh, const Layout& L, const Image& 
   glCreateTextures(GL_TEXTURE_BUFFER, 2, texs + 1);
   glTextureBuffer(texs[1], GL_RGBA32F, bufs[3]);
   glTextureBuffer(texs[2], GL_R32I, bufs[4]);
-  prog = stm_program();
+  // The STM pass has a geometry stage: it chooses each triangle's segment (DESIGN 4.7).
+  const GLuint prog = gl.program("stm.vert.glsl", "stm.frag.glsl", "stm.geom.glsl");
 
   Eigen::Matrix4d to_center = Eigen::Matrix4d::Identity();
   to_center.block<3, 1>(0, 3) = o;
