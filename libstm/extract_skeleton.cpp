@@ -2,11 +2,13 @@
 
 #include "libstm/inside_mesh.h"
 #include "libstm/isotropic_remesh.h"
+#include "libstm/medial_poles.h"
 #include "libstm/triangle_bvh.h"
 
 #include <algorithm>
 #include <array>
 #include <chrono>
+#include <cstdio>
 #include <cmath>
 #include <map>
 #include <numeric>
@@ -231,7 +233,8 @@ Graph surgery(const Eigen::MatrixX3d& O, const Eigen::MatrixX3d& P, const Eigen:
 }
 
 // Refinement on the graph: short end branches and short edges merged, positions kept inside.
-void refine(Graph& g, const Eigen::MatrixX3d& O, const InsideMesh& in, double diag, const SkeletonOptions& opt) {
+void refine(Graph& g, const Eigen::MatrixX3d& O, const InsideMesh& in, const TriangleBvh& surface, double diag,
+            const SkeletonOptions& opt) {
   const int n = int(g.pos.size());
   std::vector<char> alive(n, 1);
   std::vector<std::vector<int>> adj(n);
@@ -336,15 +339,16 @@ void refine(Graph& g, const Eigen::MatrixX3d& O, const InsideMesh& in, double di
       double len = 0;
       int prev = a, cur = adj[a][0];
       len += (g.pos[a] - g.pos[cur]).norm();
-      const double limit = std::max(min_branch, opt.prune_radius * max_radius);
+      const double limit = std::max(min_branch, opt.prune_radius * max_radius);  // walk no further
       while (adj[cur].size() == 2 && len < limit) {
         const int next = adj[cur][0] == prev ? adj[cur][1] : adj[cur][0];
         chain.push_back(cur);
         len += (g.pos[cur] - g.pos[next]).norm();
         prev = cur, cur = next;
       }
-      // A branch that does not protrude from its junction's cross-section is a bump, not a limb.
-      if (adj[cur].size() >= 3 && (len < min_branch || len < opt.prune_radius * radius(cur))) {
+      // A branch that does not reach out of its junction's inscribed ball is a bump, not a limb.
+      if (adj[cur].size() >= 3 &&
+          (len < min_branch || len < opt.prune_radius * surface.closest_point(g.pos[cur]).distance)) {
         for (auto it = chain.rbegin(); it != chain.rend(); ++it) merge(cur, *it, true);
         changed = true;
       }
@@ -473,6 +477,35 @@ std::vector<int> map_to_nodes(const Eigen::MatrixX3d& V, const Eigen::MatrixX3i&
   return owner;
 }
 
+// How far the skeleton is from explaining the surface as tubes around it: the area-weighted mean
+// over vertices of | distance to the skeleton - medial radius |. A missing limb leaves its
+// vertices far from every edge; a skeleton through the middle of the volume keeps each vertex at
+// about its inscribed-ball radius.
+double tube_error(const Graph& g, const Eigen::MatrixX3d& V, const Eigen::MatrixX3i& F, const Eigen::MatrixX3d& poles) {
+  std::vector<double> w(V.rows(), 0.0);
+  for (int f = 0; f < F.rows(); ++f) {
+    const double a = (V.row(F(f, 1)) - V.row(F(f, 0))).cross(V.row(F(f, 2)) - V.row(F(f, 0))).norm();
+    for (int k = 0; k < 3; ++k) w[F(f, k)] += a;
+  }
+  double sum = 0, wsum = 0;
+  for (int i = 0; i < V.rows(); ++i) {
+    const Eigen::Vector3d p = V.row(i);
+    double d = INFINITY;
+    for (const auto& e : g.edges) {
+      const Eigen::Vector3d a = g.pos[e.first], b = g.pos[e.second];
+      const Eigen::Vector3d ab = b - a;
+      const double len2 = ab.squaredNorm();
+      const double t = len2 > 0 ? std::clamp((p - a).dot(ab) / len2, 0.0, 1.0) : 0.0;
+      d = std::min(d, (a + t * ab - p).norm());
+    }
+    for (const auto& q : g.pos) d = std::min(d, (q - p).norm());
+    const double r = (poles.row(i) - V.row(i)).norm();
+    sum += w[i] * std::abs(d - r);
+    wsum += w[i];
+  }
+  return wsum > 0 ? sum / wsum : 0.0;
+}
+
 }  // namespace
 
 Skeleton extract_skeleton(const Mesh& mesh, const SkeletonOptions& opt, const Progress& progress, SkeletonStats* stats) {
@@ -521,24 +554,70 @@ Skeleton extract_skeleton(const Mesh& mesh, const SkeletonOptions& opt, const Pr
     if (use_proxy) make_proxy(PV, PF, opt, XV, XF);
     st.proxy_vertices += int(XV.rows());
     st.proxy_seconds += seconds_since(t0);
-    const ContractResult cr = contract_mesh(XV, XF, use_proxy ? opt.contraction : opt.raw_contraction, progress);
+    const ContractOptions& co = use_proxy ? opt.contraction : opt.raw_contraction;
+    const ContractResult cr = contract_mesh(XV, XF, co, progress);
     st.contraction_seconds += seconds_since(t0);
     st.iterations = std::max(st.iterations, cr.iterations);
-
+    // The medial poles are the second candidate's contracted shape and, for both, the radius
+    // the skeleton should keep from the surface.
     t0 = Clock::now();
+    const Eigen::MatrixX3d poles = medial_poles(XV, XF);
+    st.medial_seconds += seconds_since(t0);
+
     const InsideMesh in(PV, PF);
-    Graph g = surgery(XV, cr.positions, XF, in, opt, st);
-    st.surgery_seconds += seconds_since(t0);
-    if (progress) {
-      std::vector<int> deg(g.pos.size(), 0);
-      for (const auto& e : g.edges) ++deg[e.first], ++deg[e.second];
-      progress("surgery: " + std::to_string(g.pos.size()) + " nodes, " + std::to_string(g.edges.size()) + " edges, " +
-               std::to_string(std::count(deg.begin(), deg.end(), 1)) + " ends, refused " +
-               std::to_string(st.refused_collapses) + ", forced " + std::to_string(st.forced_collapses));
+    const TriangleBvh surface(PV, PF);
+    // Genus of the part from its Euler characteristic (closed: E = 3F/2).
+    const int genus = int((2 - PV.rows() + PF.rows() / 2) / 2);
+    struct Candidate {
+      Graph g;
+      int cycles = 0, outside = 0;
+      double error = INFINITY;
+    };
+    auto build = [&](const Eigen::MatrixX3d& contracted, const char* name) {
+      Candidate c;
+      auto t = Clock::now();
+      c.g = surgery(XV, contracted, XF, in, opt, st);
+      st.surgery_seconds += seconds_since(t);
+      if (progress) {
+        std::vector<int> deg(c.g.pos.size(), 0);
+        for (const auto& e : c.g.edges) ++deg[e.first], ++deg[e.second];
+        progress(std::string(name) + " surgery: " + std::to_string(c.g.pos.size()) + " nodes, " +
+                 std::to_string(c.g.edges.size()) + " edges, " + std::to_string(std::count(deg.begin(), deg.end(), 1)) +
+                 " ends, refused " + std::to_string(st.refused_collapses) + ", forced " +
+                 std::to_string(st.forced_collapses));
+      }
+      t = Clock::now();
+      refine(c.g, XV, in, surface, diag, opt);
+      c.cycles = int(c.g.edges.size()) - int(c.g.pos.size()) + 1;
+      for (const auto& e : c.g.edges)
+        if (!in.segment_inside(c.g.pos[e.first], c.g.pos[e.second])) ++c.outside;
+      c.error = tube_error(c.g, XV, XF, poles) / std::max(diag, 1e-300);
+      st.refinement_seconds += seconds_since(t);
+      if (progress) {
+        char line[200];
+        std::snprintf(line, sizeof line, "%s skeleton: %zu nodes, %d cycles (genus %d), %d edges outside, tube error %.4f",
+                      name, c.g.pos.size(), c.cycles, genus, c.outside, c.error);
+        progress(line);
+      }
+      return c;
+    };
+    // Two candidates: Au et al.'s contraction, which keeps the cycles of CAD parts but can pull short
+    // limbs into the body, and the medial poles, which keep every limb but make sheets of thin
+    // walls. The one with the right cycles, nothing outside and the smaller tube error wins.
+    Candidate best = build(cr.positions, "contraction");
+    Candidate medial = build(poles, "medial");
+    // The medial candidate must halve the error to win on it alone: where both explain the
+    // surface, the contraction's skeleton is the smoother one (the poles of flat caps and of
+    // noisy surfaces scatter).
+    auto rank = [&](const Candidate& c, double handicap) {
+      return std::make_tuple(c.cycles != genus, c.outside, c.error * handicap);
+    };
+    if (rank(medial, opt.medial_handicap) < rank(best, 1.0)) {
+      best = std::move(medial);
+      ++st.medial_parts;
     }
-
-    t0 = Clock::now();
-    refine(g, XV, in, diag, opt);
+    Graph& g = best.g;
+    st.outside_edges += best.outside;
     const auto t1 = Clock::now();
     std::vector<int> owner(PV.rows());
     if (use_proxy) {
@@ -548,9 +627,6 @@ Skeleton extract_skeleton(const Mesh& mesh, const SkeletonOptions& opt, const Pr
         for (int v : g.verts[a]) owner[v] = int(a);
     }
     st.proxy_seconds += seconds_since(t1);
-    for (const auto& e : g.edges)
-      if (!in.segment_inside(g.pos[e.first], g.pos[e.second])) ++st.outside_edges;
-    st.refinement_seconds += seconds_since(t0);
 
     const int base = int(sk.nodes.size());
     for (size_t a = 0; a < g.pos.size(); ++a) sk.nodes.push_back(g.pos[a]);

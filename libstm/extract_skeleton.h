@@ -26,9 +26,11 @@ struct SkeletonOptions {
   double sampling_weight = 0.1;    // Au et al.'s w_b (keeps segment lengths even)
   double min_branch = 0.01;        // end branches shorter than this fraction of the diagonal go
   double segment_radius = 1.0;     // edges shorter than this multiple of the local radius are merged
-  // End branches shorter than this multiple of their junction's radius go (0: off; measured to
-  // remove real limbs as often as bumps at 1.2, so off by default).
-  double prune_radius = 0.0;
+  // End branches shorter than this multiple of their junction's inscribed radius (distance to the
+  // surface) go: they end inside the junction's ball, so they are bumps of its cross-section.
+  double prune_radius = 1.0;
+  // The medial-pole candidate wins on tube error only when its error times this is smaller.
+  double medial_handicap = 2.0;
   // A part with more vertices than this is contracted through a proxy: the part isotropically
   // remeshed to about this many vertices (projected onto its surface). Well-shaped triangles keep
   // the cotangent Laplacian stable and the size bounds the cost (bunny00: 11 s -> about 2 s).
@@ -45,11 +47,16 @@ struct SkeletonStats {
   int forced_collapses = 0;        // taken anyway because nothing else was left
   int proxy_vertices = 0;          // total over the parts
   double proxy_seconds = 0;        // remeshing and mapping (counted in contraction/refinement too)
-  int outside_edges = 0;           // edges still crossing the surface after refinement (should be 0)
+  int outside_edges = 0;
+  int medial_parts = 0;            // parts whose skeleton came from the medial poles
+  double medial_seconds = 0;       // computing the poles           // edges still crossing the surface after refinement (should be 0)
 };
 
 // Extracts the curve skeleton of a closed triangle mesh, each connected part separately (one
-// graph component per part). Every vertex maps to exactly one node, every node owns at least one
+// graph component per part). Two candidates per part go through surgery and refinement: the
+// Laplacian contraction and the medial poles (medial_poles.h); the one with the part's genus as
+// cycles, no edge outside and the smaller tube error (distance to the skeleton against the medial
+// radius) is kept. Every vertex maps to exactly one node, every node owns at least one
 // vertex; a part of genus g gives a component with g independent cycles. Nodes are kept inside
 // the volume. Deterministic.
 Skeleton extract_skeleton(const Mesh& mesh, const SkeletonOptions& options = {}, const Progress& progress = nullptr,
