@@ -477,6 +477,79 @@ std::vector<int> map_to_nodes(const Eigen::MatrixX3d& V, const Eigen::MatrixX3i&
   return owner;
 }
 
+// An edge that still crosses the surface after refinement (a spur cutting a corner of a thin
+// wall) is bent through a new node: the medial pole, among those of all vertices, that sees both
+// ends from inside with the shortest detour. The vertex of that pole moves to the new node.
+void bend_crossing_edges(Graph& g, const InsideMesh& in, const Eigen::MatrixX3d& poles) {
+  const std::vector<std::pair<int, int>> edges(g.edges.begin(), g.edges.end());
+  std::vector<std::pair<int, int>> dead_ends;
+  for (const auto& [a, b] : edges) {
+    if (in.segment_inside(g.pos[a], g.pos[b])) continue;
+    double best = INFINITY;
+    int bv = -1, from = -1;
+    for (int owner = 0; owner < int(g.verts.size()); ++owner) {
+      if (g.verts[owner].size() < 2) continue;
+      for (int v : g.verts[owner]) {
+        const Eigen::Vector3d p = poles.row(v);
+        const double len = (p - g.pos[a]).norm() + (p - g.pos[b]).norm();
+        if (len >= best || !in.segment_inside(g.pos[a], p) || !in.segment_inside(p, g.pos[b])) continue;
+        best = len, bv = v, from = owner;
+      }
+    }
+    if (bv < 0) {
+      dead_ends.push_back({a, b});
+      continue;
+    }
+    const int c = int(g.pos.size());
+    g.pos.push_back(poles.row(bv));
+    g.fallback.push_back(poles.row(bv));
+    auto& vs = g.verts[from];
+    vs.erase(std::find(vs.begin(), vs.end(), bv));
+    g.verts.push_back({bv});
+    g.edges.erase({a, b});
+    g.edges.insert({std::min(a, c), std::max(a, c)});
+    g.edges.insert({std::min(b, c), std::max(b, c)});
+  }
+  // No detour: when the edge leads to an end branch, the branch goes into the node on the other
+  // side (a limb that cannot be reached from inside is not one the layout could use).
+  std::vector<char> gone(g.pos.size(), 0);
+  for (const auto& [a, b] : dead_ends) {
+    std::vector<std::vector<int>> adj(g.pos.size());
+    for (const auto& e : g.edges) adj[e.first].push_back(e.second), adj[e.second].push_back(e.first);
+    for (const auto& [keep, start] : {std::make_pair(a, b), std::make_pair(b, a)}) {
+      std::vector<int> chain = {start};
+      int prev = keep, cur = start;
+      while (adj[cur].size() == 2) {
+        const int next = adj[cur][0] == prev ? adj[cur][1] : adj[cur][0];
+        prev = cur, cur = next;
+        if (cur == keep) break;
+        chain.push_back(cur);
+      }
+      if (adj[cur].size() != 1 || cur == keep) continue;
+      for (int x : chain) {
+        g.verts[keep].insert(g.verts[keep].end(), g.verts[x].begin(), g.verts[x].end());
+        g.verts[x].clear();
+        gone[x] = 1;
+      }
+      for (auto it = g.edges.begin(); it != g.edges.end();)
+        it = gone[it->first] || gone[it->second] ? g.edges.erase(it) : std::next(it);
+      break;
+    }
+  }
+  if (std::find(gone.begin(), gone.end(), 1) == gone.end()) return;
+  Graph out;
+  std::vector<int> id(g.pos.size(), -1);
+  for (size_t x = 0; x < g.pos.size(); ++x)
+    if (!gone[x]) {
+      id[x] = int(out.pos.size());
+      out.pos.push_back(g.pos[x]);
+      out.fallback.push_back(g.fallback[x]);
+      out.verts.push_back(std::move(g.verts[x]));
+    }
+  for (const auto& e : g.edges) out.edges.insert({id[e.first], id[e.second]});
+  g = std::move(out);
+}
+
 // How far the skeleton is from explaining the surface as tubes around it: the area-weighted mean
 // over vertices of | distance to the skeleton - medial radius |. A missing limb leaves its
 // vertices far from every edge; a skeleton through the middle of the volume keeps each vertex at
@@ -588,6 +661,7 @@ Skeleton extract_skeleton(const Mesh& mesh, const SkeletonOptions& opt, const Pr
       }
       t = Clock::now();
       refine(c.g, XV, in, surface, diag, opt);
+      bend_crossing_edges(c.g, in, poles);
       c.cycles = int(c.g.edges.size()) - int(c.g.pos.size()) + 1;
       for (const auto& e : c.g.edges)
         if (!in.segment_inside(c.g.pos[e.first], c.g.pos[e.second])) ++c.outside;
@@ -605,7 +679,25 @@ Skeleton extract_skeleton(const Mesh& mesh, const SkeletonOptions& opt, const Pr
     // limbs into the body, and the medial poles, which keep every limb but make sheets of thin
     // walls. The one with the right cycles, nothing outside and the smaller tube error wins.
     Candidate best = build(cr.positions, "contraction");
-    Candidate medial = build(poles, "medial");
+    // The poles scatter where the surface is noisy or flat: a few steps of umbrella smoothing
+    // over the mesh's connectivity tidy them before the surgery.
+    Eigen::MatrixX3d smooth = poles;
+    {
+      std::vector<std::vector<int>> nb(XV.rows());
+      for (int f = 0; f < XF.rows(); ++f)
+        for (int k = 0; k < 3; ++k) nb[XF(f, k)].push_back(XF(f, (k + 1) % 3)), nb[XF(f, (k + 1) % 3)].push_back(XF(f, k));
+      for (int step = 0; step < opt.medial_smoothing; ++step) {
+        Eigen::MatrixX3d next = smooth;
+        for (int i = 0; i < XV.rows(); ++i) {
+          if (nb[i].empty()) continue;
+          Eigen::RowVector3d c = Eigen::RowVector3d::Zero();
+          for (int j : nb[i]) c += smooth.row(j);
+          next.row(i) = 0.5 * smooth.row(i) + 0.5 * c / double(nb[i].size());
+        }
+        smooth = std::move(next);
+      }
+    }
+    Candidate medial = build(smooth, "medial");
     // The medial candidate must halve the error to win on it alone: where both explain the
     // surface, the contraction's skeleton is the smoother one (the poles of flat caps and of
     // noisy surfaces scatter).

@@ -31,6 +31,7 @@ struct SkeletonOptions {
   double prune_radius = 1.0;
   // The medial-pole candidate wins on tube error only when its error times this is smaller.
   double medial_handicap = 2.0;
+  int medial_smoothing = 4;        // umbrella smoothing steps of the poles before their surgery
   // A part with more vertices than this is contracted through a proxy: the part isotropically
   // remeshed to about this many vertices (projected onto its surface). Well-shaped triangles keep
   // the cotangent Laplacian stable and the size bounds the cost (bunny00: 11 s -> about 2 s).

@@ -12,6 +12,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <map>
 
 namespace {
 
@@ -101,6 +102,25 @@ int outside_samples(const stm::Skeleton& s, const stm::Mesh& m) {
   return bad;
 }
 
+// Length of the shortest end branch: from an end node along degree-2 nodes to a junction.
+// A graph without junctions (a path) has no end branch: returns infinity.
+double shortest_end_branch(const stm::Skeleton& s) {
+  const auto adj = s.adjacency();
+  double best = INFINITY;
+  for (size_t a = 0; a < adj.size(); ++a) {
+    if (adj[a].size() != 1) continue;
+    int prev = int(a), cur = adj[a][0];
+    double len = (s.nodes[a] - s.nodes[cur]).norm();
+    while (adj[cur].size() == 2) {
+      const int next = adj[cur][0] == prev ? adj[cur][1] : adj[cur][0];
+      len += (s.nodes[cur] - s.nodes[next]).norm();
+      prev = cur, cur = next;
+    }
+    if (adj[cur].size() >= 3) best = std::min(best, len);
+  }
+  return best;
+}
+
 }  // namespace
 
 TEST_CASE("inside test agrees with the analytic torus", "[skeleton]") {
@@ -177,7 +197,7 @@ TEST_CASE("two parts give two skeletons", "[skeleton]") {
   for (const auto& e : s.edges) CHECK((s.nodes[e[0]].x() > 5) == (s.nodes[e[1]].x() > 5));
 }
 
-TEST_CASE("real meshes: cycles equal genus", "[skeleton]") {
+TEST_CASE("real meshes: cycles equal genus and every sample inside and no branch under 1 percent of the diagonal", "[skeleton]") {
   const std::vector<std::pair<std::string, int>> cases = {
       {"double-torus-example.off", 2}, {"rotor.off", 1}, {"anchor_dense.off", 4}, {"blobby.off", 0}, {"retinal.off", 0}};
   for (const auto& [name, genus] : cases) {
@@ -187,6 +207,68 @@ TEST_CASE("real meshes: cycles equal genus", "[skeleton]") {
     CHECK(s.cycles() == genus);
     CHECK(s.components() == 1);
     check_map(s, m);
+    CHECK(outside_samples(s, m) == 0);
+    CHECK(shortest_end_branch(s) >= 0.01 * stm::bounding_box_diagonal(m));
+  }
+}
+
+TEST_CASE("the paper five shapes: cycles equal genus and ypsilon and crossed-cylinders get their ends and all inside", "[skeleton]") {
+  struct Case {
+    std::string name;
+    int genus, ends, branches;  // ends/branches -1: not asserted
+  };
+  const std::vector<Case> cases = {
+      {"ypsilon", 0, 3, 1}, {"bottle", 1, -1, -1}, {"donut", 1, -1, -1}, {"triple-torus", 3, -1, -1}, {"crossed-cylinders", 0, 4, -1}};
+  for (const auto& c : cases) {
+    INFO(c.name);
+    const stm::Mesh m = stm::make_primitive(c.name);
+    const stm::Skeleton s = stm::extract_skeleton(m);
+    CHECK(s.cycles() == c.genus);
+    CHECK(s.components() == 1);
+    if (c.ends >= 0) CHECK(s.end_nodes() == c.ends);
+    if (c.branches >= 0) CHECK(s.branch_nodes() == c.branches);
+    check_map(s, m);
+    CHECK(outside_samples(s, m) == 0);
+    CHECK(shortest_end_branch(s) >= 0.01 * stm::bounding_box_diagonal(m));
+  }
+}
+
+TEST_CASE("Spot: an end at every hoof and at least one per leg horn and ear and all inside", "[skeleton]") {
+  const stm::Mesh m = stm::load_mesh(std::string(SDM_EXAMPLES) + "/spot/spot_triangulated.obj");
+  const stm::Skeleton s = stm::extract_skeleton(m);
+  const double diag = stm::bounding_box_diagonal(m);
+  CHECK(s.cycles() == 0);
+  CHECK(s.end_nodes() >= 8);  // four legs, two horns, two ears (and the tail and snout)
+  check_map(s, m);
+  CHECK(outside_samples(s, m) == 0);
+  CHECK(shortest_end_branch(s) >= 0.01 * diag);
+  // Hooves: the lowest vertices (y up), in four groups by side (x) and front/back (z). Each
+  // group's centre must have an end node within 5 % of the diagonal.
+  double ymin = INFINITY, zmin = INFINITY, zmax = -INFINITY;
+  for (auto v : m.vertices()) {
+    const Eigen::Vector3d p = stm::point(m, v);
+    ymin = std::min(ymin, p.y());
+  }
+  std::vector<Eigen::Vector3d> low;
+  for (auto v : m.vertices()) {
+    const Eigen::Vector3d p = stm::point(m, v);
+    if (p.y() < ymin + 0.02 * diag) low.push_back(p), zmin = std::min(zmin, p.z()), zmax = std::max(zmax, p.z());
+  }
+  std::map<std::pair<bool, bool>, std::pair<Eigen::Vector3d, int>> hoof;
+  for (const auto& p : low) {
+    auto& h = hoof[{p.x() > 0, p.z() > 0.5 * (zmin + zmax)}];
+    if (h.second == 0) h.first.setZero();
+    h.first += p, ++h.second;
+  }
+  REQUIRE(hoof.size() == 4);
+  const auto deg = s.degrees();
+  for (const auto& [key, h] : hoof) {
+    const Eigen::Vector3d c = h.first / h.second;
+    double nearest = INFINITY;
+    for (size_t a = 0; a < s.nodes.size(); ++a)
+      if (deg[a] == 1) nearest = std::min(nearest, (s.nodes[a] - c).norm());
+    INFO("hoof " << key.first << key.second << " at " << c.transpose() << ": nearest end " << nearest);
+    CHECK(nearest < 0.05 * diag);
   }
 }
 
