@@ -1,6 +1,7 @@
 // Rendering with coordinates computed in the shaders (render_stm): the STM render of Spot matches
 // the render with its own uv, the seam at phi = 0 leaves no trace, and the shaders' coordinates
 // agree with the CPU capsule mapping.
+#include "libstm/extract_skeleton.h"
 #include "libstm/gl_context.h"
 #include "libstm/render_atlas.h"
 #include "libstm/render_mesh.h"
@@ -13,6 +14,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <memory>
 
@@ -25,31 +27,6 @@ struct SpotScene {
   stm::Image atlas;
 };
 
-// A hand-made skeleton of Spot (body, tail, neck and head, four legs, horns, ears): the rendering is tested
-// independently of the extraction's quality. Every vertex goes to the nearer end of its nearest
-// segment.
-stm::Skeleton spot_skeleton(const stm::Mesh& mesh) {
-  stm::Skeleton sk;
-  sk.nodes = {{0, 0.0, 1.0},   {0, -0.1, 0.62},    {0, -0.05, 0.1},   {0, 0.3, -0.25},  {0, 0.5, -0.42},
-              {0.2, -0.35, 0.07}, {-0.2, -0.35, 0.07}, {0.2, -0.65, 0.07}, {-0.2, -0.65, 0.07},
-              {0.17, -0.35, 0.66}, {-0.17, -0.35, 0.66}, {0.17, -0.65, 0.66}, {-0.17, -0.65, 0.66},
-              {0.17, 0.88, -0.27}, {-0.17, 0.88, -0.27}, {0.42, 0.68, -0.21}, {-0.42, 0.68, -0.21}};
-  sk.edges = {{0, 1}, {1, 2}, {2, 3}, {3, 4}, {2, 5}, {5, 7}, {2, 6}, {6, 8}, {1, 9}, {9, 11}, {1, 10}, {10, 12},
-              {4, 13}, {4, 14}, {4, 15}, {4, 16}};
-  for (auto v : mesh.vertices()) {
-    const Eigen::Vector3d p = stm::point(mesh, v);
-    double best = 1e300;
-    int node = 0;
-    for (const auto& e : sk.edges) {
-      double t = 0;
-      const double d = stm::distance_to_segment(p, sk.nodes[e[0]], sk.nodes[e[1]], &t);
-      if (d < best) best = d, node = t < 0.5 ? e[0] : e[1];
-    }
-    sk.vertex_node.push_back(node);
-  }
-  return sk;
-}
-
 // Skeleton, layout (2048 atlas) and atlas of Spot, made once for the tests below.
 const SpotScene& spot(stm::GlContext& gl) {
   static std::unique_ptr<SpotScene> sc;
@@ -59,7 +36,7 @@ const SpotScene& spot(stm::GlContext& gl) {
     sc->mesh = stm::load_mesh(std::string(SDM_EXAMPLES) + "/spot/spot_triangulated.obj", &tex);
     REQUIRE(!tex.empty());
     sc->texture = stm::read_png(tex);
-    const stm::Skeleton sk = spot_skeleton(sc->mesh);
+    const stm::Skeleton sk = stm::extract_skeleton(sc->mesh);  // the skeleton a user gets
     stm::LayoutOptions lo;
     lo.size = 2048;
     lo.margin = 8;
@@ -91,6 +68,7 @@ TEST_CASE("Spot from its STM without uv matches Spot with its own uv", "[render_
     const std::vector<uint8_t> mask = stm::mask_union(m_uv, m_stm);
     const double p = stm::psnr(a, b, &mask);
     INFO("view " << view << " azimuth " << ro.azimuth_deg << ": PSNR " << p << " dB");
+    std::printf("spot view %d: PSNR %.2f dB\n", view, p);
     CHECK(p >= 30.0);
 
     // SDM_TEST_DUMP=FOLDER keeps the pairs (own uv left, STM right) for looking at.
