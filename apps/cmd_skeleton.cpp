@@ -9,18 +9,22 @@ namespace sdm_cli {
 
 Command add_skeleton_command(CLI::App& parent) {
   struct Opts {
-    std::string mesh, out, obj;
+    std::string mesh, out, obj, method = "auto";
     bool json = false, uniform = false;
     stm::SkeletonOptions sk;
   };
   auto o = std::make_shared<Opts>();
   auto* app = parent.add_subcommand(
-      "skeleton", "Extract the curve skeleton of a closed mesh (Laplacian contraction + connectivity surgery)\n"
-                  "and write it as JSON (nodes, edges, the node of every vertex).");
+      "skeleton", "Extract the curve skeleton of a closed mesh (Laplacian contraction or medial poles, then\n"
+                  "connectivity surgery) and write it as JSON (nodes, edges, the node of every vertex).");
   app->add_option("mesh", o->mesh, "Input mesh (.obj, .off, .ply, .stl), closed and manifold")->required();
   app->add_option("-o,--output", o->out, "Output skeleton JSON file")->required();
   app->add_option("--obj", o->obj, "Also write the skeleton as an OBJ polyline");
   app->add_flag("--json", o->json, "Print the summary as one JSON object");
+  app->add_option("--method", o->method,
+                  "Contracted shape for the surgery: auto (both candidates, the better kept), contraction (Laplacian "
+                  "contraction only, the paper's method) or medial (medial poles only)")
+      ->check(CLI::IsMember({"auto", "contraction", "medial"}));
   app->add_flag("--uniform", o->uniform, "Contract the proxy with uniform instead of cotangent weights (Au et al.)");
   app->add_option("--prune-radius", o->sk.prune_radius,
                   "End branches shorter than this multiple of their junction's radius are pruned");
@@ -33,6 +37,9 @@ Command add_skeleton_command(CLI::App& parent) {
   return {app, [o]() {
             const stm::Mesh mesh = stm::load_mesh(o->mesh);
             if (o->uniform) o->sk.contraction = stm::uniform_contraction();
+            o->sk.method = o->method == "contraction" ? stm::SkeletonMethod::contraction
+                           : o->method == "medial"    ? stm::SkeletonMethod::medial
+                                                      : stm::SkeletonMethod::automatic;
             stm::SkeletonStats st;
             const stm::Skeleton sk = stm::extract_skeleton(mesh, o->sk, progress, &st);
             stm::write_skeleton_json(sk, o->out);
@@ -49,6 +56,8 @@ Command add_skeleton_command(CLI::App& parent) {
                                 {"refinement_seconds", st.refinement_seconds},
                                 {"proxy_vertices", st.proxy_vertices},
                                 {"proxy_seconds", st.proxy_seconds},
+                                {"medial_seconds", st.medial_seconds},
+                                {"medial_parts", st.medial_parts},
                                 {"outside_edges", st.outside_edges}};
             if (o->json) {
               print_json(j);

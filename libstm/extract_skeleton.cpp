@@ -627,15 +627,21 @@ Skeleton extract_skeleton(const Mesh& mesh, const SkeletonOptions& opt, const Pr
     if (use_proxy) make_proxy(PV, PF, opt, XV, XF);
     st.proxy_vertices += int(XV.rows());
     st.proxy_seconds += seconds_since(t0);
+    const bool run_contraction = opt.method != SkeletonMethod::medial;
+    const bool run_medial = opt.method != SkeletonMethod::contraction;
     const ContractOptions& co = use_proxy ? opt.contraction : opt.raw_contraction;
-    const ContractResult cr = contract_mesh(XV, XF, co, progress);
+    ContractResult cr;
+    if (run_contraction) {
+      cr = contract_mesh(XV, XF, co, progress);
+      st.iterations = std::max(st.iterations, cr.iterations);
+    }
     st.contraction_seconds += seconds_since(t0);
-    st.iterations = std::max(st.iterations, cr.iterations);
     // The medial poles are the second candidate's contracted shape and, for both, the radius
     // the skeleton should keep from the surface.
     t0 = Clock::now();
     const Eigen::MatrixX3d poles = medial_poles(XV, XF);
     st.medial_seconds += seconds_since(t0);
+    st.contraction_seconds += seconds_since(t0);
 
     const InsideMesh in(PV, PF);
     const TriangleBvh surface(PV, PF);
@@ -665,7 +671,7 @@ Skeleton extract_skeleton(const Mesh& mesh, const SkeletonOptions& opt, const Pr
       c.cycles = int(c.g.edges.size()) - int(c.g.pos.size()) + 1;
       for (const auto& e : c.g.edges)
         if (!in.segment_inside(c.g.pos[e.first], c.g.pos[e.second])) ++c.outside;
-      c.error = tube_error(c.g, XV, XF, poles) / std::max(diag, 1e-300);
+      if (opt.method == SkeletonMethod::automatic) c.error = tube_error(c.g, XV, XF, poles) / std::max(diag, 1e-300);
       st.refinement_seconds += seconds_since(t);
       if (progress) {
         char line[200];
@@ -677,12 +683,14 @@ Skeleton extract_skeleton(const Mesh& mesh, const SkeletonOptions& opt, const Pr
     };
     // Two candidates: Au et al.'s contraction, which keeps the cycles of CAD parts but can pull short
     // limbs into the body, and the medial poles, which keep every limb but make sheets of thin
-    // walls. The one with the right cycles, nothing outside and the smaller tube error wins.
-    Candidate best = build(cr.positions, "contraction");
-    // The poles scatter where the surface is noisy or flat: a few steps of umbrella smoothing
-    // over the mesh's connectivity tidy them before the surgery.
-    Eigen::MatrixX3d smooth = poles;
-    {
+    // walls. The one with the right cycles, nothing outside and the clearly smaller tube error
+    // wins.
+    Candidate best;
+    if (run_contraction) best = build(cr.positions, "contraction");
+    if (run_medial) {
+      // The poles scatter where the surface is noisy or flat: a few steps of umbrella smoothing
+      // over the mesh's connectivity tidy them before the surgery.
+      Eigen::MatrixX3d smooth = poles;
       std::vector<std::vector<int>> nb(XV.rows());
       for (int f = 0; f < XF.rows(); ++f)
         for (int k = 0; k < 3; ++k) nb[XF(f, k)].push_back(XF(f, (k + 1) % 3)), nb[XF(f, (k + 1) % 3)].push_back(XF(f, k));
@@ -696,17 +704,17 @@ Skeleton extract_skeleton(const Mesh& mesh, const SkeletonOptions& opt, const Pr
         }
         smooth = std::move(next);
       }
-    }
-    Candidate medial = build(smooth, "medial");
-    // The medial candidate must halve the error to win on it alone: where both explain the
-    // surface, the contraction's skeleton is the smoother one (the poles of flat caps and of
-    // noisy surfaces scatter).
-    auto rank = [&](const Candidate& c, double handicap) {
-      return std::make_tuple(c.cycles != genus, c.outside, c.error * handicap);
-    };
-    if (rank(medial, opt.medial_handicap) < rank(best, 1.0)) {
-      best = std::move(medial);
-      ++st.medial_parts;
+      Candidate medial = build(smooth, "medial");
+      // The medial candidate must halve the error to win on it alone: where both explain the
+      // surface, the contraction's skeleton is the smoother one (the poles of flat caps and of
+      // noisy surfaces scatter).
+      auto rank = [&](const Candidate& c, double handicap) {
+        return std::make_tuple(c.cycles != genus, c.outside, c.error * handicap);
+      };
+      if (!run_contraction || rank(medial, opt.medial_handicap) < rank(best, 1.0)) {
+        best = std::move(medial);
+        ++st.medial_parts;
+      }
     }
     Graph& g = best.g;
     st.outside_edges += best.outside;

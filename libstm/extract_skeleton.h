@@ -17,7 +17,12 @@ inline ContractOptions uniform_contraction() {
   return o;
 }
 
+// Where the contracted shape handed to the surgery comes from: Laplacian contraction (Au et al.,
+// the paper's method), the medial poles (medial_poles.h), or both with the better one kept.
+enum class SkeletonMethod { automatic, contraction, medial };
+
 struct SkeletonOptions {
+  SkeletonMethod method = SkeletonMethod::automatic;
   ContractOptions contraction;     // used on the proxy (cotangent weights)
   // Used on parts contracted as they are: uniform weights with a large start weight, because raw
   // CAD meshes (long thin triangles) make cotangent weights diverge.

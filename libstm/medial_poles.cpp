@@ -39,7 +39,9 @@ Eigen::MatrixX3d medial_poles(const Eigen::MatrixX3d& V, const Eigen::MatrixX3i&
     const Eigen::Vector3d m = inward * N.row(i).transpose() / len;
     // Shrink a ball tangent at p until the surface point nearest its centre is p itself: each
     // step takes the ball through p and that nearest point.
-    double r = r_max;
+    // No ball tangent at p is wider than the chord along the inward normal: start from half of it.
+    const auto hit = bvh.first_hit(p, m, eps);
+    double r = hit.face >= 0 ? std::min(r_max, 0.5 * hit.t) : r_max;
     for (int it = 0; it < 50; ++it) {
       const Eigen::Vector3d c = p + r * m;
       const auto q = bvh.closest_point(c);
