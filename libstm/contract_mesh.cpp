@@ -4,6 +4,9 @@
 
 #include <Eigen/Sparse>
 #include <Eigen/SparseCholesky>
+#ifdef SDM_HAVE_CHOLMOD
+#include <Eigen/CholmodSupport>
+#endif
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -106,11 +109,12 @@ ContractResult contract_mesh(const Eigen::MatrixX3d& V0, const Eigen::MatrixX3i&
   std::vector<std::vector<double>> lrow(n);
   for (int i = 0; i < n; ++i) lrow[i].assign(ring[i].size(), 0.0);
 
-  Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> solver;
-  bool analysed = false;
   std::vector<char> pinned(n, 0);
   int npinned = 0;
   double ratio = 1.0;
+  // The iterations, over either sparse Cholesky (same pattern every iteration: one analysis).
+  auto iterate = [&](auto& solver) {
+  bool analysed = false;
   for (int it = 0; it < opt.max_iterations && ratio > opt.area_ratio_stop; ++it) {
     // Laplacian of the current shape (uniform weights count each face corner 1/2, so that an
     // interior edge weighs 1 like the cotangent weights of an equilateral mesh).
@@ -196,8 +200,28 @@ ContractResult contract_mesh(const Eigen::MatrixX3d& V0, const Eigen::MatrixX3i&
     // costs time (the surgery copes with the rest).
     if (ratio < 1e-3 && ratio > 0.5 * previous) break;
   }
+  };
+#ifdef SDM_HAVE_CHOLMOD
+  if (opt.solver == SparseSolver::cholmod) {
+    Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>> solver;
+    iterate(solver);
+  } else
+#endif
+  {
+    Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> solver;
+    iterate(solver);
+  }
   res.positions = V;
   return res;
+}
+
+bool sparse_solver_available(SparseSolver s) {
+#ifdef SDM_HAVE_CHOLMOD
+  (void)s;
+  return true;
+#else
+  return s == SparseSolver::eigen;
+#endif
 }
 
 ContractResult contract_mesh(const Mesh& mesh, const ContractOptions& options, const Progress& progress) {

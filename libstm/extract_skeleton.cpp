@@ -10,10 +10,13 @@
 #include <chrono>
 #include <cstdio>
 #include <cmath>
+#include <exception>
 #include <map>
+#include <mutex>
 #include <numeric>
 #include <queue>
 #include <set>
+#include <thread>
 
 namespace stm {
 
@@ -582,6 +585,7 @@ double tube_error(const Graph& g, const Eigen::MatrixX3d& V, const Eigen::Matrix
 }  // namespace
 
 Skeleton extract_skeleton(const Mesh& mesh, const SkeletonOptions& opt, const Progress& progress, SkeletonStats* stats) {
+  const auto start = Clock::now();
   SkeletonStats st;
   Skeleton sk;
   const Eigen::MatrixX3d V = vertex_matrix(mesh);
@@ -627,18 +631,12 @@ Skeleton extract_skeleton(const Mesh& mesh, const SkeletonOptions& opt, const Pr
     if (use_proxy) make_proxy(PV, PF, opt, XV, XF);
     st.proxy_vertices += int(XV.rows());
     st.proxy_seconds += seconds_since(t0);
+    st.contraction_seconds += seconds_since(t0);
+    t0 = Clock::now();
     const bool run_contraction = opt.method != SkeletonMethod::medial;
     const bool run_medial = opt.method != SkeletonMethod::contraction;
-    const ContractOptions& co = use_proxy ? opt.contraction : opt.raw_contraction;
-    ContractResult cr;
-    if (run_contraction) {
-      cr = contract_mesh(XV, XF, co, progress);
-      st.iterations = std::max(st.iterations, cr.iterations);
-    }
-    st.contraction_seconds += seconds_since(t0);
-    // The medial poles are the second candidate's contracted shape and, for both, the radius
-    // the skeleton should keep from the surface.
-    t0 = Clock::now();
+    // The medial poles are the medial candidate's contracted shape and, for both candidates, the
+    // radius the skeleton should keep from the surface.
     const Eigen::MatrixX3d poles = medial_poles(XV, XF);
     st.medial_seconds += seconds_since(t0);
     st.contraction_seconds += seconds_since(t0);
@@ -651,19 +649,24 @@ Skeleton extract_skeleton(const Mesh& mesh, const SkeletonOptions& opt, const Pr
       Graph g;
       int cycles = 0, outside = 0;
       double error = INFINITY;
+      SkeletonStats st;  // this candidate's share of the work
     };
-    auto build = [&](const Eigen::MatrixX3d& contracted, const char* name) {
-      Candidate c;
+    std::mutex progress_mutex;  // the candidates report from two threads
+    const Progress say = progress ? Progress([&](const std::string& line) {
+      std::lock_guard<std::mutex> lock(progress_mutex);
+      progress(line);
+    })
+                                  : Progress();
+    auto build = [&](const Eigen::MatrixX3d& contracted, const char* name, Candidate& c) {
       auto t = Clock::now();
-      c.g = surgery(XV, contracted, XF, in, opt, st);
-      st.surgery_seconds += seconds_since(t);
-      if (progress) {
+      c.g = surgery(XV, contracted, XF, in, opt, c.st);
+      c.st.surgery_seconds += seconds_since(t);
+      if (say) {
         std::vector<int> deg(c.g.pos.size(), 0);
         for (const auto& e : c.g.edges) ++deg[e.first], ++deg[e.second];
-        progress(std::string(name) + " surgery: " + std::to_string(c.g.pos.size()) + " nodes, " +
-                 std::to_string(c.g.edges.size()) + " edges, " + std::to_string(std::count(deg.begin(), deg.end(), 1)) +
-                 " ends, refused " + std::to_string(st.refused_collapses) + ", forced " +
-                 std::to_string(st.forced_collapses));
+        say(std::string(name) + " surgery: " + std::to_string(c.g.pos.size()) + " nodes, " +
+            std::to_string(c.g.edges.size()) + " edges, " + std::to_string(std::count(deg.begin(), deg.end(), 1)) +
+            " ends, refused " + std::to_string(c.st.refused_collapses) + ", forced " + std::to_string(c.st.forced_collapses));
       }
       t = Clock::now();
       refine(c.g, XV, in, surface, diag, opt);
@@ -672,50 +675,68 @@ Skeleton extract_skeleton(const Mesh& mesh, const SkeletonOptions& opt, const Pr
       for (const auto& e : c.g.edges)
         if (!in.segment_inside(c.g.pos[e.first], c.g.pos[e.second])) ++c.outside;
       if (opt.method == SkeletonMethod::automatic) c.error = tube_error(c.g, XV, XF, poles) / std::max(diag, 1e-300);
-      st.refinement_seconds += seconds_since(t);
-      if (progress) {
+      c.st.refinement_seconds += seconds_since(t);
+      if (say) {
         char line[200];
         std::snprintf(line, sizeof line, "%s skeleton: %zu nodes, %d cycles (genus %d), %d edges outside, tube error %.4f",
                       name, c.g.pos.size(), c.cycles, genus, c.outside, c.error);
-        progress(line);
+        say(line);
       }
-      return c;
     };
     // Two candidates: Au et al.'s contraction, which keeps the cycles of CAD parts but can pull short
     // limbs into the body, and the medial poles, which keep every limb but make sheets of thin
-    // walls. The one with the right cycles, nothing outside and the clearly smaller tube error
-    // wins.
-    Candidate best;
-    if (run_contraction) best = build(cr.positions, "contraction");
-    if (run_medial) {
-      // The poles scatter where the surface is noisy or flat: a few steps of umbrella smoothing
-      // over the mesh's connectivity tidy them before the surgery.
-      Eigen::MatrixX3d smooth = poles;
-      std::vector<std::vector<int>> nb(XV.rows());
-      for (int f = 0; f < XF.rows(); ++f)
-        for (int k = 0; k < 3; ++k) nb[XF(f, k)].push_back(XF(f, (k + 1) % 3)), nb[XF(f, (k + 1) % 3)].push_back(XF(f, k));
-      for (int step = 0; step < opt.medial_smoothing; ++step) {
-        Eigen::MatrixX3d next = smooth;
-        for (int i = 0; i < XV.rows(); ++i) {
-          if (nb[i].empty()) continue;
-          Eigen::RowVector3d c = Eigen::RowVector3d::Zero();
-          for (int j : nb[i]) c += smooth.row(j);
-          next.row(i) = 0.5 * smooth.row(i) + 0.5 * c / double(nb[i].size());
+    // walls. They are independent, so the medial one is built on a second thread.
+    Candidate contraction, medial;
+    std::exception_ptr medial_failure;
+    std::thread medial_thread([&] {
+      if (!run_medial) return;
+      try {
+        // The poles scatter where the surface is noisy or flat: a few steps of umbrella smoothing
+        // over the mesh's connectivity tidy them before the surgery.
+        Eigen::MatrixX3d smooth = poles;
+        std::vector<std::vector<int>> nb(XV.rows());
+        for (int f = 0; f < XF.rows(); ++f)
+          for (int k = 0; k < 3; ++k) nb[XF(f, k)].push_back(XF(f, (k + 1) % 3)), nb[XF(f, (k + 1) % 3)].push_back(XF(f, k));
+        for (int step = 0; step < opt.medial_smoothing; ++step) {
+          Eigen::MatrixX3d next = smooth;
+          for (int i = 0; i < XV.rows(); ++i) {
+            if (nb[i].empty()) continue;
+            Eigen::RowVector3d c = Eigen::RowVector3d::Zero();
+            for (int j : nb[i]) c += smooth.row(j);
+            next.row(i) = 0.5 * smooth.row(i) + 0.5 * c / double(nb[i].size());
+          }
+          smooth = std::move(next);
         }
-        smooth = std::move(next);
+        build(smooth, "medial", medial);
+      } catch (...) {
+        medial_failure = std::current_exception();
       }
-      Candidate medial = build(smooth, "medial");
-      // The medial candidate must halve the error to win on it alone: where both explain the
-      // surface, the contraction's skeleton is the smoother one (the poles of flat caps and of
-      // noisy surfaces scatter).
-      auto rank = [&](const Candidate& c, double handicap) {
-        return std::make_tuple(c.cycles != genus, c.outside, c.error * handicap);
-      };
-      if (!run_contraction || rank(medial, opt.medial_handicap) < rank(best, 1.0)) {
-        best = std::move(medial);
-        ++st.medial_parts;
-      }
+    });
+    if (run_contraction) {
+      const auto t = Clock::now();
+      const ContractResult cr = contract_mesh(XV, XF, use_proxy ? opt.contraction : opt.raw_contraction, say);
+      st.iterations = std::max(st.iterations, cr.iterations);
+      st.contraction_seconds += seconds_since(t);
+      build(cr.positions, "contraction", contraction);
     }
+    medial_thread.join();
+    if (medial_failure) std::rethrow_exception(medial_failure);
+    for (const Candidate* c : {&contraction, &medial}) {
+      st.surgery_seconds += c->st.surgery_seconds;
+      st.refinement_seconds += c->st.refinement_seconds;
+      st.refused_collapses += c->st.refused_collapses;
+      st.forced_collapses += c->st.forced_collapses;
+    }
+    // The medial candidate must halve the error to win on it alone: where both explain the
+    // surface, the contraction's skeleton is the smoother one (the poles of flat caps and of
+    // noisy surfaces scatter).
+    auto rank = [&](const Candidate& c, double handicap) {
+      return std::make_tuple(c.cycles != genus, c.outside, c.error * handicap);
+    };
+    Candidate& best = !run_medial ? contraction
+                      : !run_contraction || rank(medial, opt.medial_handicap) < rank(contraction, 1.0) ? medial
+                                                                                                       : contraction;
+    if (&best == &medial) ++st.medial_parts;
     Graph& g = best.g;
     st.outside_edges += best.outside;
     const auto t1 = Clock::now();
@@ -733,6 +754,7 @@ Skeleton extract_skeleton(const Mesh& mesh, const SkeletonOptions& opt, const Pr
     for (size_t v = 0; v < global.size(); ++v) sk.vertex_node[global[v]] = base + owner[v];
     for (const auto& e : g.edges) sk.edges.push_back({base + e.first, base + e.second});
   }
+  st.seconds = seconds_since(start);
   if (stats) *stats = st;
   return sk;
 }

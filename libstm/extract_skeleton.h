@@ -46,7 +46,10 @@ struct SkeletonOptions {
 };
 
 struct SkeletonStats {
+  // Per stage, summed over both candidates (they run on two threads, so the sum can exceed the
+  // wall-clock time in `seconds`).
   double contraction_seconds = 0, surgery_seconds = 0, refinement_seconds = 0;
+  double seconds = 0;              // wall clock, the whole extraction
   int iterations = 0;              // contraction iterations (largest over the parts)
   int parts = 0;
   int refused_collapses = 0;       // collapses refused because they would break a cycle of the volume

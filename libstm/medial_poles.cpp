@@ -44,8 +44,8 @@ Eigen::MatrixX3d medial_poles(const Eigen::MatrixX3d& V, const Eigen::MatrixX3i&
     double r = hit.face >= 0 ? std::min(r_max, 0.5 * hit.t) : r_max;
     for (int it = 0; it < 50; ++it) {
       const Eigen::Vector3d c = p + r * m;
-      const auto q = bvh.closest_point(c);
-      if (q.distance >= r - eps) break;
+      const auto q = bvh.closest_point(c, r - eps);
+      if (q.face < 0) break;  // the ball is empty
       const Eigen::Vector3d d = q.point - p;
       // The nearest point lies next to p: the vertex normal is not the normal of the faces around
       // it, and following that point would shrink the ball to nothing.

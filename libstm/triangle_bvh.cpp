@@ -119,10 +119,10 @@ int TriangleBvh::build(int begin, int end) {
   return index;
 }
 
-TriangleBvh::Closest TriangleBvh::closest_point(const Eigen::Vector3d& p) const {
+TriangleBvh::Closest TriangleBvh::closest_point(const Eigen::Vector3d& p, double max_distance) const {
   Closest best;
   if (nodes_.empty()) return best;
-  double best2 = INFINITY;
+  double best2 = max_distance * max_distance;
   int stack[128];
   int sp = 0;
   stack[sp++] = 0;
@@ -153,7 +153,7 @@ TriangleBvh::Closest TriangleBvh::closest_point(const Eigen::Vector3d& p) const 
       stack[sp++] = n.right;
     }
   }
-  best.distance = std::sqrt(best2);
+  if (best.face >= 0) best.distance = std::sqrt(best2);
   return best;
 }
 

@@ -19,7 +19,9 @@ class TriangleBvh {
     int face = -1;
     Eigen::Vector3d point = Eigen::Vector3d::Zero();
   };
-  Closest closest_point(const Eigen::Vector3d& p) const;
+  // Nearest surface point to p; with max_distance, only points closer than that are looked for
+  // (face == -1 when there is none), which prunes most of the tree for small balls.
+  Closest closest_point(const Eigen::Vector3d& p, double max_distance = INFINITY) const;
 
   struct Hit {
     double t = INFINITY;  // ray parameter: origin + t * direction
