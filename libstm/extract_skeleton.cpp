@@ -678,8 +678,11 @@ Skeleton extract_skeleton(const Mesh& mesh, const SkeletonOptions& opt, const Pr
       c.st.refinement_seconds += seconds_since(t);
       if (say) {
         char line[200];
-        std::snprintf(line, sizeof line, "%s skeleton: %zu nodes, %d cycles (genus %d), %d edges outside, tube error %.4f",
-                      name, c.g.pos.size(), c.cycles, genus, c.outside, c.error);
+        std::vector<int> deg(c.g.pos.size(), 0);
+        for (const auto& e : c.g.edges) ++deg[e.first], ++deg[e.second];
+        std::snprintf(line, sizeof line,
+                      "%s skeleton: %zu nodes, %d ends, %d cycles (genus %d), %d edges outside, tube error %.4f", name,
+                      c.g.pos.size(), int(std::count(deg.begin(), deg.end(), 1)), c.cycles, genus, c.outside, c.error);
         say(line);
       }
     };
