@@ -2,6 +2,7 @@
 #include "libsdm/decode_sdm.h"
 #include "libsdm/sdm_exr.h"
 #include "libsdm/transfer_texture.h"
+#include "libstm/common_branching.h"
 #include "libstm/errors.h"
 #include "libstm/extract_skeleton.h"
 #include "libstm/gl_context.h"
@@ -116,7 +117,8 @@ Command add_transfer_command(CLI::App& parent) {
                   "segments, the source's skeleton texture map reused around the target's skeleton, and the\n"
                   "source's texture remapped into it. Writes OUT.obj (the target with uv) with its MTL,\n"
                   "OUT_atlas.png (the texture it names) and OUT_preview.png (source and target side by side).\n"
-                  "A target whose branching differs is refused (exit code 2) and nothing is written.\n"
+                  "A target whose branching differs is refused (exit code 2) and nothing is written; up to two short\n"
+                  "end branches (under 8 % of a skeleton's length) found in one skeleton only are pruned first.\n"
                   "With --sdm MAP.exr --target-skeleton SKEL.json instead: the geometry counterpart, the map decoded\n"
                   "around another skeleton with the same branching (matched and resampled onto the map's own).");
   app->add_option("--source", o->source, "Source mesh with uv and a texture (.obj with its MTL)");
@@ -154,10 +156,11 @@ Command add_transfer_command(CLI::App& parent) {
             const stm::Mesh target = stm::load_mesh(o->target);
             const stm::Skeleton sa = skeleton_for(source, o->source_skeleton, "source");
             const stm::Skeleton sb = skeleton_for(target, o->target_skeleton, "target");
-            // Branching first: a mismatch is refused before anything is rendered or written.
-            const std::string diff = stm::branching_difference(sa, sb);
-            if (!diff.empty())
-              throw stm::InputError("the target's skeleton branching differs from the source's (source vs target): " + diff);
+            // Branching first: a mismatch (beyond a short branch found in one skeleton only) is
+            // refused before anything is rendered or written.
+            const stm::CommonBranching common = stm::common_branching(sa, sb);
+            for (int x : common.pruned_a) progress("source end branch at node " + std::to_string(x) + " pruned: the target's skeleton has none there");
+            for (int x : common.pruned_b) progress("target end branch at node " + std::to_string(x) + " pruned: the source's skeleton has none there");
 
             stm::GlContext gl;
             progress("GL renderer: " + gl.renderer() + " (" + gl.version() + ", " + gl.platform() + ")");
@@ -194,7 +197,12 @@ Command add_transfer_command(CLI::App& parent) {
               throw;
             }
 
-            const auto& m = r.skeletons.match;
+            // Node numbers as in the given skeletons (the match numbers the pruned ones).
+            stm::SkeletonMatch m = r.skeletons.match;
+            for (auto* red : {&m.a, &m.b}) {
+              const auto& orig = red == &m.a ? r.skeletons.node_a : r.skeletons.node_b;
+              for (int& k : red->keys) k = orig[k];
+            }
             nlohmann::json chains;
             const std::string text = match_text(m, &chains);
             for (size_t c = 0; c < chains.size(); ++c) chains[c]["segments"] = r.skeletons.chain_edges[c].size();
@@ -213,6 +221,8 @@ Command add_transfer_command(CLI::App& parent) {
                           {"candidates", m.candidates},
                           {"keys", keys},
                           {"chains", chains},
+                          {"pruned_source_ends", r.skeletons.pruned_a},
+                          {"pruned_target_ends", r.skeletons.pruned_b},
                           {"stretch", r.stretch},
                           {"seam_faces", r.seam_faces}});
             } else {

@@ -1,5 +1,6 @@
 #include "libsdm/transfer_texture.h"
 
+#include "libstm/common_branching.h"
 #include "libstm/errors.h"
 #include "libstm/render_atlas.h"
 #include "libstm/segment_frames.h"
@@ -142,9 +143,23 @@ Skeleton resample(const Side& side, const ReducedSkeleton& red, const std::vecto
 
 }  // namespace
 
-SharedSkeletons share_skeletons(const Mesh& mesh_a, const Skeleton& a, const Mesh& mesh_b, const Skeleton& b,
-                                const std::vector<std::pair<int, int>>& fixed, double split_ratio) {
+SharedSkeletons share_skeletons(const Mesh& mesh_a, const Skeleton& given_a, const Mesh& mesh_b, const Skeleton& given_b,
+                                const std::vector<std::pair<int, int>>& given_fixed, double split_ratio) {
   SharedSkeletons r;
+  // Extracted skeletons of one shape can differ by a small branch (a tail found in one
+  // tessellation only): both are pruned to their common branching first.
+  const CommonBranching common = common_branching(given_a, given_b);
+  const Skeleton& a = common.a;
+  const Skeleton& b = common.b;
+  r.pruned_a = common.pruned_a, r.pruned_b = common.pruned_b;
+  r.node_a = common.a_original, r.node_b = common.b_original;
+  std::vector<std::pair<int, int>> fixed;
+  for (auto [x, y] : given_fixed) {
+    const bool in_range = x >= 0 && y >= 0 && x < int(common.a_node.size()) && y < int(common.b_node.size());
+    if (in_range && (common.a_node[x] < 0 || common.b_node[y] < 0))
+      throw InputError("--match " + std::to_string(x) + "=" + std::to_string(y) + ": the node lies on a branch pruned to match the other skeleton");
+    fixed.push_back(in_range ? std::make_pair(common.a_node[x], common.b_node[y]) : std::make_pair(x, y));
+  }
   r.match = match_skeletons(a, b, fixed);
   const SkeletonMatch& m = r.match;
   const std::vector<SegmentGeometry> geo_a = segment_geometry(mesh_a, a, assign_faces(mesh_a, a));

@@ -26,9 +26,14 @@ struct SharedSkeletons {
   SkeletonMatch match;
   std::vector<std::vector<int>> chain_edges;  // per chain of match.a: its edges in the shared graph, in order
   Eigen::Matrix3d rotation = Eigen::Matrix3d::Identity();  // best rotation of a's shared nodes onto b's
+  // common_branching: end nodes of the given skeletons whose short branches were pruned so that the
+  // branchings match, and match.a's / match.b's node numbering -> the given skeletons' nodes.
+  std::vector<int> pruned_a, pruned_b, node_a, node_b;
 };
 
-// Matches b to a (match_skeletons with the `fixed` key node pairs) and resamples every matched pair
+// Prunes a and b to their common branching (common_branching: at most two end branches, each
+// shorter than 8 % of its skeleton, go; `fixed` names nodes of the given skeletons), matches b to a
+// (match_skeletons with the `fixed` key node pairs) and resamples every matched pair
 // of chains at equal arc-length steps into n segments: n = the larger of the two chains' edge counts,
 // raised so that no segment of either model is longer than split_ratio times the chain's mean
 // radius (as LayoutOptions::split_ratio; <= 0: no such rule). Key nodes keep their positions.

@@ -235,7 +235,13 @@ SkeletonMatch match_skeletons(const Skeleton& sa, const Skeleton& sb, const std:
   // chain lengths), then, among candidates equal on that, the residual in the models' own pose:
   // symmetric parts (four equal legs) fit equally well after any rotation, and only the pose
   // tells which is which.
-  const double tie = 1e-3;
+  // One score, shape + pose: the pose-invariant shape (residual after the best rotation, relative
+  // chain lengths) plus the residual in the models' own pose. Shape alone cannot tell
+  // near-symmetric branches apart once the skeletons carry an extraction's noise (the ypsilon's
+  // three arms, left and right legs: their shape costs differ by the noise), and a bent limb
+  // raises the true match's shape cost above a relabelled one's (bent ypsilon: 0.16 against 0.04)
+  // while the pose tells them apart (0.16 against 1.08). The models are thus assumed in roughly
+  // the same orientation; --match pins branches otherwise.
   double best = INFINITY, best_pose = INFINITY, best_total = INFINITY, second = INFINITY;
   std::vector<int> map(nk, -1);
   std::vector<char> taken(nk, 0);
@@ -287,8 +293,8 @@ SkeletonMatch match_skeletons(const Skeleton& sa, const Skeleton& sb, const std:
     double pose = 0;
     for (size_t i = 0; i < A.size(); ++i) pose += (A[i] - B[i]).squaredNorm();
     pose /= double(std::max<size_t>(1, A.size()));
-    const bool better = shape < best - tie || (shape <= best + tie && pose < best_pose);
     const double total = shape + pose;
+    const bool better = total < best_total - 1e-12 || (total <= best_total + 1e-12 && shape < best);
     if (better) {
       if (std::isfinite(best)) second = std::min(second, best + best_pose);
       best_total = total;

@@ -24,6 +24,7 @@
 #include <filesystem>
 #include <functional>
 #include <nlohmann/json.hpp>
+#include <sstream>
 
 namespace {
 
@@ -83,6 +84,26 @@ stm::Mesh remeshed(const stm::Mesh& mesh, double edge_factor) {
   copy.release_halfedge_texcoords2D();
   stm::isotropic_remesh(copy, edge_factor * mean_edge(mesh), 4, [&](const Eigen::Vector3d& p) { return bvh.closest_point(p).point; });
   return copy;
+}
+
+// What `sdm remesh --factor F` makes: the equilateral edge for the mesh's area and vertex count
+// times F, 8 iterations, vertices projected onto the input.
+stm::Mesh remeshed_like_cli(const stm::Mesh& mesh, double factor) {
+  double area = 0;
+  for (auto f : mesh.faces()) area += mesh.calc_face_area(f);
+  const double edge = std::sqrt(2.0 * area / (std::sqrt(3.0) * double(mesh.n_vertices()))) * factor;
+  const stm::TriangleBvh bvh(stm::vertex_matrix(mesh), stm::face_matrix(mesh));
+  stm::Mesh copy = mesh;
+  copy.release_halfedge_texcoords2D();
+  stm::isotropic_remesh(copy, edge, 8, [&](const Eigen::Vector3d& p) { return bvh.closest_point(p).point; });
+  return copy;
+}
+
+std::string views_text(const std::vector<double>& p) {
+  std::ostringstream o;
+  o.precision(3);
+  for (double x : p) o << " " << x;
+  return o.str();
 }
 
 // PSNR per view between the source (own uv) and the target (transferred uv), unlit, over the
@@ -212,12 +233,39 @@ std::vector<double> transfer_round(stm::GlContext& gl, stm::Mesh a, const stm::S
   return p;
 }
 
-TEST_CASE("transfer onto a new tessellation of the ypsilon reproduces the source", "[transfer_texture]") {
+// The acceptance with the skeletons a user gets (extract_skeleton on each tessellation, as `sdm
+// transfer` does). Not run by default: the extracted skeletons of two tessellations differ by more
+// than the transfer tolerates for 28 dB (docs/BENCHMARKS.md, transfer); run with its tag to measure.
+TEST_CASE("transfer onto a new tessellation of the ypsilon with extracted skeletons reproduces the source", "[.][transfer_texture_extracted]") {
   stm::GlContext gl;
   const stm::Mesh a = stm::make_primitive("ypsilon", 2000);
   const stm::Mesh b = remeshed(a, 0.75);
   REQUIRE(b.n_vertices() != a.n_vertices());
-  // Skeletons with the same branching and other node counts on each arm.
+  const stm::Skeleton sa = stm::extract_skeleton(a), sb = stm::extract_skeleton(b);
+  REQUIRE(stm::branching_difference(sa, sb).empty());
+  stm::TextureTransfer r;
+  const std::vector<double> p = transfer_round(gl, a, sa, b, sb, &r);
+  // Both skeletons share one graph; every shared node owns vertices in both models.
+  CHECK(r.skeletons.a.edges == r.skeletons.b.edges);
+  CHECK(r.skeletons.pruned_a.empty());
+  CHECK(r.skeletons.pruned_b.empty());
+  for (const auto* sk : {&r.skeletons.a, &r.skeletons.b}) {
+    std::vector<int> count(sk->nodes.size(), 0);
+    for (int x : sk->vertex_node) ++count[x];
+    CHECK(*std::min_element(count.begin(), count.end()) >= 1);
+  }
+  WARN("ypsilon onto its remesh, extracted skeletons: PSNR per view" << views_text(p));
+  for (size_t v = 0; v < p.size(); ++v) {
+    INFO("view " << v << ": PSNR " << p[v] << " dB");
+    CHECK(p[v] >= 28.0);
+  }
+}
+
+// The resampling itself, with hand-made skeletons of other node counts on each arm.
+TEST_CASE("transfer between hand-made ypsilon skeletons with other node counts shares one graph", "[transfer_texture]") {
+  stm::GlContext gl;
+  const stm::Mesh a = stm::make_primitive("ypsilon", 2000);
+  const stm::Mesh b = remeshed(a, 0.75);
   const stm::Skeleton sa = ypsilon_skeleton(a, {2, 2, 2}), sb = ypsilon_skeleton(b, {3, 1, 4});
   stm::TextureTransfer r;
   const std::vector<double> p = transfer_round(gl, a, sa, b, sb, &r);
@@ -225,11 +273,6 @@ TEST_CASE("transfer onto a new tessellation of the ypsilon reproduces the source
   CHECK(r.skeletons.a.edges == r.skeletons.b.edges);
   CHECK(r.skeletons.a.edges.size() >= 9);
   CHECK(r.skeletons.match.confidence > 0.3);
-  for (const auto* sk : {&r.skeletons.a, &r.skeletons.b}) {
-    std::vector<int> count(sk->nodes.size(), 0);
-    for (int x : sk->vertex_node) ++count[x];
-    CHECK(*std::min_element(count.begin(), count.end()) >= 1);
-  }
   // Matched segments' frames correspond (same pose, so the same directions).
   for (size_t s = 0; s < r.layout_a.segments.size(); ++s) {
     CHECK(r.layout_a.segments[s].e1.dot(r.layout_b.segments[s].e1) > 0.999);
@@ -239,20 +282,6 @@ TEST_CASE("transfer onto a new tessellation of the ypsilon reproduces the source
     INFO("view " << v << ": PSNR " << p[v] << " dB");
     CHECK(p[v] >= 28.0);
   }
-}
-
-// With skeletons extracted from each tessellation the capsules differ by the extraction's noise;
-// not run by default (the extractor is being reworked): run it with its tag to measure.
-TEST_CASE("transfer onto a new tessellation of the ypsilon with extracted skeletons", "[.][transfer_texture_extracted]") {
-  stm::GlContext gl;
-  const stm::Mesh a = stm::make_primitive("ypsilon", 2000);
-  const stm::Mesh b = remeshed(a, 0.75);
-  const stm::Skeleton sa = stm::extract_skeleton(a), sb = stm::extract_skeleton(b);
-  REQUIRE(stm::branching_difference(sa, sb).empty());
-  const std::vector<double> p = transfer_round(gl, a, sa, b, sb);
-  WARN("ypsilon remeshed, extracted skeletons: PSNR per view " << p[0] << " " << p[1] << " " << p[2] << " " << p[3] << " " << p[4]
-                                                             << " " << p[5] << " " << p[6] << " " << p[7]);
-  CHECK(*std::min_element(p.begin(), p.end()) >= 22.0);
 }
 
 // A ring skeleton around z (radius 1, in the plane z = 0) with n nodes, the first at angle `start`.
@@ -280,7 +309,7 @@ TEST_CASE("transfer onto a new tessellation of the donut lines up the rings", "[
   }
 }
 
-TEST_CASE("transfer onto a new tessellation of Spot reproduces its texture", "[transfer_texture]") {
+TEST_CASE("transfer onto a new tessellation of Spot with hand-made skeletons reproduces its texture", "[transfer_texture]") {
   stm::GlContext gl;
   std::string tex_path;
   const stm::Mesh a = stm::load_mesh(std::string(SDM_EXAMPLES) + "/spot/spot_triangulated.obj", &tex_path);
@@ -304,10 +333,42 @@ TEST_CASE("transfer onto a new tessellation of Spot reproduces its texture", "[t
   }
 }
 
-TEST_CASE("a band painted on one branch lands on the same branch of a bent and thickened target", "[transfer_texture]") {
+// The acceptance with the skeletons a user gets (extract_skeleton on each tessellation, as `sdm
+// transfer` does). Not run by default: the extracted skeletons of two tessellations differ by more
+// than the transfer tolerates for 28 dB (docs/BENCHMARKS.md, transfer); run with its tag to measure.
+TEST_CASE("transfer onto a new tessellation of Spot with extracted skeletons reproduces its texture", "[.][transfer_texture_extracted]") {
+  stm::GlContext gl;
+  std::string tex_path;
+  const stm::Mesh a = stm::load_mesh(std::string(SDM_EXAMPLES) + "/spot/spot_triangulated.obj", &tex_path);
+  REQUIRE(!tex_path.empty());
+  const stm::Image tex = stm::read_png(tex_path);
+  // The remesh of the demo (`sdm remesh --factor 1.2`) and the skeletons a user gets. On it the
+  // extraction misses Spot's tail (9 ends against 10), so the source's tail branch is pruned
+  // (common_branching) and the tail textured through the rear junction's capsules in both models.
+  const stm::Mesh b = remeshed_like_cli(a, 1.2);
+  REQUIRE(b.n_vertices() != a.n_vertices());
+  const stm::Skeleton sa = stm::extract_skeleton(a), sb = stm::extract_skeleton(b);
+  stm::TransferOptions to;
+  to.size = 2048;
+  const stm::TextureTransfer r = stm::transfer_texture(gl, a, tex, sa, b, sb, to);
+  CHECK(r.skeletons.a.edges == r.skeletons.b.edges);
+  CHECK(r.skeletons.pruned_a.size() + r.skeletons.pruned_b.size() <= 1);
+  CHECK(r.skeletons.match.a.keys.size() >= 12);  // legs, horns, ears, snout and the three junctions
+  const std::vector<double> p = compare_views(gl, a, tex, r.target, r.atlas, "spot_transfer_view");
+  WARN("Spot onto its remesh (" << b.n_vertices() << " vertices), extracted skeletons (" << sa.end_nodes() << " and " << sb.end_nodes()
+                                << " ends, " << r.skeletons.pruned_a.size() + r.skeletons.pruned_b.size()
+                                << " branch pruned): PSNR per view" << views_text(p));
+  for (size_t v = 0; v < p.size(); ++v) {
+    INFO("view " << v << ": PSNR " << p[v] << " dB");
+    CHECK(p[v] >= 28.0);
+  }
+}
+
+// The band test with hand-made skeletons (the ideal ones, bent with the target) or extracted ones.
+void check_band(bool extracted) {
   stm::GlContext gl;
   stm::Mesh a = stm::make_primitive("ypsilon", 2000);
-  const stm::Skeleton sa = ypsilon_skeleton(a, {2, 2, 2});
+  const stm::Skeleton sa = extracted ? stm::extract_skeleton(a) : ypsilon_skeleton(a, {2, 2, 2});
   const stm::Image tex = bake_texture(gl, a, sa, band_colour);
   // Target: the right arm bent 50 degrees out of the plane and 40 % thicker, then tessellated anew. Faces of
   // the bent copy are labelled "arm" when their undeformed centroid lies past 0.3 along the arm;
@@ -327,8 +388,9 @@ TEST_CASE("a band painted on one branch lands on the same branch of a bent and t
   const stm::TriangleBvh bvh(stm::vertex_matrix(bent), stm::face_matrix(bent));
   stm::Mesh b = bent;
   stm::isotropic_remesh(b, 0.8 * mean_edge(bent), 4, [&](const Eigen::Vector3d& p) { return bvh.closest_point(p).point; });
-  // Its skeleton: the ideal one bent the same way, with more nodes on the bent arm.
-  const stm::Skeleton sb = ypsilon_skeleton(b, {2, 3, 5}, bend);
+  // Hand-made: the ideal skeleton bent the same way, with more nodes on the bent arm.
+  const stm::Skeleton sb = extracted ? stm::extract_skeleton(b) : ypsilon_skeleton(b, {2, 3, 5}, bend);
+  REQUIRE(stm::branching_difference(sa, sb).empty());
   stm::TransferOptions to;
   to.size = 1024;
   const stm::TextureTransfer r = stm::transfer_texture(gl, a, tex, sa, b, sb, to);
@@ -388,6 +450,17 @@ TEST_CASE("a band painted on one branch lands on the same branch of a bent and t
       stm::write_png(stm::side_by_side({src, img, lab}), std::string(dump) + "/band_az" + std::to_string(int(az)) + "_el" +
                                                            std::to_string(int(el)) + ".png");
   }
+}
+
+TEST_CASE("a band painted on one branch lands on the same branch of a bent and thickened target", "[transfer_texture]") {
+  check_band(false);
+}
+
+// The acceptance with the skeletons a user gets (extract_skeleton on each tessellation, as `sdm
+// transfer` does). Not run by default: the extracted skeletons of two tessellations differ by more
+// than the transfer tolerates for 28 dB (docs/BENCHMARKS.md, transfer); run with its tag to measure.
+TEST_CASE("with extracted skeletons a band lands on the same branch of a bent and thickened target", "[.][transfer_texture_extracted]") {
+  check_band(true);
 }
 
 namespace {
@@ -462,7 +535,7 @@ TEST_CASE("sdm transfer refuses a target with another branching and writes nothi
   const auto res = test_util::run_sdm("transfer --source " + src + " --target " + (dir / "target.obj") + " -o " + (dir / "out.obj"));
   INFO(res.output);
   CHECK(res.exit_code == 2);
-  CHECK(res.output.find("branching differs") != std::string::npos);
+  CHECK(res.output.find("branchings differ") != std::string::npos);
   CHECK(res.output.find("ends ") != std::string::npos);
   const auto after = std::distance(std::filesystem::directory_iterator(dir.path), std::filesystem::directory_iterator());
   CHECK(after == before);
