@@ -38,13 +38,16 @@ BaseMesh make_base_mesh(const Mesh& mesh, const Layout& layout, int target_verti
   base.face_segment = assign_faces(m, sk);
   base.triangles = face_matrix(m);
   base.corner_uv.resize(m.n_faces());
+  base.corner_position.resize(m.n_faces());
   for (auto f : m.faces()) {
     const int s = base.face_segment[f.idx()];
     const LayoutSegment& seg = layout.segments[s];
     const CapsuleFrame frame = capsule_frame(layout, s);
     int c = 0;
     for (auto v : m.fv_range(f)) {
-      const CapsuleUV uv = capsule_uv(frame, seg.w, seg.h, seg.d, point(mesh, mesh.vertex_handle(m.property(original, v))));
+      const Eigen::Vector3d p = point(mesh, mesh.vertex_handle(m.property(original, v)));
+      const CapsuleUV uv = capsule_uv(frame, seg.w, seg.h, seg.d, p);
+      base.corner_position[f.idx()][c] = p;
       base.corner_uv[f.idx()][c++] = {uv.u, uv.v};
     }
   }

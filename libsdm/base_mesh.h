@@ -18,6 +18,9 @@ struct BaseMesh {
   Eigen::MatrixX3i triangles;                           // closed, consistently oriented
   std::vector<int> face_segment;                        // segment of each face
   std::vector<std::array<Eigen::Vector2d, 3>> corner_uv;  // (u, v) of each corner in its face's segment
+  // Position of each corner in the input mesh: known to the encoder only (not stored in the file;
+  // empty after base_mesh_from_json).
+  std::vector<std::array<Eigen::Vector3d, 3>> corner_position;
 };
 
 // Decimates `mesh` (quadric error, halfedge collapses that keep topology and original vertex
