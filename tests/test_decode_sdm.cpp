@@ -60,11 +60,13 @@ Encoded encode_ypsilon() {
 // The default pipeline (extracted skeleton, 1024 layout, encode, decode at level 3) measured as
 // `sdm roundtrip MESH --size 1024 --lod 3` does: errors as fractions of the diagonal, 100000
 // samples per surface. The decoded mesh must be closed, 2-manifold and of the input's genus.
-SurfaceDistance acceptance_round_trip(const std::string& name, const Mesh& mesh, double max_rms, double max_hausdorff) {
+SurfaceDistance acceptance_round_trip(const std::string& name, const Mesh& mesh, double max_rms, double max_hausdorff,
+                                      SdmImage* encoded = nullptr) {
   LayoutOptions lo;
   lo.size = 1024;
   const Layout layout = compute_layout(mesh, extract_skeleton(mesh), lo);
   const SdmImage image = encode_sdm(mesh, layout);
+  if (encoded) *encoded = image;
   const Mesh out = decode_sdm(image);
   const SurfaceDistance d = surface_distance(mesh, out, 100000);
   const MeshReport in = report_of(mesh), r = report_of(out);
@@ -104,7 +106,18 @@ TEST_CASE("Acceptance round trip of the crossed cylinders at 1024 and level 3", 
 }
 
 TEST_CASE("Acceptance round trip of Spot at 1024 and level 3", "[decode_sdm]") {
-  acceptance_round_trip("spot", load_mesh(std::string(SDM_EXAMPLES) + "/spot/spot_triangulated.obj"), 0.005, 0.03);
+  const Mesh spot = load_mesh(std::string(SDM_EXAMPLES) + "/spot/spot_triangulated.obj");
+  SdmImage image;
+  acceptance_round_trip("spot", spot, 0.005, 0.03, &image);
+  // Extracted skeleton, mixed levels: one segment at level 1 and the rest at 4 is still one
+  // closed 2-manifold of genus 0.
+  DecodeOptions mixed;
+  mixed.level = 4;
+  mixed.segment_level[0] = 1;
+  const MeshReport r = report_of(decode_sdm(image, mixed));
+  CHECK(r.usable());
+  CHECK(r.findings.empty());
+  CHECK(r.genus_per_part == std::vector<int>{0});
 }
 
 TEST_CASE("Decoded meshes are closed 2-manifolds at every level and mix of levels", "[decode_sdm]") {
