@@ -46,6 +46,9 @@ class SegmentCheck {
     const CapsuleRay cray = capsule_ray(frame, seg.w, seg.h, seg.d, cu.u, cu.v);
     const Eigen::Vector3d n = (r[1] - r[0]).cross(r[2] - r[0]);
     if (!(orient_[f] * n.dot(cray.direction) > kMinCosine * n.norm())) return false;
+    // A face wrapped far around the axis (one the axis runs through or next to) has a reference
+    // triangle cutting through the capsule's inside: its rays fan out over the whole face.
+    if (distance_to_segment((r[0] + r[1] + r[2]) / 3, frame.a, frame.b) < kMinDepth * seg.radius) return false;
     if (bvh_[s].empty()) return true;
     // Other crossings of s along the rays through points of f: centroid, corners, edge midpoints,
     // and corners pushed a little outwards, because the decoder's bilinear lookups at f's border
@@ -73,6 +76,7 @@ class SegmentCheck {
 
  private:
   static constexpr double kMinCosine = 0.1;
+  static constexpr double kMinDepth = 0.8;
   const Eigen::MatrixX3d& P_;
   const Eigen::MatrixX3i& T_;
   const std::vector<int>& orient_;
