@@ -76,7 +76,7 @@ class SegmentCheck {
 
  private:
   static constexpr double kMinCosine = 0.1;
-  static constexpr double kMinDepth = 0.8;
+  static constexpr double kMinDepth = 0.5;
   const Eigen::MatrixX3d& P_;
   const Eigen::MatrixX3i& T_;
   const std::vector<int>& orient_;

@@ -65,6 +65,8 @@ SdmImage encode_sdm(const Mesh& mesh, const Layout& layout, const EncodeOptions&
   const Eigen::MatrixX3i F = face_matrix(mesh);
   const std::vector<int> face_segment = assign_faces(mesh, layout.skeleton);
   const TriangleBvh all(V, F);
+  std::vector<std::vector<int>> faces_of(layout.segments.size());
+  for (size_t f = 0; f < face_segment.size(); ++f) faces_of[face_segment[f]].push_back(int(f));
   if (options.progress) options.progress("building the base mesh");
   const BaseMesh base = make_base_mesh(mesh, layout, options.base_vertices);
   std::vector<std::vector<int>> base_faces_of(layout.segments.size());
@@ -89,6 +91,9 @@ SdmImage encode_sdm(const Mesh& mesh, const Layout& layout, const EncodeOptions&
         RF(Eigen::Index(k), c) = int(3 * k + c);
       }
     const TriangleBvh reference(R, RF);
+    const TriangleBvh own(V, F, faces_of[s]);
+    // Texel size on the reference capsule (around the axis, and along it on the cylinder).
+    const double texel = std::max(2 * M_PI * seg.radius / seg.h, seg.length / std::max(1.0, seg.w - 2 * seg.d));
     int ex, ey;
     extent(seg, ex, ey);
     for (int j = 0; j < ey; ++j)
@@ -98,10 +103,22 @@ SdmImage encode_sdm(const Mesh& mesh, const Layout& layout, const EncodeOptions&
         const CapsuleRay ray = capsule_ray(frame, seg.w, seg.h, seg.d, uv.x(), uv.y());
         ++st.texels;
         float& D = im.D[pixel(im, ix, iy)];
-        if (own_base.empty()) {  // no base face reads this rectangle
-          const auto hit = all.first_hit(ray.origin, ray.direction);
+        // Texels no base face reads (the decoder's bilinear lookups reach one texel beyond a
+        // face): the first crossing with the segment's own faces, else with any.
+        auto unread = [&]() {
+          auto hit = own.first_hit(ray.origin, ray.direction);
+          if (hit.face >= 0) {
+            D = float(hit.t);
+            im.A[pixel(im, ix, iy)] = 1.0f;
+            ++st.own_hits;
+            return;
+          }
+          hit = all.first_hit(ray.origin, ray.direction);
           D = float(hit.face >= 0 ? hit.t : seg.radius);
-          ++st.filled;
+          ++(hit.face >= 0 ? st.other_hits : st.filled);
+        };
+        if (own_base.empty()) {
+          unread();
           continue;
         }
         // Where the decoder's flat base triangle puts this texel (target), from the texel's
@@ -116,6 +133,10 @@ SdmImage encode_sdm(const Mesh& mesh, const Layout& layout, const EncodeOptions&
           bary = {1 - cross.u - cross.v, cross.u, cross.v};
         } else {
           const auto near = reference.closest_point(ray.origin + seg.radius * ray.direction);
+          if (near.distance > 2 * texel) {
+            unread();
+            continue;
+          }
           k = near.face;
           bary = barycentric(near.point, R.row(3 * k), R.row(3 * k + 1), R.row(3 * k + 2));
         }
