@@ -104,7 +104,9 @@ SdmImage encode_sdm(const Mesh& mesh, const Layout& layout, const EncodeOptions&
         ++st.texels;
         float& D = im.D[pixel(im, ix, iy)];
         // Texels no base face reads (the decoder's bilinear lookups reach one texel beyond a
-        // face): the first crossing with the segment's own faces, else with any.
+        // face; texels more than 4 from every reference triangle, measured on the capsule where
+        // the map's stretch varies, are out of reach): the first crossing with the segment's own
+        // faces, else with any.
         auto unread = [&]() {
           auto hit = own.first_hit(ray.origin, ray.direction);
           if (hit.face >= 0) {
@@ -133,7 +135,7 @@ SdmImage encode_sdm(const Mesh& mesh, const Layout& layout, const EncodeOptions&
           bary = {1 - cross.u - cross.v, cross.u, cross.v};
         } else {
           const auto near = reference.closest_point(ray.origin + seg.radius * ray.direction);
-          if (near.distance > 2 * texel) {
+          if (near.distance > 4 * texel) {
             unread();
             continue;
           }
