@@ -147,24 +147,26 @@ SdmImage encode_sdm(const Mesh& mesh, const Layout& layout, const EncodeOptions&
         // D = the crossing of the ray with the surface nearest that target. The first crossing
         // (or the first with the segment's own faces) is another sheet where the surface is not
         // star-shaped about the capsule (near junctions, in concave bends), and the decoder would
-        // put the point there.
+        // put the point there. A ray that grazes a saddle (the crotch between two branches) or
+        // leaves without meeting the surface near the face has only far crossings; the target's
+        // foot on the ray is then nearer the surface, and it keeps D continuous with the
+        // neighbouring texels that do hit. Crossings farther than half the face's longest edge
+        // count as far, so only the stretch of the ray within that distance of the foot is searched.
+        double longest = 0;
+        for (int c = 0; c < 3; ++c) longest = std::max(longest, (corner[c] - corner[(c + 1) % 3]).norm());
+        const double reach = 0.5 * longest, foot = (target - ray.origin).dot(ray.direction);
         double best_t = -1, best = INFINITY;
         int best_face = -1;
-        double t_min = 0;
+        double t_min = std::max(0.0, foot - reach);
         for (int n = 0; n < 64; ++n) {
-          const auto hit = all.first_hit(ray.origin, ray.direction, t_min);
+          const auto hit = all.first_hit(ray.origin, ray.direction, t_min, foot + reach);
           if (hit.face < 0) break;
           const double dist = (ray.origin + hit.t * ray.direction - target).norm();
           if (dist < best) best = dist, best_t = hit.t, best_face = hit.face;
           t_min = hit.t + 1e-9 * (1 + hit.t);
         }
-        // A ray that grazes a saddle (the crotch between two branches) or leaves without meeting
-        // the surface near the face has only far crossings; the target's foot on the ray is then
-        // nearer the surface, and it keeps D continuous with the neighbouring texels that do hit.
-        double longest = 0;
-        for (int c = 0; c < 3; ++c) longest = std::max(longest, (corner[c] - corner[(c + 1) % 3]).norm());
-        if (best_face < 0 || best > 0.5 * longest) {
-          D = float(std::max(0.0, (target - ray.origin).dot(ray.direction)));
+        if (best_face < 0 || best > reach) {
+          D = float(std::max(0.0, foot));
           ++st.filled;
         } else {
           D = float(best_t);
