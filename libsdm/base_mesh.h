@@ -18,11 +18,17 @@ struct BaseMesh {
   Eigen::MatrixX3i triangles;                           // closed, consistently oriented
   std::vector<int> face_segment;                        // segment of each face
   std::vector<std::array<Eigen::Vector2d, 3>> corner_uv;  // (u, v) of each corner in its face's segment
+  // Position of each corner in the input mesh: known to the encoder only (not stored in the file;
+  // empty after base_mesh_from_json).
+  std::vector<std::array<Eigen::Vector3d, 3>> corner_position;
 };
 
 // Decimates `mesh` (quadric error, halfedge collapses that keep topology and original vertex
 // positions) to about `target_vertices`, assigns faces to segments (segments.h) and maps each
-// corner into its face's capsule. target_vertices <= 0 picks a size from the mesh.
+// corner into its face's capsule. A map texel holds one depth per ray, so a face its segment cannot
+// carry alone (turned away from the segment's rays, wrapped around its axis, or folded over by
+// another sheet of the same segment's faces along those rays) moves to the nearest segment that
+// can. target_vertices <= 0 picks a size from the mesh.
 BaseMesh make_base_mesh(const Mesh& mesh, const Layout& layout, int target_vertices = 0);
 
 nlohmann::json base_mesh_to_json(const BaseMesh& base);

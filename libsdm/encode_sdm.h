@@ -1,8 +1,15 @@
 #pragma once
 // Skeleton displacement map encoding (paper 5, DESIGN 4.8): for every texel of every segment's
-// rectangle, the distance along the texel's capsule ray (capsule_ray.h) to the segment's own
-// surface (D, model units) and whether that surface was hit (A). The layout and the base mesh
-// (base_mesh.h) travel in the header, so the file alone rebuilds the surface.
+// rectangle, a distance along the texel's capsule ray (capsule_ray.h) to the surface (D, model
+// units) and whether that crossing lies on the segment's own faces (A). The layout and the base
+// mesh (base_mesh.h) travel in the header, so the file alone rebuilds the surface.
+//
+// D is not simply the first crossing: the decoder places each point of a base face on the ray
+// through the same point of the face's reference triangle (the face drawn on the segment's
+// capsule), so each texel is encoded for the base face its ray passes through (or the nearest one,
+// for texels between and around them): D is the crossing nearest the point of that flat base face,
+// or, when no crossing is within half the face's longest edge (a ray grazing a saddle), that
+// point's foot on the ray. Near junctions the first crossing is often another sheet of the surface.
 #include "libsdm/sdm_exr.h"
 #include "libstm/layout.h"
 
@@ -17,9 +24,9 @@ struct EncodeOptions {
 
 struct EncodeStats {
   long texels = 0;      // texels inside the segments' rectangles
-  long own_hits = 0;    // A = 1: the ray meets the segment's own surface
-  long other_hits = 0;  // A = 0, D from the nearest other surface along the ray
-  long filled = 0;      // A = 0, D filled from neighbouring texels (the ray met nothing)
+  long own_hits = 0;    // A = 1: D is a crossing with the segment's own faces
+  long other_hits = 0;  // A = 0, D is a crossing with another segment's faces
+  long filled = 0;      // A = 0, D is the foot of the base face's point (no crossing near it)
   int base_faces = 0;
 };
 

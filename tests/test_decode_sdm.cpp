@@ -3,11 +3,13 @@
 #include "libsdm/encode_sdm.h"
 #include "libsdm/surface_distance.h"
 #include "libstm/errors.h"
+#include "libstm/extract_skeleton.h"
 #include "libstm/layout.h"
 #include "libstm/validate_mesh.h"
 #include "libstm/primitives.h"
 
 #include <catch2/catch.hpp>
+#include <cstdio>
 
 using namespace stm;
 
@@ -55,7 +57,68 @@ Encoded encode_ypsilon() {
   return e;
 }
 
+// The default pipeline (extracted skeleton, 1024 layout, encode, decode at level 3) measured as
+// `sdm roundtrip MESH --size 1024 --lod 3` does: errors as fractions of the diagonal, 100000
+// samples per surface. The decoded mesh must be closed, 2-manifold and of the input's genus.
+SurfaceDistance acceptance_round_trip(const std::string& name, const Mesh& mesh, double max_rms, double max_hausdorff,
+                                      SdmImage* encoded = nullptr) {
+  LayoutOptions lo;
+  lo.size = 1024;
+  const Layout layout = compute_layout(mesh, extract_skeleton(mesh), lo);
+  const SdmImage image = encode_sdm(mesh, layout);
+  if (encoded) *encoded = image;
+  const Mesh out = decode_sdm(image);
+  const SurfaceDistance d = surface_distance(mesh, out, 100000);
+  const MeshReport in = report_of(mesh), r = report_of(out);
+  std::printf("round trip %s at 1024 level 3: %zu segments RMS %.4f %% Hausdorff %.3f %% of the diagonal %zu faces\n",
+              name.c_str(), layout.segments.size(), 100 * d.rms / d.diagonal, 100 * d.hausdorff / d.diagonal,
+              out.n_faces());
+  INFO(name << ": rms " << d.rms / d.diagonal << " hausdorff " << d.hausdorff / d.diagonal << " " << r.refusal("decoded"));
+  CHECK(d.rms / d.diagonal <= max_rms);
+  CHECK(d.hausdorff / d.diagonal <= max_hausdorff);
+  CHECK(r.usable());
+  CHECK(r.boundary_loops == 0);
+  CHECK(r.findings.empty());
+  CHECK(r.genus_per_part == in.genus_per_part);
+  return d;
+}
+
 }  // namespace
+
+TEST_CASE("Acceptance round trip of the ypsilon at 1024 and level 3", "[decode_sdm]") {
+  acceptance_round_trip("ypsilon", make_primitive("ypsilon"), 0.002, 0.015);
+}
+
+TEST_CASE("Acceptance round trip of the bottle at 1024 and level 3", "[decode_sdm]") {
+  acceptance_round_trip("bottle", make_primitive("bottle"), 0.002, 0.015);
+}
+
+TEST_CASE("Acceptance round trip of the donut at 1024 and level 3", "[decode_sdm]") {
+  acceptance_round_trip("donut", make_primitive("donut"), 0.002, 0.015);
+}
+
+TEST_CASE("Acceptance round trip of the triple torus at 1024 and level 3", "[decode_sdm]") {
+  acceptance_round_trip("triple-torus", make_primitive("triple-torus"), 0.002, 0.015);
+}
+
+TEST_CASE("Acceptance round trip of the crossed cylinders at 1024 and level 3", "[decode_sdm]") {
+  acceptance_round_trip("crossed-cylinders", make_primitive("crossed-cylinders"), 0.002, 0.015);
+}
+
+TEST_CASE("Acceptance round trip of Spot at 1024 and level 3", "[decode_sdm]") {
+  const Mesh spot = load_mesh(std::string(SDM_EXAMPLES) + "/spot/spot_triangulated.obj");
+  SdmImage image;
+  acceptance_round_trip("spot", spot, 0.005, 0.03, &image);
+  // Extracted skeleton, mixed levels: one segment at level 1 and the rest at 4 is still one
+  // closed 2-manifold of genus 0.
+  DecodeOptions mixed;
+  mixed.level = 4;
+  mixed.segment_level[0] = 1;
+  const MeshReport r = report_of(decode_sdm(image, mixed));
+  CHECK(r.usable());
+  CHECK(r.findings.empty());
+  CHECK(r.genus_per_part == std::vector<int>{0});
+}
 
 TEST_CASE("Decoded meshes are closed 2-manifolds at every level and mix of levels", "[decode_sdm]") {
   const Encoded e = encode_ypsilon();
