@@ -11,6 +11,7 @@
 #include <cstdio>
 #include <cmath>
 #include <exception>
+#include <future>
 #include <map>
 #include <mutex>
 #include <numeric>
@@ -636,10 +637,12 @@ Skeleton extract_skeleton(const Mesh& mesh, const SkeletonOptions& opt, const Pr
     const bool run_contraction = opt.method != SkeletonMethod::medial;
     const bool run_medial = opt.method != SkeletonMethod::contraction;
     // The medial poles are the medial candidate's contracted shape and, for both candidates, the
-    // radius the skeleton should keep from the surface.
-    const Eigen::MatrixX3d poles = medial_poles(XV, XF);
-    st.medial_seconds += seconds_since(t0);
-    st.contraction_seconds += seconds_since(t0);
+    // radius the skeleton should keep from the surface. They are computed on the second thread
+    // while the contraction runs; the contraction's candidate waits for them.
+    Eigen::MatrixX3d poles;
+    std::promise<void> poles_promise;
+    std::future<void> poles_ready = poles_promise.get_future();
+    double poles_seconds = 0;
 
     const InsideMesh in(PV, PF);
     const TriangleBvh surface(PV, PF);
@@ -692,6 +695,15 @@ Skeleton extract_skeleton(const Mesh& mesh, const SkeletonOptions& opt, const Pr
     Candidate contraction, medial;
     std::exception_ptr medial_failure;
     std::thread medial_thread([&] {
+      try {
+        const auto t = Clock::now();
+        poles = medial_poles(XV, XF);
+        poles_seconds = seconds_since(t);
+      } catch (...) {
+        poles_promise.set_exception(std::current_exception());
+        return;
+      }
+      poles_promise.set_value();
       if (!run_medial) return;
       try {
         // The poles scatter where the surface is noisy or flat: a few steps of umbrella smoothing
@@ -720,10 +732,14 @@ Skeleton extract_skeleton(const Mesh& mesh, const SkeletonOptions& opt, const Pr
       const ContractResult cr = contract_mesh(XV, XF, use_proxy ? opt.contraction : opt.raw_contraction, say);
       st.iterations = std::max(st.iterations, cr.iterations);
       st.contraction_seconds += seconds_since(t);
-      build(cr.positions, "contraction", contraction);
+      poles_ready.wait();
+      if (poles.rows() == XV.rows()) build(cr.positions, "contraction", contraction);
     }
     medial_thread.join();
+    poles_ready.get();  // rethrows a failure of the poles
     if (medial_failure) std::rethrow_exception(medial_failure);
+    st.medial_seconds += poles_seconds;
+    st.contraction_seconds += poles_seconds;
     for (const Candidate* c : {&contraction, &medial}) {
       st.surgery_seconds += c->st.surgery_seconds;
       st.refinement_seconds += c->st.refinement_seconds;
