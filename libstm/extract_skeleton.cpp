@@ -46,7 +46,7 @@ struct Graph {
 // Connectivity surgery: edge collapse of the contracted mesh as a simplicial complex until no
 // face is left.
 Graph surgery(const Eigen::MatrixX3d& O, const Eigen::MatrixX3d& P, const Eigen::MatrixX3i& F, const InsideMesh& in,
-              const SkeletonOptions& opt, SkeletonStats& st) {
+              int genus, const SkeletonOptions& opt, SkeletonStats& st) {
   const int n = int(P.rows()), m = int(F.rows());
   std::vector<std::vector<int>> nbr(n), vfaces(n);
   std::vector<std::array<int, 3>> faces(m);
@@ -208,7 +208,8 @@ Graph surgery(const Eigen::MatrixX3d& O, const Eigen::MatrixX3d& P, const Eigen:
     pq.pop();
     if (!alive[e.i] || !alive[e.j] || e.si != stamp[e.i] || e.sj != stamp[e.j]) continue;
     if (!has_face(e.i, e.j)) continue;
-    if (!keeps_cycles(e.i, e.j)) {
+    // A part of genus 0 has no handle for a loop to go around: every loop bounds a disk.
+    if (genus > 0 && !keeps_cycles(e.i, e.j)) {
       ++st.refused_collapses;
       continue;
     }
@@ -662,7 +663,7 @@ Skeleton extract_skeleton(const Mesh& mesh, const SkeletonOptions& opt, const Pr
                                   : Progress();
     auto build = [&](const Eigen::MatrixX3d& contracted, const char* name, Candidate& c) {
       auto t = Clock::now();
-      c.g = surgery(XV, contracted, XF, in, opt, c.st);
+      c.g = surgery(XV, contracted, XF, in, genus, opt, c.st);
       c.st.surgery_seconds += seconds_since(t);
       if (say) {
         std::vector<int> deg(c.g.pos.size(), 0);
