@@ -749,13 +749,21 @@ Skeleton extract_skeleton(const Mesh& mesh, const SkeletonOptions& opt, const Pr
     }
     // The medial candidate must halve the error to win on it alone: where both explain the
     // surface, the contraction's skeleton is the smoother one (the poles of flat caps and of
-    // noisy surfaces scatter).
+    // noisy surfaces scatter). With more ends and a smaller error it wins too: those ends are
+    // limbs the contraction pulled in.
     auto rank = [&](const Candidate& c, double handicap) {
       return std::make_tuple(c.cycles != genus, c.outside, c.error * handicap);
     };
+    auto ends = [](const Graph& g) {
+      std::vector<int> deg(g.pos.size(), 0);
+      for (const auto& e : g.edges) ++deg[e.first], ++deg[e.second];
+      return std::count(deg.begin(), deg.end(), 1);
+    };
+    const bool more_limbs = rank(medial, 1.0) < rank(contraction, 1.0) && ends(medial.g) > ends(contraction.g);
     Candidate& best = !run_medial ? contraction
-                      : !run_contraction || rank(medial, opt.medial_handicap) < rank(contraction, 1.0) ? medial
-                                                                                                       : contraction;
+                      : !run_contraction || more_limbs || rank(medial, opt.medial_handicap) < rank(contraction, 1.0)
+                          ? medial
+                          : contraction;
     if (&best == &medial) ++st.medial_parts;
     Graph& g = best.g;
     st.outside_edges += best.outside;
