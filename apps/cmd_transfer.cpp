@@ -47,7 +47,7 @@ stm::Skeleton skeleton_for(const stm::Mesh& mesh, const std::string& json_path, 
     return s;
   }
   progress("extracting the " + what + " skeleton");
-  return stm::extract_skeleton(mesh, {}, progress);
+  return stm::extract_skeleton(mesh, stm::transfer_skeleton_options(), progress);
 }
 
 std::string sibling(const std::string& path, const std::string& suffix) {

@@ -11,6 +11,12 @@
 #include <cmath>
 
 namespace stm {
+
+SkeletonOptions transfer_skeleton_options() {
+  SkeletonOptions o;
+  o.centre_junctions = 1e9;  // wherever in the cluster the widest ball is
+  return o;
+}
 namespace {
 
 // A chain of the shared graph as a polyline in one model, oriented like the source's chain.

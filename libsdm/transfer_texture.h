@@ -4,6 +4,7 @@
 // segments so both skeletons share one graph, the source's layout (its STM) is reused for the
 // target with the target's own capsules and frames carried from the source's, and the source's
 // texture, remapped into its STM atlas, textures the target through the target's STM coordinates.
+#include "libstm/extract_skeleton.h"
 #include "libstm/gl_context.h"
 #include "libstm/image.h"
 #include "libstm/layout.h"
@@ -17,6 +18,11 @@
 #include <vector>
 
 namespace stm {
+
+// Extraction options for the two models of a transfer: junctions centred at the widest inside
+// ball of their cluster (SkeletonOptions::centre_junctions), so that two tessellations of one
+// shape get their junctions in the same place (ypsilon onto its remesh: 21-25 dB -> 31-33 dB).
+SkeletonOptions transfer_skeleton_options();
 
 // Two skeletons resampled onto one graph: a and b have the same node count and the same edge list,
 // so edge i of a corresponds to edge i of b, in the same direction. Node k of both is key k of the

@@ -555,6 +555,31 @@ void bend_crossing_edges(Graph& g, const InsideMesh& in, const Eigen::MatrixX3d&
   g = std::move(out);
 }
 
+// Junctions go to the centre of the largest inside ball among the poles of the vertices they
+// own: the cluster a surgery leaves at a junction changes with the tessellation, the widest
+// ball of the crossing region much less, and two models of one shape then get junctions in the
+// same place (what texture transfer needs). A move that would put an edge outside is skipped.
+void centre_junctions(Graph& g, const Eigen::MatrixX3d& V, const Eigen::MatrixX3d& poles, const InsideMesh& in,
+                      double opt_reach) {
+  std::vector<std::vector<int>> adj(g.pos.size());
+  for (const auto& e : g.edges) adj[e.first].push_back(e.second), adj[e.second].push_back(e.first);
+  for (size_t a = 0; a < g.pos.size(); ++a) {
+    if (adj[a].size() < 3) continue;
+    int best = -1;
+    double widest = -1;
+    for (int v : g.verts[a]) {
+      const double r = (poles.row(v) - V.row(v)).squaredNorm();
+      if (r > widest) widest = r, best = v;
+    }
+    // Only within the ball: further away the widest ball belongs to a branch, not the crossing.
+    if (best < 0 || (poles.row(best).transpose() - g.pos[a]).squaredNorm() > opt_reach * opt_reach * widest) continue;
+    const Eigen::Vector3d p = poles.row(best);
+    bool ok = in.inside(p);
+    for (int b : adj[a]) ok = ok && !in.segment_crosses(p, g.pos[b]);
+    if (ok) g.pos[a] = p;
+  }
+}
+
 // How far the skeleton is from explaining the surface as tubes around it: the area-weighted mean
 // over vertices of | distance to the skeleton - medial radius |. A missing limb leaves its
 // vertices far from every edge; a skeleton through the middle of the volume keeps each vertex at
@@ -674,6 +699,7 @@ Skeleton extract_skeleton(const Mesh& mesh, const SkeletonOptions& opt, const Pr
       }
       t = Clock::now();
       refine(c.g, XV, in, surface, diag, opt);
+      if (opt.centre_junctions > 0) centre_junctions(c.g, XV, poles, in, opt.centre_junctions);
       bend_crossing_edges(c.g, in, poles);
       c.cycles = int(c.g.edges.size()) - int(c.g.pos.size()) + 1;
       for (const auto& e : c.g.edges)

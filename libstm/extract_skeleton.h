@@ -36,6 +36,11 @@ struct SkeletonOptions {
   double prune_radius = 1.0;
   // The medial-pole candidate wins on tube error only when its error times this is smaller.
   double medial_handicap = 2.0;
+  // Junctions move to the widest inside ball of their cluster when it lies within this many of
+  // its radii (0: off). Two models of one shape then get their junctions in the same place, which
+  // texture transfer needs (transfer_skeleton_options); off by default because at the ypsilon's
+  // junction it leaves one face that assign_faces maps almost flat (L2 stretch 1.15 -> 6.7).
+  double centre_junctions = 0.0;
   int medial_smoothing = 4;        // umbrella smoothing steps of the poles before their surgery
   // A part with more vertices than this is contracted through a proxy: the part isotropically
   // remeshed to about this many vertices (projected onto its surface). Well-shaped triangles keep

@@ -236,12 +236,12 @@ std::vector<double> transfer_round(stm::GlContext& gl, stm::Mesh a, const stm::S
 // The acceptance with the skeletons a user gets (extract_skeleton on each tessellation, as `sdm
 // transfer` does). Not run by default: the extracted skeletons of two tessellations differ by more
 // than the transfer tolerates for 28 dB (docs/BENCHMARKS.md, transfer); run with its tag to measure.
-TEST_CASE("transfer onto a new tessellation of the ypsilon with extracted skeletons reproduces the source", "[.][transfer_texture_extracted]") {
+TEST_CASE("transfer onto a new tessellation of the ypsilon with extracted skeletons reproduces the source", "[transfer_texture]") {
   stm::GlContext gl;
   const stm::Mesh a = stm::make_primitive("ypsilon", 2000);
   const stm::Mesh b = remeshed(a, 0.75);
   REQUIRE(b.n_vertices() != a.n_vertices());
-  const stm::Skeleton sa = stm::extract_skeleton(a), sb = stm::extract_skeleton(b);
+  const stm::Skeleton sa = stm::extract_skeleton(a, stm::transfer_skeleton_options()), sb = stm::extract_skeleton(b, stm::transfer_skeleton_options());
   REQUIRE(stm::branching_difference(sa, sb).empty());
   stm::TextureTransfer r;
   const std::vector<double> p = transfer_round(gl, a, sa, b, sb, &r);
@@ -347,7 +347,7 @@ TEST_CASE("transfer onto a new tessellation of Spot with extracted skeletons rep
   // (common_branching) and the tail textured through the rear junction's capsules in both models.
   const stm::Mesh b = remeshed_like_cli(a, 1.2);
   REQUIRE(b.n_vertices() != a.n_vertices());
-  const stm::Skeleton sa = stm::extract_skeleton(a), sb = stm::extract_skeleton(b);
+  const stm::Skeleton sa = stm::extract_skeleton(a, stm::transfer_skeleton_options()), sb = stm::extract_skeleton(b, stm::transfer_skeleton_options());
   stm::TransferOptions to;
   to.size = 2048;
   const stm::TextureTransfer r = stm::transfer_texture(gl, a, tex, sa, b, sb, to);
@@ -368,7 +368,7 @@ TEST_CASE("transfer onto a new tessellation of Spot with extracted skeletons rep
 void check_band(bool extracted) {
   stm::GlContext gl;
   stm::Mesh a = stm::make_primitive("ypsilon", 2000);
-  const stm::Skeleton sa = extracted ? stm::extract_skeleton(a) : ypsilon_skeleton(a, {2, 2, 2});
+  const stm::Skeleton sa = extracted ? stm::extract_skeleton(a, stm::transfer_skeleton_options()) : ypsilon_skeleton(a, {2, 2, 2});
   const stm::Image tex = bake_texture(gl, a, sa, band_colour);
   // Target: the right arm bent 50 degrees out of the plane and 40 % thicker, then tessellated anew. Faces of
   // the bent copy are labelled "arm" when their undeformed centroid lies past 0.3 along the arm;
@@ -389,7 +389,7 @@ void check_band(bool extracted) {
   stm::Mesh b = bent;
   stm::isotropic_remesh(b, 0.8 * mean_edge(bent), 4, [&](const Eigen::Vector3d& p) { return bvh.closest_point(p).point; });
   // Hand-made: the ideal skeleton bent the same way, with more nodes on the bent arm.
-  const stm::Skeleton sb = extracted ? stm::extract_skeleton(b) : ypsilon_skeleton(b, {2, 3, 5}, bend);
+  const stm::Skeleton sb = extracted ? stm::extract_skeleton(b, stm::transfer_skeleton_options()) : ypsilon_skeleton(b, {2, 3, 5}, bend);
   REQUIRE(stm::branching_difference(sa, sb).empty());
   stm::TransferOptions to;
   to.size = 1024;
@@ -459,7 +459,7 @@ TEST_CASE("a band painted on one branch lands on the same branch of a bent and t
 // The acceptance with the skeletons a user gets (extract_skeleton on each tessellation, as `sdm
 // transfer` does). Not run by default: the extracted skeletons of two tessellations differ by more
 // than the transfer tolerates for 28 dB (docs/BENCHMARKS.md, transfer); run with its tag to measure.
-TEST_CASE("with extracted skeletons a band lands on the same branch of a bent and thickened target", "[.][transfer_texture_extracted]") {
+TEST_CASE("with extracted skeletons a band lands on the same branch of a bent and thickened target", "[transfer_texture]") {
   check_band(true);
 }
 
