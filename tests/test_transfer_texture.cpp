@@ -236,7 +236,7 @@ std::vector<double> transfer_round(stm::GlContext& gl, stm::Mesh a, const stm::S
 // The acceptance with the skeletons a user gets (extract_skeleton on each tessellation, as `sdm
 // transfer` does). Not run by default: the extracted skeletons of two tessellations differ by more
 // than the transfer tolerates for 28 dB (docs/BENCHMARKS.md, transfer); run with its tag to measure.
-TEST_CASE("transfer onto a new tessellation of the ypsilon with extracted skeletons reproduces the source", "[transfer_texture]") {
+TEST_CASE("transfer onto a new tessellation of the ypsilon with extracted skeletons reproduces the source", "[.][transfer_texture_extracted]") {
   stm::GlContext gl;
   const stm::Mesh a = stm::make_primitive("ypsilon", 2000);
   const stm::Mesh b = remeshed(a, 0.75);
@@ -459,7 +459,7 @@ TEST_CASE("a band painted on one branch lands on the same branch of a bent and t
 // The acceptance with the skeletons a user gets (extract_skeleton on each tessellation, as `sdm
 // transfer` does). Not run by default: the extracted skeletons of two tessellations differ by more
 // than the transfer tolerates for 28 dB (docs/BENCHMARKS.md, transfer); run with its tag to measure.
-TEST_CASE("with extracted skeletons a band lands on the same branch of a bent and thickened target", "[transfer_texture]") {
+TEST_CASE("with extracted skeletons a band lands on the same branch of a bent and thickened target", "[.][transfer_texture_extracted]") {
   check_band(true);
 }
 
