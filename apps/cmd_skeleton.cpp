@@ -52,6 +52,7 @@ Command add_skeleton_command(CLI::App& parent) {
                                 {"cycles", sk.cycles()},
                                 {"components", sk.components()},
                                 {"iterations", st.iterations},
+                                {"seconds", st.seconds},
                                 {"contraction_seconds", st.contraction_seconds},
                                 {"surgery_seconds", st.surgery_seconds},
                                 {"refinement_seconds", st.refinement_seconds},

@@ -15,7 +15,6 @@
 #include <map>
 #include <mutex>
 #include <numeric>
-#include <queue>
 #include <set>
 #include <thread>
 
@@ -94,12 +93,19 @@ Graph surgery(const Eigen::MatrixX3d& O, const Eigen::MatrixX3d& P, const Eigen:
     }
     return false;
   };
+  // Sum of the edge lengths around each vertex (Au et al.'s sampling cost), kept up to date by
+  // the collapses: positions never move, so only vertices whose neighbours changed need it anew.
+  std::vector<double> ring_length(n, 0.0);
+  auto update_ring = [&](int i) {
+    double ring = 0;
+    for (int k : nbr[i]) ring += (P.row(i) - P.row(k)).norm();
+    ring_length[i] = ring;
+  };
+  for (int i = 0; i < n; ++i) update_ring(i);
   auto cost = [&](int i, int j) {
     const Eigen::Vector4d pj(P(j, 0), P(j, 1), P(j, 2), 1.0);
     const double shape = pj.dot((Q[i] + Q[j]) * pj);
-    double ring = 0;
-    for (int k : nbr[i]) ring += (P.row(i) - P.row(k)).norm();
-    const double sampling = (P.row(i) - P.row(j)).norm() * ring;
+    const double sampling = (P.row(i) - P.row(j)).norm() * ring_length[i];
     return opt.shape_weight * shape + opt.sampling_weight * sampling;
   };
   // Collapsing i into j kills the loop i-j-k of every common neighbour k without a triangle ijk.
@@ -129,9 +135,17 @@ Graph surgery(const Eigen::MatrixX3d& O, const Eigen::MatrixX3d& P, const Eigen:
     }
   };
   std::vector<unsigned> stamp(n, 0);
-  std::priority_queue<Entry, std::vector<Entry>, std::greater<Entry>> pq;
+  // A binary heap with lazy deletion: a collapse invalidates the entries of the vertices it
+  // touches (stamps) and queues them anew. Stale entries are swept out whenever they make up
+  // most of the heap, which keeps it small (the heap operations are most of the surgery's time).
+  std::vector<Entry> heap;
+  const std::greater<Entry> later;
+  size_t sweep_at = 8 * size_t(n) + 64;
+  auto stale = [&](const Entry& e) { return !alive[e.i] || !alive[e.j] || e.si != stamp[e.i] || e.sj != stamp[e.j]; };
   auto push = [&](int i, int j) {
-    if (has_face(i, j)) pq.push({cost(i, j), i, j, stamp[i], stamp[j]});
+    if (!has_face(i, j)) return;
+    heap.push_back({cost(i, j), i, j, stamp[i], stamp[j]});
+    std::push_heap(heap.begin(), heap.end(), later);
   };
   for (int i = 0; i < n; ++i)
     for (int j : nbr[i]) push(i, j);
@@ -163,7 +177,8 @@ Graph surgery(const Eigen::MatrixX3d& O, const Eigen::MatrixX3d& P, const Eigen:
       }
     }
     vfaces[i].clear();
-    for (int k : nbr[i]) {
+    const std::vector<int> old_nbr = std::move(nbr[i]);
+    for (int k : old_nbr) {
       erase_sorted(nbr[k], i);
       if (k == j) continue;
       insert_sorted(nbr[k], j);
@@ -175,6 +190,9 @@ Graph surgery(const Eigen::MatrixX3d& O, const Eigen::MatrixX3d& P, const Eigen:
     ccount[j] += ccount[i];
     parent[i] = j;
     alive[i] = 0;
+    update_ring(j);
+    for (int k : old_nbr)
+      if (k != j) update_ring(k);
     ++stamp[j];
     for (int k : nbr[j]) ++stamp[k];
     for (int k : nbr[j]) {
@@ -186,7 +204,12 @@ Graph surgery(const Eigen::MatrixX3d& O, const Eigen::MatrixX3d& P, const Eigen:
   };
 
   while (faces_left > 0) {
-    if (pq.empty()) {
+    if (heap.size() > sweep_at) {
+      heap.erase(std::remove_if(heap.begin(), heap.end(), stale), heap.end());
+      std::make_heap(heap.begin(), heap.end(), later);
+      sweep_at = std::max(8 * size_t(n) + 64, 4 * heap.size());
+    }
+    if (heap.empty()) {
       // Every remaining collapse would break a cycle: take the cheapest anyway.
       double best = std::numeric_limits<double>::infinity();
       int bi = -1, bj = -1;
@@ -204,9 +227,10 @@ Graph surgery(const Eigen::MatrixX3d& O, const Eigen::MatrixX3d& P, const Eigen:
       collapse(bi, bj);
       continue;
     }
-    const Entry e = pq.top();
-    pq.pop();
-    if (!alive[e.i] || !alive[e.j] || e.si != stamp[e.i] || e.sj != stamp[e.j]) continue;
+    std::pop_heap(heap.begin(), heap.end(), later);
+    const Entry e = heap.back();
+    heap.pop_back();
+    if (stale(e)) continue;
     if (!has_face(e.i, e.j)) continue;
     // A part of genus 0 has no handle for a loop to go around: every loop bounds a disk.
     if (genus > 0 && !keeps_cycles(e.i, e.j)) {
