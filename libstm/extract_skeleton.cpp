@@ -604,6 +604,43 @@ void centre_junctions(Graph& g, const Eigen::MatrixX3d& V, const Eigen::MatrixX3
   }
 }
 
+// A part whose skeleton shrank to a single node (a ball-like part, where every edge is shorter
+// than the local radius) would get no segment, and the layout would drop its surface: the node is
+// split in two along the principal axis of its vertices, each half owning its side.
+void split_lone_node(Graph& g, const Eigen::MatrixX3d& X, const InsideMesh& in) {
+  if (g.pos.size() != 1 || !g.edges.empty() || g.verts[0].size() < 2) return;
+  const std::vector<int>& vs = g.verts[0];
+  Eigen::Vector3d c = Eigen::Vector3d::Zero();
+  for (int v : vs) c += X.row(v).transpose();
+  c /= double(vs.size());
+  Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();
+  for (int v : vs) {
+    const Eigen::Vector3d d = X.row(v).transpose() - c;
+    cov += d * d.transpose();
+  }
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(cov);
+  Eigen::Vector3d axis = eig.eigenvectors().col(2);
+  // The sign of an eigenvector is arbitrary: take the one towards the longer side, so that a
+  // rotated input gives the rotated skeleton.
+  double lo = 0, hi = 0;
+  for (int v : vs) {
+    const double t = (X.row(v).transpose() - c).dot(axis);
+    lo = std::min(lo, t), hi = std::max(hi, t);
+  }
+  if (-lo > hi) axis = -axis, std::swap(lo, hi), lo = -lo, hi = -hi;
+  Eigen::Vector3d a = c + 0.5 * lo * axis, b = c + 0.5 * hi * axis;
+  for (int k = 0; k < 8 && !(in.inside(a) && in.inside(b) && in.segment_inside(a, b)); ++k)
+    a = c + 0.5 * (a - c), b = c + 0.5 * (b - c);
+  Graph out;
+  out.pos = {a, b};
+  out.fallback = {g.fallback[0], g.fallback[0]};
+  out.verts.resize(2);
+  for (int v : vs) out.verts[(X.row(v).transpose() - c).dot(axis) >= 0 ? 1 : 0].push_back(v);
+  if (out.verts[0].empty() || out.verts[1].empty()) return;
+  out.edges.insert({0, 1});
+  g = std::move(out);
+}
+
 // How far the skeleton is from explaining the surface as tubes around it: the area-weighted mean
 // over vertices of | distance to the skeleton - medial radius |. A missing limb leaves its
 // vertices far from every edge; a skeleton through the middle of the volume keeps each vertex at
@@ -802,7 +839,7 @@ Skeleton extract_skeleton(const Mesh& mesh, const SkeletonOptions& opt, const Pr
     // noisy surfaces scatter). With more ends and a smaller error it wins too: those ends are
     // limbs the contraction pulled in.
     auto rank = [&](const Candidate& c, double handicap) {
-      return std::make_tuple(c.cycles != genus, c.outside, c.error * handicap);
+      return std::make_tuple(c.g.edges.empty(), c.cycles != genus, c.outside, c.error * handicap);
     };
     auto ends = [](const Graph& g) {
       std::vector<int> deg(g.pos.size(), 0);
@@ -816,6 +853,7 @@ Skeleton extract_skeleton(const Mesh& mesh, const SkeletonOptions& opt, const Pr
                           : contraction;
     if (&best == &medial) ++st.medial_parts;
     Graph& g = best.g;
+    split_lone_node(g, XV, in);
     st.outside_edges += best.outside;
     const auto t1 = Clock::now();
     std::vector<int> owner(PV.rows());

@@ -191,8 +191,12 @@ std::vector<int> assign_faces(const Mesh& mesh, const Skeleton& sk) {
     }
     std::sort(cand.begin(), cand.end());
     cand.erase(std::unique(cand.begin(), cand.end()), cand.end());
-    if (cand.empty())  // nodes without edges: any segment may take the face
-      for (size_t e = 0; e < sk.edges.size(); ++e) cand.push_back(int(e));
+    // A face whose nodes have no edge belongs to a part the skeleton does not reach: giving it to
+    // some other part's segment would silently lose its surface.
+    if (cand.empty())
+      throw InputError("face " + std::to_string(f.idx()) + " belongs to skeleton node " +
+                       std::to_string(sk.vertex_node[mesh.fv_range(f).begin()->idx()]) +
+                       ", which has no edge: every connected part of the mesh needs at least one skeleton edge");
     const double orient = orientation[f.idx()];
     int best = -1;
     Candidate best_fit;

@@ -1,5 +1,6 @@
 #include "libstm/contract_mesh.h"
 #include "libstm/extract_skeleton.h"
+#include "libstm/segments.h"
 #include "libstm/inside_mesh.h"
 #include "libstm/mesh.h"
 #include "libstm/primitives.h"
@@ -7,6 +8,7 @@
 
 #include <catch2/catch.hpp>
 
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -195,6 +197,78 @@ TEST_CASE("two parts give two skeletons", "[skeleton]") {
   check_map(s, m);
   // No edge joins the parts.
   for (const auto& e : s.edges) CHECK((s.nodes[e[0]].x() > 5) == (s.nodes[e[1]].x() > 5));
+}
+
+// Unit icosahedron subdivided `levels` times, projected onto the sphere of radius r at c.
+stm::Mesh icosphere(int levels, double r, const Eigen::Vector3d& c) {
+  const double g = (1 + std::sqrt(5.0)) / 2;
+  std::vector<Eigen::Vector3d> V = {{-1, g, 0}, {1, g, 0}, {-1, -g, 0}, {1, -g, 0}, {0, -1, g}, {0, 1, g},
+                                    {0, -1, -g}, {0, 1, -g}, {g, 0, -1}, {g, 0, 1}, {-g, 0, -1}, {-g, 0, 1}};
+  std::vector<std::array<int, 3>> F = {{0, 11, 5}, {0, 5, 1}, {0, 1, 7}, {0, 7, 10}, {0, 10, 11}, {1, 5, 9}, {5, 11, 4},
+                                       {11, 10, 2}, {10, 7, 6}, {7, 1, 8}, {3, 9, 4}, {3, 4, 2}, {3, 2, 6}, {3, 6, 8},
+                                       {3, 8, 9}, {4, 9, 5}, {2, 4, 11}, {6, 2, 10}, {8, 6, 7}, {9, 8, 1}};
+  for (auto& v : V) v.normalize();
+  for (int l = 0; l < levels; ++l) {
+    std::map<std::pair<int, int>, int> mid;
+    auto midpoint = [&](int a, int b) {
+      const auto key = std::minmax(a, b);
+      auto it = mid.find(key);
+      if (it != mid.end()) return it->second;
+      V.push_back((V[a] + V[b]).normalized());
+      return mid[key] = int(V.size()) - 1;
+    };
+    std::vector<std::array<int, 3>> next;
+    for (const auto& [a, b, d] : F) {
+      const int ab = midpoint(a, b), bd = midpoint(b, d), da = midpoint(d, a);
+      next.push_back({a, ab, da}), next.push_back({b, bd, ab}), next.push_back({d, da, bd}), next.push_back({ab, bd, da});
+    }
+    F = std::move(next);
+  }
+  stm::Mesh m;
+  std::vector<stm::Mesh::VertexHandle> h;
+  for (const auto& v : V) h.push_back(m.add_vertex(stm::Mesh::Point(c.x() + r * v.x(), c.y() + r * v.y(), c.z() + r * v.z())));
+  for (const auto& [a, b, d] : F) m.add_face(h[a], h[b], h[d]);
+  return m;
+}
+
+// A ball-like part (every edge shorter than its radius) must not shrink to a lone node: the layout
+// would have no segment for it and lose its surface. (The 642-vertex ball did, before.)
+TEST_CASE("a ball alone or beside a capsule still gets a segment of its own", "[skeleton]") {
+  const Eigen::Vector3d centre(5, 0, 0);
+  {
+    const stm::Mesh ball = icosphere(3, 0.5, centre);
+    const stm::Skeleton s = stm::extract_skeleton(ball);
+    CHECK(s.edges.size() >= 1);
+    check_map(s, ball);
+    CHECK(outside_samples(s, ball) == 0);
+  }
+  stm::Mesh m = tube_mesh(1.0, 6.0, 30, 24, true);
+  const stm::Mesh ball = icosphere(3, 0.5, centre);
+  std::vector<stm::Mesh::VertexHandle> h;
+  for (auto v : ball.vertices()) h.push_back(m.add_vertex(ball.point(v)));
+  for (auto f : ball.faces()) {
+    std::vector<stm::Mesh::VertexHandle> fv;
+    for (auto v : ball.fv_range(f)) fv.push_back(h[v.idx()]);
+    m.add_face(fv);
+  }
+  const stm::Skeleton s = stm::extract_skeleton(m);
+  CHECK(s.components() == 2);
+  check_map(s, m);
+  CHECK(outside_samples(s, m) == 0);
+  int ball_edges = 0;
+  for (const auto& e : s.edges)
+    if (s.nodes[e[0]].x() > 3 && s.nodes[e[1]].x() > 3) {
+      ++ball_edges;
+      CHECK((s.nodes[e[0]] - centre).norm() < 0.5);
+      CHECK((s.nodes[e[1]] - centre).norm() < 0.5);
+    }
+  CHECK(ball_edges >= 1);
+  // Every face goes to a segment of its own part.
+  const std::vector<int> fs = stm::assign_faces(m, s);
+  for (auto f : m.faces()) {
+    const auto& e = s.edges[fs[f.idx()]];
+    CHECK((s.nodes[e[0]].x() > 3) == (m.point(*m.fv_range(f).begin())[0] > 3));
+  }
 }
 
 TEST_CASE("real meshes: cycles equal genus and every sample inside and no branch under 1 percent of the diagonal", "[skeleton]") {
