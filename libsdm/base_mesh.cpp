@@ -9,8 +9,39 @@
 #include <OpenMesh/Tools/Decimater/ModNormalFlippingT.hh>
 #include <OpenMesh/Tools/Decimater/ModQuadricT.hh>
 
+#include <set>
+
 namespace stm {
 namespace {
+
+// Keeps every base face within reach of one segment: a collapse may only join vertices whose
+// skeleton nodes are the same or neighbours. Quadric decimation alone runs slivers the length of a
+// straight tube (a cylinder is flat along its axis), across many short segments, and a face its
+// segment's capsule cannot reach is decoded as spikes.
+template <class MeshT>
+class ModSkeletonNodesT : public OpenMesh::Decimater::ModBaseT<MeshT> {
+ public:
+  DECIMATING_MODULE(ModSkeletonNodesT, MeshT, SkeletonNodes);
+  explicit ModSkeletonNodesT(MeshT& mesh) : Base(mesh, true) {}
+  // node: skeleton node of each vertex of the mesh (by index); adjacent: the skeleton's edges,
+  // both directions.
+  void set_nodes(std::vector<int> node, std::set<std::pair<int, int>> adjacent) {
+    node_ = std::move(node);
+    adjacent_ = std::move(adjacent);
+  }
+  float collapse_priority(const CollapseInfo& ci) override {
+    const int keep = node_[ci.v1.idx()];
+    for (auto x : this->mesh().vv_range(ci.v0)) {
+      const int other = node_[x.idx()];
+      if (other != keep && !adjacent_.count({keep, other})) return float(Base::ILLEGAL_COLLAPSE);
+    }
+    return float(Base::LEGAL_COLLAPSE);
+  }
+
+ private:
+  std::vector<int> node_;
+  std::set<std::pair<int, int>> adjacent_;
+};
 
 // Whether segment s can carry base face f alone along its rays. The decoder places a point of f on
 // the ray of s through it, at the depth the map stores for that ray: a ray holds one depth, so f
@@ -132,8 +163,17 @@ BaseMesh make_base_mesh(const Mesh& mesh, const Layout& layout, int target_verti
     OpenMesh::Decimater::DecimaterT<Mesh> decimater(m);
     OpenMesh::Decimater::ModQuadricT<Mesh>::Handle quadric;
     OpenMesh::Decimater::ModNormalFlippingT<Mesh>::Handle flipping;
+    typename ModSkeletonNodesT<Mesh>::Handle nodes;
     decimater.add(quadric);
     decimater.add(flipping);
+    decimater.add(nodes);
+    {
+      std::vector<int> node(m.n_vertices());
+      for (auto v : m.vertices()) node[v.idx()] = layout.skeleton.vertex_node[m.property(original, v)];
+      std::set<std::pair<int, int>> adjacent;
+      for (const auto& e : layout.skeleton.edges) adjacent.insert({e[0], e[1]}), adjacent.insert({e[1], e[0]});
+      decimater.module(nodes).set_nodes(std::move(node), std::move(adjacent));
+    }
     decimater.module(quadric).unset_max_err();
     decimater.module(flipping).set_max_normal_deviation(60.0);
     decimater.initialize();
