@@ -2,7 +2,6 @@
 #include "libsdm/decode_sdm.h"
 #include "libsdm/sdm_exr.h"
 #include "libsdm/transfer_texture.h"
-#include "libstm/common_branching.h"
 #include "libstm/errors.h"
 #include "libstm/extract_skeleton.h"
 #include "libstm/gl_context.h"
@@ -10,6 +9,7 @@
 #include "libstm/mesh.h"
 #include "libstm/render_mesh.h"
 
+#include <cmath>
 #include <filesystem>
 #include <memory>
 #include <sstream>
@@ -156,12 +156,6 @@ Command add_transfer_command(CLI::App& parent) {
             const stm::Mesh target = stm::load_mesh(o->target);
             const stm::Skeleton sa = skeleton_for(source, o->source_skeleton, "source");
             const stm::Skeleton sb = skeleton_for(target, o->target_skeleton, "target");
-            // Branching first: a mismatch (beyond a short branch found in one skeleton only) is
-            // refused before anything is rendered or written.
-            const stm::CommonBranching common = stm::common_branching(sa, sb);
-            for (int x : common.pruned_a) progress("source end branch at node " + std::to_string(x) + " pruned: the target's skeleton has none there");
-            for (int x : common.pruned_b) progress("target end branch at node " + std::to_string(x) + " pruned: the source's skeleton has none there");
-
             stm::GlContext gl;
             progress("GL renderer: " + gl.renderer() + " (" + gl.version() + ", " + gl.platform() + ")");
             stm::TransferOptions to;
@@ -169,7 +163,12 @@ Command add_transfer_command(CLI::App& parent) {
             to.margin = o->margin;
             to.fixed = parse_match_pairs(o->match);
             to.progress = progress;
+            // A skeleton the user gives is used as given; an extracted one gives way to the source's
+            // when the target turns out to be the source's shape (transfer_texture).
+            to.carry_same_shape = o->target_skeleton.empty();
             const stm::TextureTransfer r = stm::transfer_texture(gl, source, texture, sa, target, sb, to);
+            for (int x : r.skeletons.pruned_a) progress("source end branch at node " + std::to_string(x) + " pruned: the target's skeleton has none there");
+            for (int x : r.skeletons.pruned_b) progress("target end branch at node " + std::to_string(x) + " pruned: the source's skeleton has none there");
 
             progress("rendering the preview");
             stm::RenderOptions ro;
@@ -223,6 +222,9 @@ Command add_transfer_command(CLI::App& parent) {
                           {"chains", chains},
                           {"pruned_source_ends", r.skeletons.pruned_a},
                           {"pruned_target_ends", r.skeletons.pruned_b},
+                          {"target_skeleton", r.carried ? "carried" : o->target_skeleton.empty() ? "extracted" : "given"},
+                          {"registration_rms", std::isfinite(r.registration.rms) ? nlohmann::json(r.registration.rms) : nlohmann::json()},
+                          {"registration_p99", std::isfinite(r.registration.p99) ? nlohmann::json(r.registration.p99) : nlohmann::json()},
                           {"stretch", r.stretch},
                           {"seam_faces", r.seam_faces}});
             } else {
@@ -230,6 +232,9 @@ Command add_transfer_command(CLI::App& parent) {
                         << "  atlas " << atlas_path << " (" << r.layout_a.size << "^2, " << r.layout_a.segments.size()
                         << " segments), preview " << preview_path << "\n"
                         << "  match confidence " << m.confidence << " (" << m.candidates << " candidates)\n";
+              if (r.carried)
+                std::cout << "  the target is the source's shape (registered to " << 100 * r.registration.rms
+                          << " % of the diagonal, RMS): the source's skeleton carried over\n";
               for (size_t k = 0; k < m.a.keys.size(); ++k)
                 std::cout << "  node " << m.a.keys[k] << " -> " << m.b.keys[m.key_a_to_b[k]] << " (degree " << m.a.key_degree[k] << ")\n";
               std::cout << text;

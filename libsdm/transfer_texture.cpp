@@ -1,5 +1,6 @@
 #include "libsdm/transfer_texture.h"
 
+#include "libstm/carry_skeleton.h"
 #include "libstm/common_branching.h"
 #include "libstm/errors.h"
 #include "libstm/render_atlas.h"
@@ -317,8 +318,40 @@ TextureTransfer transfer_texture(GlContext& gl, const Mesh& source, const Image&
   };
   if (!source.has_halfedge_texcoords2D()) throw InputError("the source has no texture coordinates, so its texture cannot be transferred");
   TextureTransfer r;
+  Skeleton sb = skeleton_b;
+  std::vector<std::pair<int, int>> fixed = opt.fixed;
+  if (opt.carry_same_shape && opt.fixed.empty()) {
+    say("registering the source onto the target");
+    // Besides the centred start, the similarity of the matched skeletons, when they match: it
+    // finds a turned or moved target that the centred start cannot reach.
+    std::vector<Similarity> starts;
+    try {
+      const SharedSkeletons sh = share_skeletons(source, skeleton_a, target, skeleton_b, {}, opt.split_ratio);
+      starts.push_back(fit_similarity(sh.a.nodes, sh.b.nodes, std::vector<double>(sh.a.nodes.size(), 1.0)));
+    } catch (const InputError&) {
+    }
+    r.registration = register_surfaces(source, target, starts);
+    const Registration& g = r.registration;
+    r.carried = g.rms <= opt.same_shape_rms && g.p99 <= opt.same_shape_p99;
+    say("registered: RMS " + std::to_string(100 * g.rms) + " %, 99th percentile " + std::to_string(100 * g.p99) + " % of the diagonal, scale " +
+        std::to_string(g.transform.scale) + (r.carried ? ": the same shape, the source's skeleton carried over" : ": another shape"));
+    if (r.carried) {
+      sb = carry_skeleton(source, skeleton_a, target, g.transform);
+      // One graph on both sides: every junction and end is its own counterpart.
+      const std::vector<int> deg = skeleton_a.degrees();
+      for (size_t x = 0; x < deg.size(); ++x)
+        if (deg[x] != 2) fixed.emplace_back(int(x), int(x));
+    }
+  }
   say("matching the skeletons' branches");
-  r.skeletons = share_skeletons(source, skeleton_a, target, skeleton_b, opt.fixed, opt.split_ratio);
+  try {
+    r.skeletons = share_skeletons(source, skeleton_a, target, sb, fixed, opt.split_ratio);
+  } catch (const InputError& e) {
+    if (!std::isfinite(r.registration.rms)) throw;
+    throw InputError(std::string(e.what()) + "; nor is the target the source's shape: after the best similarity their surfaces lie " +
+                     std::to_string(100 * r.registration.rms) + " % of the diagonal apart (RMS; the same shape is under " +
+                     std::to_string(100 * opt.same_shape_rms) + " %)");
+  }
   say("shared graph: " + std::to_string(r.skeletons.a.nodes.size()) + " nodes, " + std::to_string(r.skeletons.a.edges.size()) +
       " segments");
   LayoutOptions lo;

@@ -10,6 +10,7 @@
 #include "libstm/layout.h"
 #include "libstm/match_skeletons.h"
 #include "libstm/mesh.h"
+#include "libstm/register_surfaces.h"
 #include "libstm/skeleton.h"
 
 #include <functional>
@@ -75,6 +76,13 @@ struct TransferOptions {
   int margin = 8;             // texels around every rectangle
   double split_ratio = 2.0;   // share_skeletons
   std::vector<std::pair<int, int>> fixed;  // (source node, target node) key pairs that must match
+  // A target that is the source's shape (registered by register_surfaces with an RMS distance under
+  // same_shape_rms and a 99th percentile under same_shape_p99, fractions of its diagonal) takes the
+  // source's skeleton carried over (carry_skeleton) instead of skeleton_b: two extractions of one
+  // shape differ with the tessellation, in node positions and even in small branches. Not done
+  // when `fixed` pairs are given (they name nodes of skeleton_b).
+  bool carry_same_shape = true;
+  double same_shape_rms = 0.005, same_shape_p99 = 0.02;
   std::function<void(const std::string&)> progress;
 };
 
@@ -85,11 +93,17 @@ struct TextureTransfer {
   Mesh target;                // the target with per-halfedge uv into `atlas`
   double stretch = 0;         // l2_stretch of the target's new uv
   int seam_faces = 0;
+  Registration registration;  // source onto target (when carry_same_shape was tried)
+  bool carried = false;       // the target's skeleton is the source's, carried over
 };
 
 // `source` must have per-halfedge uv for `texture`; skeleton_a/b belong to source/target.
-// Throws InputError for a branching mismatch (naming what differs, before any rendering), a source
-// without uv, or skeletons that do not fit their meshes.
+// With options.carry_same_shape the source is first registered onto the target; when the target is
+// the source's shape, skeleton_b is replaced by skeleton_a carried over, so a new tessellation of a
+// model gets the source's texture texel for texel whatever its own extraction found.
+// Throws InputError for a branching mismatch (naming what differs, and how far the target is from
+// the source's shape, before any rendering), a source without uv, or skeletons that do not fit
+// their meshes.
 TextureTransfer transfer_texture(GlContext& gl, const Mesh& source, const Image& texture, const Skeleton& skeleton_a,
                                  const Mesh& target, const Skeleton& skeleton_b, const TransferOptions& options = {});
 

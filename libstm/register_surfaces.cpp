@@ -1,0 +1,189 @@
+#include "libstm/register_surfaces.h"
+
+#include "libstm/triangle_bvh.h"
+
+#include <Eigen/SVD>
+#include <algorithm>
+#include <numeric>
+#include <stdexcept>
+
+namespace stm {
+
+Similarity Similarity::inverse() const {
+  Similarity r;
+  r.scale = 1.0 / scale;
+  r.rotation = rotation.transpose();
+  r.translation = -(r.scale * (r.rotation * translation));
+  return r;
+}
+
+namespace {
+
+struct Samples {
+  std::vector<Eigen::Vector3d> p;
+  std::vector<double> w;  // a third of the incident faces' area: dense and sparse regions count alike
+};
+
+Samples vertex_samples(const Mesh& m) {
+  Samples s;
+  s.p.reserve(m.n_vertices());
+  s.w.assign(m.n_vertices(), 0.0);
+  for (auto v : m.vertices()) s.p.push_back(point(m, v));
+  for (auto f : m.faces()) {
+    const double a = m.calc_face_area(f) / 3;
+    for (auto v : m.fv_range(f)) s.w[v.idx()] += a;
+  }
+  return s;
+}
+
+}  // namespace
+
+Similarity fit_similarity(const std::vector<Eigen::Vector3d>& x, const std::vector<Eigen::Vector3d>& y, const std::vector<double>& w) {
+  double W = 0;
+  Eigen::Vector3d mx = Eigen::Vector3d::Zero(), my = Eigen::Vector3d::Zero();
+  for (size_t i = 0; i < x.size(); ++i) W += w[i], mx += w[i] * x[i], my += w[i] * y[i];
+  Similarity T;
+  if (!(W > 0)) return T;
+  mx /= W, my /= W;
+  Eigen::Matrix3d S = Eigen::Matrix3d::Zero();
+  double var_x = 0;
+  for (size_t i = 0; i < x.size(); ++i) {
+    S += w[i] * (y[i] - my) * (x[i] - mx).transpose();
+    var_x += w[i] * (x[i] - mx).squaredNorm();
+  }
+  S /= W, var_x /= W;
+  Eigen::JacobiSVD<Eigen::Matrix3d> svd(S, Eigen::ComputeFullU | Eigen::ComputeFullV);
+  Eigen::Vector3d d(1, 1, 1);
+  if ((svd.matrixU() * svd.matrixV().transpose()).determinant() < 0) d(2) = -1;
+  T.rotation = svd.matrixU() * d.asDiagonal() * svd.matrixV().transpose();
+  T.scale = var_x > 0 ? (svd.singularValues().cwiseProduct(d)).sum() / var_x : 1.0;
+  if (!(T.scale > 0)) T.scale = 1;
+  T.translation = my - T.scale * (T.rotation * mx);
+  return T;
+}
+
+namespace {
+
+// Area-weighted quantile of distances.
+double weighted_quantile(const std::vector<double>& d, const std::vector<double>& w, double q) {
+  std::vector<size_t> order(d.size());
+  std::iota(order.begin(), order.end(), size_t(0));
+  std::sort(order.begin(), order.end(), [&](size_t a, size_t b) { return d[a] < d[b] || (d[a] == d[b] && a < b); });
+  const double total = std::accumulate(w.begin(), w.end(), 0.0);
+  double acc = 0;
+  for (size_t i : order) {
+    acc += w[i];
+    if (acc >= q * total) return d[i];
+  }
+  return order.empty() ? 0.0 : d[order.back()];
+}
+
+struct Problem {
+  Samples src, tgt;
+  TriangleBvh src_bvh, tgt_bvh;
+  double diag = 1;
+  Eigen::Vector3d probe_centre = Eigen::Vector3d::Zero();
+  double probe_radius = 1;
+};
+
+// Pairs (source point, target point) in both directions under T; distances in target units.
+// Pairs over `reach` are not looked for (distance INFINITY).
+void make_pairs(const Problem& P, const Similarity& T, double reach, std::vector<Eigen::Vector3d>& x, std::vector<Eigen::Vector3d>& y,
+                std::vector<double>& w, std::vector<double>& dist) {
+  const Similarity Ti = T.inverse();
+  const size_t ns = P.src.p.size(), nt = P.tgt.p.size();
+  x.resize(ns + nt), y.resize(ns + nt), w.resize(ns + nt), dist.resize(ns + nt);
+  for (size_t i = 0; i < ns; ++i) {
+    const auto c = P.tgt_bvh.closest_point(T(P.src.p[i]), reach);
+    x[i] = P.src.p[i];
+    y[i] = c.point;
+    w[i] = P.src.w[i] * T.scale * T.scale;  // source areas in target units
+    dist[i] = c.face < 0 ? INFINITY : c.distance;
+  }
+  for (size_t j = 0; j < nt; ++j) {
+    const auto c = P.src_bvh.closest_point(Ti(P.tgt.p[j]), std::isfinite(reach) ? reach * Ti.scale : reach);
+    x[ns + j] = c.point;
+    y[ns + j] = P.tgt.p[j];
+    w[ns + j] = P.tgt.w[j];
+    dist[ns + j] = c.face < 0 ? INFINITY : c.distance * T.scale;
+  }
+}
+
+Registration run(const Problem& P, Similarity T, int max_iterations) {
+  std::vector<Eigen::Vector3d> x, y;
+  std::vector<double> w, dist;
+  Registration r;
+  double reach = INFINITY;
+  for (int it = 0; it < max_iterations; ++it) {
+    make_pairs(P, T, reach, x, y, w, dist);
+    std::vector<double> fd, fw;
+    for (size_t i = 0; i < dist.size(); ++i)
+      if (std::isfinite(dist[i])) fd.push_back(dist[i]), fw.push_back(w[i]);
+    if (fd.empty()) break;
+    // The first steps take every pair (a coarse start is far from everything); then the outliers go.
+    double cut = INFINITY;
+    if (it >= 4) cut = std::max(3.0 * weighted_quantile(fd, fw, 0.5), 1e-9 * P.diag);
+    std::vector<Eigen::Vector3d> xs, ys;
+    std::vector<double> ws;
+    for (size_t i = 0; i < dist.size(); ++i)
+      if (dist[i] <= cut) xs.push_back(x[i]), ys.push_back(y[i]), ws.push_back(w[i]);
+    const Similarity N = fit_similarity(xs, ys, ws);
+    // How far the new transform moves the source, at its centre and along three axes.
+    double moved = (N(P.probe_centre) - T(P.probe_centre)).norm();
+    for (int k = 0; k < 3; ++k) {
+      const Eigen::Vector3d q = P.probe_centre + P.probe_radius * Eigen::Vector3d::Unit(k);
+      moved = std::max(moved, (N(q) - T(q)).norm());
+    }
+    T = N;
+    r.iterations = it + 1;
+    if (std::isfinite(cut)) reach = 2 * cut;  // pairs beyond the cut are dropped anyway: prune the queries
+    if (moved < 1e-9 * P.diag) break;
+  }
+  make_pairs(P, T, INFINITY, x, y, w, dist);
+  double sum = 0, W = 0, worst = 0;
+  for (size_t i = 0; i < dist.size(); ++i) sum += w[i] * dist[i] * dist[i], W += w[i], worst = std::max(worst, dist[i]);
+  r.transform = T;
+  r.rms = W > 0 ? std::sqrt(sum / W) / P.diag : INFINITY;
+  r.p99 = weighted_quantile(dist, w, 0.99) / P.diag;
+  r.max = worst / P.diag;
+  return r;
+}
+
+}  // namespace
+
+Registration register_surfaces(const Mesh& source, const Mesh& target, const std::vector<Similarity>& starts, int max_iterations) {
+  if (source.n_faces() == 0 || target.n_faces() == 0) throw std::invalid_argument("register_surfaces: a mesh without faces");
+  Problem P;
+  P.src = vertex_samples(source);
+  P.tgt = vertex_samples(target);
+  P.src_bvh = TriangleBvh(vertex_matrix(source), face_matrix(source));
+  P.tgt_bvh = TriangleBvh(vertex_matrix(target), face_matrix(target));
+  P.diag = std::max(bounding_box_diagonal(target), 1e-300);
+
+  auto centre_and_radius = [](const Samples& s, Eigen::Vector3d& c) {
+    double W = 0;
+    c.setZero();
+    for (size_t i = 0; i < s.p.size(); ++i) c += s.w[i] * s.p[i], W += s.w[i];
+    c /= std::max(W, 1e-300);
+    double r2 = 0;
+    for (size_t i = 0; i < s.p.size(); ++i) r2 += s.w[i] * (s.p[i] - c).squaredNorm();
+    return std::sqrt(r2 / std::max(W, 1e-300));
+  };
+  Eigen::Vector3d cs, ct;
+  const double rs = centre_and_radius(P.src, cs), rt = centre_and_radius(P.tgt, ct);
+  P.probe_centre = cs;
+  P.probe_radius = std::max(rs, 1e-300);
+
+  std::vector<Similarity> tries(1);
+  tries[0].scale = rs > 0 && rt > 0 ? rt / rs : 1.0;
+  tries[0].translation = ct - tries[0].scale * cs;
+  tries.insert(tries.end(), starts.begin(), starts.end());
+  Registration best;
+  for (const Similarity& T : tries) {
+    const Registration r = run(P, T, max_iterations);
+    if (r.rms < best.rms) best = r;
+  }
+  return best;
+}
+
+}  // namespace stm

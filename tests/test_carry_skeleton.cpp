@@ -1,0 +1,64 @@
+// A skeleton carried onto another tessellation of the same shape (carry_skeleton): nodes through
+// the registration, every new vertex to the node its surface point belongs to in the source.
+#include "libstm/carry_skeleton.h"
+#include "libstm/extract_skeleton.h"
+#include "libstm/isotropic_remesh.h"
+#include "libstm/primitives.h"
+#include "libstm/register_surfaces.h"
+#include "libstm/segments.h"
+#include "libstm/triangle_bvh.h"
+
+#include <catch2/catch.hpp>
+
+#include <cmath>
+
+TEST_CASE("a skeleton carried onto a moved retessellation keeps its graph and its vertex regions", "[carry_skeleton]") {
+  const stm::Mesh a = stm::make_primitive("ypsilon", 1500);
+  const stm::Skeleton sa = stm::extract_skeleton(a);
+  // b: another tessellation, turned 90 degrees about z, scaled and moved.
+  stm::Mesh b = a;
+  {
+    const stm::TriangleBvh bvh(stm::vertex_matrix(a), stm::face_matrix(a));
+    double edge = 0;
+    for (auto e : a.edges()) edge += a.calc_edge_length(e) / double(a.n_edges());
+    stm::isotropic_remesh(b, 0.8 * edge, 4, [&](const Eigen::Vector3d& p) { return bvh.closest_point(p).point; });
+  }
+  REQUIRE(b.n_vertices() != a.n_vertices());
+  stm::Similarity T;
+  T.scale = 2;
+  T.rotation = Eigen::AngleAxisd(M_PI / 2, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  T.translation = {1, 2, 3};
+  for (auto v : b.vertices()) {
+    const Eigen::Vector3d q = T(stm::point(b, v));
+    b.set_point(v, stm::Mesh::Point(q.x(), q.y(), q.z()));
+  }
+  const stm::Skeleton sb = stm::carry_skeleton(a, sa, b, T);
+  CHECK(sb.edges == sa.edges);
+  REQUIRE(sb.nodes.size() == sa.nodes.size());
+  for (size_t i = 0; i < sa.nodes.size(); ++i) CHECK((sb.nodes[i] - T(sa.nodes[i])).norm() < 1e-12);
+  REQUIRE(sb.vertex_node.size() == b.n_vertices());
+  std::vector<int> count(sb.nodes.size(), 0);
+  for (int x : sb.vertex_node) ++count[x];
+  CHECK(*std::min_element(count.begin(), count.end()) >= 1);
+  // Every vertex of b takes the node of the source vertex nearest to its preimage: that node lies
+  // no further from the preimage than the source's own vertices there lie from theirs (plus an edge).
+  const stm::Similarity Ti = T.inverse();
+  double worst_source = 0;
+  for (auto v : a.vertices()) worst_source = std::max(worst_source, (stm::point(a, v) - sa.nodes[sa.vertex_node[v.idx()]]).norm());
+  double edge = 0;
+  for (auto e : a.edges()) edge = std::max(edge, a.calc_edge_length(e));
+  int far = 0;
+  for (auto v : b.vertices())
+    far += (Ti(stm::point(b, v)) - sa.nodes[sb.vertex_node[v.idx()]]).norm() > worst_source + edge;
+  CHECK(far == 0);
+  // The segments of both models see the same surface: face areas per segment agree within a few percent.
+  const std::vector<int> fa = stm::assign_faces(a, sa), fb = stm::assign_faces(b, sb);
+  std::vector<double> area_a(sa.edges.size(), 0), area_b(sa.edges.size(), 0);
+  double total = 0;
+  for (auto f : a.faces()) area_a[fa[f.idx()]] += a.calc_face_area(f), total += a.calc_face_area(f);
+  for (auto f : b.faces()) area_b[fb[f.idx()]] += b.calc_face_area(f) / (T.scale * T.scale);
+  for (size_t s = 0; s < sa.edges.size(); ++s) {
+    INFO("segment " << s << ": area " << area_a[s] << " in the source, " << area_b[s] << " carried");
+    CHECK(std::abs(area_a[s] - area_b[s]) < 0.05 * area_a[s] + 0.005 * total);
+  }
+}
