@@ -6,10 +6,12 @@
 #include "libstm/render_atlas.h"
 #include "libstm/segment_frames.h"
 #include "libstm/segments.h"
+#include "libstm/triangle_bvh.h"
 
 #include <Eigen/SVD>
 #include <algorithm>
 #include <cmath>
+#include <sstream>
 
 namespace stm {
 
@@ -269,7 +271,8 @@ SharedSkeletons share_skeletons(const Mesh& mesh_a, const Skeleton& given_a, con
   return r;
 }
 
-Layout carry_layout(const Layout& la, const Mesh& mesh_b, const Skeleton& b, const Eigen::Matrix3d& R) {
+Layout carry_layout(const Layout& la, const Mesh& mesh_b, const Skeleton& b, const Eigen::Matrix3d& rotation,
+                    const std::vector<Eigen::Matrix3d>& segment_rotation) {
   if (b.nodes.size() != la.skeleton.nodes.size() || b.edges != la.skeleton.edges)
     throw InputError("the target skeleton's graph differs from the source layout's (resample it with share_skeletons first)");
   const std::vector<int> fs = assign_faces(mesh_b, b);
@@ -278,6 +281,7 @@ Layout carry_layout(const Layout& la, const Mesh& mesh_b, const Skeleton& b, con
   L.skeleton = b;
   for (size_t s = 0; s < L.segments.size(); ++s) {
     LayoutSegment& g = L.segments[s];
+    const Eigen::Matrix3d& R = segment_rotation.size() == L.segments.size() ? segment_rotation[s] : rotation;
     const Eigen::Vector3d axis_a = R * g.axis;
     const Eigen::Vector3d d = b.nodes[g.b] - b.nodes[g.a];
     const Eigen::Vector3d axis = d.norm() > 0 ? Eigen::Vector3d(d.normalized()) : axis_a;
@@ -319,8 +323,11 @@ TextureTransfer transfer_texture(GlContext& gl, const Mesh& source, const Image&
   if (!source.has_halfedge_texcoords2D()) throw InputError("the source has no texture coordinates, so its texture cannot be transferred");
   TextureTransfer r;
   Skeleton sb = skeleton_b;
+  std::vector<Eigen::Matrix3d> node_rotation;  // of skeleton_a's nodes, when bent onto the target
+  std::vector<Eigen::Vector3d> placed;         // the source's vertices on the target (carried or bent)
   std::vector<std::pair<int, int>> fixed = opt.fixed;
-  if (opt.carry_same_shape && opt.fixed.empty()) {
+  auto euler = [](const Mesh& m) { return long(m.n_vertices()) - long(m.n_edges()) + long(m.n_faces()); };
+  if (opt.carry_same_shape && opt.fixed.empty() && euler(source) == euler(target)) {
     say("registering the source onto the target");
     // Besides the centred start, the similarity of the matched skeletons, when they match: it
     // finds a turned or moved target that the centred start cannot reach.
@@ -337,6 +344,28 @@ TextureTransfer transfer_texture(GlContext& gl, const Mesh& source, const Image&
         std::to_string(g.transform.scale) + (r.carried ? ": the same shape, the source's skeleton carried over" : ": another shape"));
     if (r.carried) {
       sb = carry_skeleton(source, skeleton_a, target, g.transform);
+      for (auto v : source.vertices()) placed.push_back(g.transform(point(source, v)));
+    } else {
+      // Bent onto the target from the registration alone, and from the matched extracted skeleton
+      // when the branchings match (it knows where a turned limb went); the closer fit is kept.
+      say("bending the source's skeleton onto the target");
+      std::vector<std::vector<Eigen::Vector3d>> guesses{{}};
+      try {
+        guesses.push_back(skeleton_onto_graph(skeleton_a, skeleton_b).nodes);
+      } catch (const InputError&) {
+      }
+      SkeletonFit best;
+      for (const auto& guess : guesses) {
+        SkeletonFit f = fit_skeleton(source, skeleton_a, target, g.transform, guess);
+        if (f.rms < best.rms) best = std::move(f);
+      }
+      r.fit_rms = best.rms, r.fit_p99 = best.p99;
+      r.fitted = best.rms <= opt.fit_rms && best.p99 <= opt.fit_p99 && best.end_spread >= opt.fit_spread;
+      say("bent: RMS " + std::to_string(100 * best.rms) + " %, 99th percentile " + std::to_string(100 * best.p99) + " % of the diagonal" +
+          (r.fitted ? ": the source's skeleton bent onto the target" : ": not close enough"));
+      if (r.fitted) sb = std::move(best.skeleton), node_rotation = std::move(best.node_rotation), placed = std::move(best.bent);
+    }
+    if (r.carried || r.fitted) {
       // One graph on both sides: every junction and end is its own counterpart.
       const std::vector<int> deg = skeleton_a.degrees();
       for (size_t x = 0; x < deg.size(); ++x)
@@ -348,9 +377,15 @@ TextureTransfer transfer_texture(GlContext& gl, const Mesh& source, const Image&
     r.skeletons = share_skeletons(source, skeleton_a, target, sb, fixed, opt.split_ratio);
   } catch (const InputError& e) {
     if (!std::isfinite(r.registration.rms)) throw;
-    throw InputError(std::string(e.what()) + "; nor is the target the source's shape: after the best similarity their surfaces lie " +
-                     std::to_string(100 * r.registration.rms) + " % of the diagonal apart (RMS; the same shape is under " +
-                     std::to_string(100 * opt.same_shape_rms) + " %)");
+    auto pc = [](double x) {
+      std::ostringstream o;
+      o.precision(2);
+      o << 100 * x << " %";
+      return o.str();
+    };
+    throw InputError(std::string(e.what()) + "; nor is the target the source in another pose: moved as a whole, the source lies " +
+                     pc(r.registration.rms) + " of the diagonal from it (RMS; the same shape is under " + pc(opt.same_shape_rms) +
+                     "), bent along its skeleton " + pc(r.fit_rms) + " (under " + pc(opt.fit_rms) + " is taken)");
   }
   say("shared graph: " + std::to_string(r.skeletons.a.nodes.size()) + " nodes, " + std::to_string(r.skeletons.a.edges.size()) +
       " segments");
@@ -360,13 +395,38 @@ TextureTransfer transfer_texture(GlContext& gl, const Mesh& source, const Image&
   lo.split_ratio = 0;  // the chains are resampled already: both models must keep the same graph
   lo.progress = opt.progress;
   r.layout_a = compute_layout(source, r.skeletons.a, lo);
-  r.layout_b = carry_layout(r.layout_a, target, r.skeletons.b, r.skeletons.rotation);
+  // A bent source's segments take the rotation of the fitted node nearest to them.
+  std::vector<Eigen::Matrix3d> segment_rotation;
+  if (r.fitted)
+    for (const auto& e : r.skeletons.a.edges) {
+      const Eigen::Vector3d mid = (r.skeletons.a.nodes[e[0]] + r.skeletons.a.nodes[e[1]]) / 2;
+      size_t best = 0;
+      for (size_t k = 1; k < skeleton_a.nodes.size(); ++k)
+        if ((skeleton_a.nodes[k] - mid).norm() < (skeleton_a.nodes[best] - mid).norm()) best = k;
+      segment_rotation.push_back(node_rotation[best]);
+    }
+  r.layout_b = carry_layout(r.layout_a, target, r.skeletons.b, r.skeletons.rotation, segment_rotation);
   say("remapping the source texture into its STM atlas");
   AtlasOptions ao;
   ao.progress = opt.progress;
   r.atlas = render_atlas(gl, source, r.layout_a, texture, ao);
   say("target STM coordinates");
-  StmCoordinates sc = stm_coordinates(target, r.layout_b);
+  // A target the source was carried or bent onto takes the source's face assignment through that
+  // correspondence: its own (assign_faces on the bent geometry) splits faces along segment
+  // borders differently, and the texture breaks there (Spot's turned head).
+  std::vector<int> face_segment;
+  if (!placed.empty()) {
+    const std::vector<int> fa = assign_faces(source, r.skeletons.a);
+    Eigen::MatrixX3d P(placed.size(), 3);
+    for (size_t v = 0; v < placed.size(); ++v) P.row(Eigen::Index(v)) = placed[v].transpose();
+    const TriangleBvh bvh(P, face_matrix(source));
+    for (auto f : target.faces()) {
+      Eigen::Vector3d c = Eigen::Vector3d::Zero();
+      for (auto v : target.fv_range(f)) c += point(target, v) / 3;
+      face_segment.push_back(fa[bvh.closest_point(c).face]);
+    }
+  }
+  StmCoordinates sc = stm_coordinates(target, r.layout_b, face_segment);
   r.target = std::move(sc.mesh);
   r.stretch = sc.stretch;
   r.seam_faces = sc.seam_faces;

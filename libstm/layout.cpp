@@ -256,9 +256,9 @@ std::vector<AtlasTriangle> atlas_triangles(const Mesh& mesh, const Layout& L, co
   return out;
 }
 
-StmCoordinates stm_coordinates(const Mesh& mesh, const Layout& L) {
+StmCoordinates stm_coordinates(const Mesh& mesh, const Layout& L, const std::vector<int>& face_segment) {
   StmCoordinates r;
-  r.face_segment = assign_faces(mesh, L.skeleton);
+  r.face_segment = face_segment.size() == mesh.n_faces() ? face_segment : assign_faces(mesh, L.skeleton);
   r.mesh = mesh;
   r.mesh.request_halfedge_texcoords2D();
   const std::vector<AtlasTriangle> tris = atlas_triangles(mesh, L, r.face_segment);

@@ -87,12 +87,14 @@ std::vector<AtlasTriangle> atlas_triangles(const Mesh& mesh, const Layout& layou
 
 struct StmCoordinates {
   Mesh mesh;                      // copy of the input with per-halfedge STM texcoords in [0, 1]
-  std::vector<int> face_segment;  // assign_faces(mesh, layout.skeleton)
+  std::vector<int> face_segment;  // assign_faces(mesh, layout.skeleton), or the one given
   int seam_faces = 0;             // faces unwrapped across phi = 0
   double coverage = 0;            // layout.coverage
   double stretch = 0;             // l2_stretch of the result
 };
-StmCoordinates stm_coordinates(const Mesh& mesh, const Layout& layout);
+// `face_segment`, when not empty, is used instead of assign_faces (a transfer target takes the
+// source's assignment through its correspondence, so both sides of a segment border agree).
+StmCoordinates stm_coordinates(const Mesh& mesh, const Layout& layout, const std::vector<int>& face_segment = {});
 
 // Area-weighted L2 stretch (Sander et al. 2001) of a mesh with per-halfedge texcoords, over the
 // given faces (all when empty), after scaling the texture domain so that the faces' parameter area

@@ -394,10 +394,16 @@ void check_band(bool extracted) {
   stm::isotropic_remesh(b, 0.8 * mean_edge(bent), 4, [&](const Eigen::Vector3d& p) { return bvh.closest_point(p).point; });
   // Hand-made: the ideal skeleton bent the same way, with more nodes on the bent arm.
   const stm::Skeleton sb = extracted ? stm::extract_skeleton(b, stm::transfer_skeleton_options()) : ypsilon_skeleton(b, {2, 3, 5}, bend);
-  REQUIRE(stm::branching_difference(sa, sb).empty());
+  if (!extracted) REQUIRE(stm::branching_difference(sa, sb).empty());
   stm::TransferOptions to;
   to.size = 1024;
+  to.carry_same_shape = extracted;  // hand-made skeletons as they are; extracted ones as `sdm transfer` takes them
   const stm::TextureTransfer r = stm::transfer_texture(gl, a, tex, sa, b, sb, to);
+  if (extracted) {
+    CHECK(r.fitted);
+    WARN("bent target: registered to " << 100 * r.registration.rms << " % (RMS), bent to " << 100 * r.fit_rms << " % (RMS), "
+                                       << 100 * r.fit_p99 << " % (99th percentile): " << (r.fitted ? "source's skeleton bent" : "extracted skeleton"));
+  }
 
   // Label texture: white on the left half, black on the right; arm faces sample the white half.
   stm::Image label(64, 64, 4, 255);
@@ -460,10 +466,10 @@ TEST_CASE("a band painted on one branch lands on the same branch of a bent and t
   check_band(false);
 }
 
-// The acceptance with the skeletons a user gets (extract_skeleton on each tessellation, as `sdm
-// transfer` does). Not run by default: the extracted skeletons of two tessellations differ by more
-// than the transfer tolerates for 28 dB (docs/BENCHMARKS.md, transfer); run with its tag to measure.
-TEST_CASE("with extracted skeletons a band lands on the same branch of a bent and thickened target", "[.][transfer_texture_extracted]") {
+// The acceptance as a user gets it: skeletons extracted from each model, as `sdm transfer` does.
+// The source's skeleton is bent onto the target (fit_skeleton), whatever the target's own
+// extraction found (it depends on the tessellation and on float rounding).
+TEST_CASE("with extracted skeletons a band lands on the same branch of a bent and thickened target", "[transfer_texture]") {
   check_band(true);
 }
 

@@ -1,0 +1,101 @@
+// The source's skeleton bent onto a deformed copy (fit_skeleton): a bent and thickened arm takes its
+// nodes along, the fit reaches the surface, and shapes of another branching are not fitted closely.
+#include "libsdm/transfer_texture.h"
+#include "libstm/extract_skeleton.h"
+#include "libstm/fit_skeleton.h"
+#include "libstm/isotropic_remesh.h"
+#include "libstm/primitives.h"
+#include "libstm/register_surfaces.h"
+#include "libstm/triangle_bvh.h"
+
+#include <catch2/catch.hpp>
+
+#include <cmath>
+
+namespace {
+
+const Eigen::Vector3d kArm = Eigen::Vector3d(1, 1, 0).normalized();  // the ypsilon's right arm
+
+// The right arm bent `degrees` out of the plane from 0.3 along it, and thickened by `thicken`.
+Eigen::Vector3d bend(const Eigen::Vector3d& p, double degrees, double thicken) {
+  const Eigen::Vector3d pivot = 0.3 * kArm;
+  const double s = (p - pivot).dot(kArm);
+  if (s <= 0) return p;
+  const double w = std::min(1.0, s / 0.4);
+  const Eigen::Vector3d radial = (p - pivot) - s * kArm;
+  const Eigen::Vector3d q = s * kArm + (1 + thicken * w) * radial;
+  const Eigen::Vector3d across = Eigen::Vector3d::UnitZ().cross(kArm);
+  return pivot + Eigen::AngleAxisd(-degrees * M_PI / 180 * w, across).toRotationMatrix() * q;
+}
+
+stm::Mesh bent_remeshed(const stm::Mesh& a, double degrees, double thicken) {
+  stm::Mesh bent = a;
+  for (auto v : bent.vertices()) {
+    const Eigen::Vector3d q = bend(stm::point(bent, v), degrees, thicken);
+    bent.set_point(v, stm::Mesh::Point(q.x(), q.y(), q.z()));
+  }
+  const stm::TriangleBvh bvh(stm::vertex_matrix(bent), stm::face_matrix(bent));
+  double edge = 0;
+  for (auto e : bent.edges()) edge += bent.calc_edge_length(e) / double(bent.n_edges());
+  stm::Mesh b = bent;
+  stm::isotropic_remesh(b, 0.8 * edge, 4, [&](const Eigen::Vector3d& p) { return bvh.closest_point(p).point; });
+  return b;
+}
+
+}  // namespace
+
+TEST_CASE("a skeleton fitted onto its own mesh stays where it is", "[fit_skeleton]") {
+  const stm::Mesh a = stm::make_primitive("ypsilon", 1200);
+  const stm::Skeleton sa = stm::extract_skeleton(a);
+  const stm::SkeletonFit f = stm::fit_skeleton(a, sa, a, stm::Similarity());
+  const double diag = stm::bounding_box_diagonal(a);
+  CHECK(f.rms < 1e-4);
+  CHECK(f.skeleton.edges == sa.edges);
+  for (size_t k = 0; k < sa.nodes.size(); ++k) CHECK((f.skeleton.nodes[k] - sa.nodes[k]).norm() < 2e-3 * diag);
+  CHECK(f.skeleton.vertex_node == sa.vertex_node);
+  CHECK(std::abs(f.area_ratio - 1) < 1e-3);
+}
+
+TEST_CASE("a bent and thickened arm takes its skeleton along", "[fit_skeleton]") {
+  const stm::Mesh a = stm::make_primitive("ypsilon", 2000);
+  const stm::Skeleton sa = stm::extract_skeleton(a);
+  const stm::Mesh b = bent_remeshed(a, 50, 0.4);
+  const stm::Registration g = stm::register_surfaces(a, b);
+  // Started, as transfer_texture does, from the target's own skeleton matched onto the source's graph.
+  const std::vector<Eigen::Vector3d> guess = stm::skeleton_onto_graph(sa, stm::extract_skeleton(b)).nodes;
+  const stm::SkeletonFit f = stm::fit_skeleton(a, sa, b, g.transform, guess);
+  const double diag = stm::bounding_box_diagonal(b);
+  INFO("rigid RMS " << g.rms << "; bent RMS " << f.rms << ", p99 " << f.p99 << ", area ratio " << f.area_ratio << ", end spread " << f.end_spread);
+  CHECK(g.rms > 0.01);  // the bend is far from a rigid motion
+  CHECK(f.rms < 0.004);
+  CHECK(f.p99 < 0.016);
+  CHECK(f.end_spread > 0.5);
+  CHECK(f.skeleton.edges == sa.edges);
+  // Every end lands where the bend took the source's end (the arm's end moved by 0.4 of the diagonal).
+  const std::vector<int> deg = sa.degrees();
+  int ends = 0;
+  for (size_t k = 0; k < deg.size(); ++k) {
+    if (deg[k] != 1) continue;
+    ++ends;
+    const Eigen::Vector3d want = bend(sa.nodes[k], 50, 0.4);
+    INFO("end " << k << " at " << sa.nodes[k].transpose() << ": fitted " << f.skeleton.nodes[k].transpose() << ", bent " << want.transpose());
+    CHECK((f.skeleton.nodes[k] - want).norm() < 0.03 * diag);
+  }
+  CHECK(ends == 3);
+  std::vector<int> count(sa.nodes.size(), 0);
+  for (int x : f.skeleton.vertex_node) ++count[x];
+  CHECK(*std::min_element(count.begin(), count.end()) >= 1);
+}
+
+TEST_CASE("a skeleton of another branching does not fit closely", "[fit_skeleton]") {
+  const stm::Mesh y = stm::make_primitive("ypsilon"), x = stm::make_primitive("crossed-cylinders");
+  for (const auto& pair : {std::array<const stm::Mesh*, 2>{&y, &x}, std::array<const stm::Mesh*, 2>{&x, &y}}) {
+    const stm::Mesh& a = *pair[0];
+    const stm::Mesh& b = *pair[1];
+    const stm::SkeletonFit f = stm::fit_skeleton(a, stm::extract_skeleton(a), b, stm::register_surfaces(a, b).transform);
+    INFO("RMS " << f.rms << ", p99 " << f.p99 << ", end spread " << f.end_spread);
+    // What transfer_texture takes as a pose of the source (TransferOptions::fit_rms, fit_p99, fit_spread).
+    CHECK(!(f.rms <= 0.004 && f.p99 <= 0.016 && f.end_spread >= 0.5));
+    CHECK(f.rms > 0.006);
+  }
+}
