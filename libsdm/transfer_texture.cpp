@@ -411,22 +411,45 @@ TextureTransfer transfer_texture(GlContext& gl, const Mesh& source, const Image&
   ao.progress = opt.progress;
   r.atlas = render_atlas(gl, source, r.layout_a, texture, ao);
   say("target STM coordinates");
-  // A target the source was carried or bent onto takes the source's face assignment through that
-  // correspondence: its own (assign_faces on the bent geometry) splits faces along segment
-  // borders differently, and the texture breaks there (Spot's turned head).
-  std::vector<int> face_segment;
-  if (!placed.empty()) {
+  StmCoordinates sc;
+  if (placed.empty()) {
+    sc = stm_coordinates(target, r.layout_b);
+  } else {
+    // The source was carried or bent onto the target, so every target point has a source point
+    // under it: the closest point of the placed source, taken back to the source by its barycentric
+    // coordinates. Each target face is mapped by the source's capsules at those points, with the
+    // segment of the source face under its centroid (one segment for the whole face, so seams and
+    // borders between rectangles unwrap as in the source). The target then shows the source's texture
+    // wherever the surfaces correspond, however far the fitted nodes are from where the target's
+    // own shape would put them (capsule coordinates near a cap's pole turn fast: the fitted
+    // skeleton's own capsules tore the spots at the back of a turned Spot's head).
     const std::vector<int> fa = assign_faces(source, r.skeletons.a);
+    const Eigen::MatrixX3i F = face_matrix(source);
     Eigen::MatrixX3d P(placed.size(), 3);
     for (size_t v = 0; v < placed.size(); ++v) P.row(Eigen::Index(v)) = placed[v].transpose();
-    const TriangleBvh bvh(P, face_matrix(source));
+    const TriangleBvh bvh(P, F);
+    Mesh under = target;
+    for (auto v : target.vertices()) {
+      const auto c = bvh.closest_point(point(target, v));
+      const Eigen::Vector3d a = P.row(F(c.face, 0)), b = P.row(F(c.face, 1)), d = P.row(F(c.face, 2));
+      const Eigen::Vector3d e0 = b - a, e1 = d - a, q = c.point - a;
+      const double d00 = e0.dot(e0), d01 = e0.dot(e1), d11 = e1.dot(e1), den = d00 * d11 - d01 * d01;
+      double u = 0, w = 0;
+      if (std::abs(den) > 1e-300) u = (d11 * q.dot(e0) - d01 * q.dot(e1)) / den, w = (d00 * q.dot(e1) - d01 * q.dot(e0)) / den;
+      const Eigen::Vector3d p = (1 - u - w) * point(source, source.vertex_handle(F(c.face, 0))) +
+                                u * point(source, source.vertex_handle(F(c.face, 1))) + w * point(source, source.vertex_handle(F(c.face, 2)));
+      under.set_point(v, Mesh::Point(p.x(), p.y(), p.z()));
+    }
+    std::vector<int> face_segment;
     for (auto f : target.faces()) {
       Eigen::Vector3d c = Eigen::Vector3d::Zero();
       for (auto v : target.fv_range(f)) c += point(target, v) / 3;
       face_segment.push_back(fa[bvh.closest_point(c).face]);
     }
+    sc = stm_coordinates(under, r.layout_a, face_segment);
+    for (auto v : target.vertices()) sc.mesh.set_point(v, target.point(v));
+    sc.stretch = l2_stretch(sc.mesh);
   }
-  StmCoordinates sc = stm_coordinates(target, r.layout_b, face_segment);
   r.target = std::move(sc.mesh);
   r.stretch = sc.stretch;
   r.seam_faces = sc.seam_faces;

@@ -23,6 +23,7 @@ struct FitSkeletonOptions {
   double stiffness_start = 1.0, stiffness_end = 0.01;
   int iterations_per_stiffness = 6;
   double rigidity = 0.1;   // weight of |A - s R|^2 per node (keeps the maps near rotations times a scale)
+  bool articulated_start = true;  // without node_guess: every node's neighbourhood first registered on its own
   double outlier = 0.1;    // closest-point pairs further apart than this fraction of the diagonal are left out
 };
 
@@ -45,7 +46,9 @@ struct SkeletonFit {
 // `skeleton` belongs to `source` (vertex_node has its vertex count). `start` registers source onto
 // target as a whole (register_surfaces); `node_guess`, when not empty, gives a first position in
 // the target for every node (e.g. the matched extracted skeleton of the target,
-// skeleton_onto_graph), from which each node's first map is taken. Every target vertex gets the node
+// skeleton_onto_graph), from which each node's first map is taken; otherwise each node's
+// neighbourhood is first registered by a similarity of its own (articulated_start). The fitted
+// nodes are placed by the similarity that best moves their vertices to where the fit bent them. Every target vertex gets the node
 // of the bent source's corner nearest to it; a node left without a vertex takes the nearest target
 // vertex from a node that owns more than one. Deterministic. Throws InputError when vertex_node
 // does not match the source.
