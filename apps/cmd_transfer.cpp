@@ -117,8 +117,11 @@ Command add_transfer_command(CLI::App& parent) {
                   "segments, the source's skeleton texture map reused around the target's skeleton, and the\n"
                   "source's texture remapped into it. Writes OUT.obj (the target with uv) with its MTL,\n"
                   "OUT_atlas.png (the texture it names) and OUT_preview.png (source and target side by side).\n"
-                  "A target whose branching differs is refused (exit code 2) and nothing is written; up to two short\n"
-                  "end branches (under 8 % of a skeleton's length) found in one skeleton only are pruned first.\n"
+                  "A target that is the source's shape (another tessellation, moved or scaled) takes the source's\n"
+                  "skeleton carried over; one that is the source in another pose (limbs turned, bent, thickened)\n"
+                  "takes it bent along; otherwise the extracted skeletons are matched. A target whose branching\n"
+                  "differs is refused (exit code 2) and nothing is written; up to two short end branches (under 8 %\n"
+                  "of a skeleton's length) found in one skeleton only are pruned first.\n"
                   "With --sdm MAP.exr --target-skeleton SKEL.json instead: the geometry counterpart, the map decoded\n"
                   "around another skeleton with the same branching (matched and resampled onto the map's own).");
   app->add_option("--source", o->source, "Source mesh with uv and a texture (.obj with its MTL)");
@@ -222,7 +225,8 @@ Command add_transfer_command(CLI::App& parent) {
                           {"chains", chains},
                           {"pruned_source_ends", r.skeletons.pruned_a},
                           {"pruned_target_ends", r.skeletons.pruned_b},
-                          {"target_skeleton", r.carried ? "carried" : o->target_skeleton.empty() ? "extracted" : "given"},
+                          {"target_skeleton", r.carried ? "carried" : r.fitted ? "bent" : o->target_skeleton.empty() ? "extracted" : "given"},
+                          {"bent_rms", std::isfinite(r.fit_rms) ? nlohmann::json(r.fit_rms) : nlohmann::json()},
                           {"registration_rms", std::isfinite(r.registration.rms) ? nlohmann::json(r.registration.rms) : nlohmann::json()},
                           {"registration_p99", std::isfinite(r.registration.p99) ? nlohmann::json(r.registration.p99) : nlohmann::json()},
                           {"stretch", r.stretch},
@@ -235,6 +239,9 @@ Command add_transfer_command(CLI::App& parent) {
               if (r.carried)
                 std::cout << "  the target is the source's shape (registered to " << 100 * r.registration.rms
                           << " % of the diagonal, RMS): the source's skeleton carried over\n";
+              if (r.fitted)
+                std::cout << "  the target is the source in another pose (bent onto it to " << 100 * r.fit_rms
+                          << " % of the diagonal, RMS): the source's skeleton bent along\n";
               for (size_t k = 0; k < m.a.keys.size(); ++k)
                 std::cout << "  node " << m.a.keys[k] << " -> " << m.b.keys[m.key_a_to_b[k]] << " (degree " << m.a.key_degree[k] << ")\n";
               std::cout << text;
