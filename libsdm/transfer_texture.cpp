@@ -431,13 +431,9 @@ TextureTransfer transfer_texture(GlContext& gl, const Mesh& source, const Image&
     Mesh under = target;
     for (auto v : target.vertices()) {
       const auto c = bvh.closest_point(point(target, v));
-      const Eigen::Vector3d a = P.row(F(c.face, 0)), b = P.row(F(c.face, 1)), d = P.row(F(c.face, 2));
-      const Eigen::Vector3d e0 = b - a, e1 = d - a, q = c.point - a;
-      const double d00 = e0.dot(e0), d01 = e0.dot(e1), d11 = e1.dot(e1), den = d00 * d11 - d01 * d01;
-      double u = 0, w = 0;
-      if (std::abs(den) > 1e-300) u = (d11 * q.dot(e0) - d01 * q.dot(e1)) / den, w = (d00 * q.dot(e1) - d01 * q.dot(e0)) / den;
-      const Eigen::Vector3d p = (1 - u - w) * point(source, source.vertex_handle(F(c.face, 0))) +
-                                u * point(source, source.vertex_handle(F(c.face, 1))) + w * point(source, source.vertex_handle(F(c.face, 2)));
+      const Eigen::Vector3d b = barycentric(c.point, P.row(F(c.face, 0)), P.row(F(c.face, 1)), P.row(F(c.face, 2)));
+      Eigen::Vector3d p = Eigen::Vector3d::Zero();
+      for (int k = 0; k < 3; ++k) p += b[k] * point(source, source.vertex_handle(F(c.face, k)));
       under.set_point(v, Mesh::Point(p.x(), p.y(), p.z()));
     }
     std::vector<int> face_segment;

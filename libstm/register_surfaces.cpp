@@ -21,22 +21,49 @@ namespace {
 
 struct Samples {
   std::vector<Eigen::Vector3d> p;
-  std::vector<double> w;  // a third of the incident faces' area: dense and sparse regions count alike
+  std::vector<double> w;
 };
 
 Samples vertex_samples(const Mesh& m) {
   Samples s;
   s.p.reserve(m.n_vertices());
-  s.w.assign(m.n_vertices(), 0.0);
   for (auto v : m.vertices()) s.p.push_back(point(m, v));
-  for (auto f : m.faces()) {
-    const double a = m.calc_face_area(f) / 3;
-    for (auto v : m.fv_range(f)) s.w[v.idx()] += a;
-  }
+  s.w = vertex_areas(m);
   return s;
 }
 
 }  // namespace
+
+double weighted_quantile(const std::vector<double>& d, const std::vector<double>& w, double q) {
+  std::vector<size_t> order(d.size());
+  std::iota(order.begin(), order.end(), size_t(0));
+  std::sort(order.begin(), order.end(), [&](size_t a, size_t b) { return d[a] < d[b] || (d[a] == d[b] && a < b); });
+  const double total = std::accumulate(w.begin(), w.end(), 0.0);
+  double acc = 0;
+  for (size_t i : order) {
+    acc += w[i];
+    if (acc >= q * total) return d[i];
+  }
+  return order.empty() ? 0.0 : d[order.back()];
+}
+
+std::vector<double> vertex_areas(const Mesh& m, double factor) {
+  std::vector<double> a(m.n_vertices(), 0.0);
+  for (auto f : m.faces()) {
+    const double x = m.calc_face_area(f) * factor / 3;
+    for (auto v : m.fv_range(f)) a[v.idx()] += x;
+  }
+  return a;
+}
+
+Eigen::Vector3d barycentric(const Eigen::Vector3d& p, const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eigen::Vector3d& c) {
+  const Eigen::Vector3d e0 = b - a, e1 = c - a, d = p - a;
+  const double d00 = e0.dot(e0), d01 = e0.dot(e1), d11 = e1.dot(e1), d20 = d.dot(e0), d21 = d.dot(e1);
+  const double den = d00 * d11 - d01 * d01;
+  if (!(std::abs(den) > 1e-300)) return {1, 0, 0};
+  const double v = (d11 * d20 - d01 * d21) / den, w = (d00 * d21 - d01 * d20) / den;
+  return {1 - v - w, v, w};
+}
 
 Similarity fit_similarity(const std::vector<Eigen::Vector3d>& x, const std::vector<Eigen::Vector3d>& y, const std::vector<double>& w) {
   double W = 0;
@@ -63,20 +90,6 @@ Similarity fit_similarity(const std::vector<Eigen::Vector3d>& x, const std::vect
 }
 
 namespace {
-
-// Area-weighted quantile of distances.
-double weighted_quantile(const std::vector<double>& d, const std::vector<double>& w, double q) {
-  std::vector<size_t> order(d.size());
-  std::iota(order.begin(), order.end(), size_t(0));
-  std::sort(order.begin(), order.end(), [&](size_t a, size_t b) { return d[a] < d[b] || (d[a] == d[b] && a < b); });
-  const double total = std::accumulate(w.begin(), w.end(), 0.0);
-  double acc = 0;
-  for (size_t i : order) {
-    acc += w[i];
-    if (acc >= q * total) return d[i];
-  }
-  return order.empty() ? 0.0 : d[order.back()];
-}
 
 struct Problem {
   Samples src, tgt;

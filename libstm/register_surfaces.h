@@ -42,6 +42,16 @@ struct Registration {
 // Weighted least-squares similarity y ~ T(x) (Umeyama), reflections excluded. Needs x, y, w of one size.
 Similarity fit_similarity(const std::vector<Eigen::Vector3d>& x, const std::vector<Eigen::Vector3d>& y, const std::vector<double>& w);
 
+// The q-quantile of `values` where each counts with its weight (e.g. distances weighted by area).
+double weighted_quantile(const std::vector<double>& values, const std::vector<double>& weights, double q);
+
+// A third of the area of the faces around each vertex (times `factor`): the surface a vertex
+// sample stands for, so that dense and sparse regions count alike.
+std::vector<double> vertex_areas(const Mesh& mesh, double factor = 1.0);
+
+// Barycentric coordinates of p (on or near the triangle's plane) in triangle (a, b, c).
+Eigen::Vector3d barycentric(const Eigen::Vector3d& p, const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eigen::Vector3d& c);
+
 Registration register_surfaces(const Mesh& source, const Mesh& target, const std::vector<Similarity>& starts = {},
                                int max_iterations = 80);
 

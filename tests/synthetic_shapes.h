@@ -1,8 +1,13 @@
 #pragma once
 // Synthetic meshes with known skeletons for the layout tests: surfaces of revolution around z
-// (capsules, tubes), unions of such tubes (a Y), and a torus with a ring of nodes.
+// (capsules, tubes), unions of such tubes (a Y), and a torus with a ring of nodes; and the
+// deformations the transfer tests put them through (a new tessellation, a bent arm).
+#include "libstm/isotropic_remesh.h"
 #include "libstm/mesh.h"
 #include "libstm/skeleton.h"
+#include "libstm/triangle_bvh.h"
+
+#include <Eigen/Geometry>
 
 #include <cmath>
 #include <functional>
@@ -170,6 +175,49 @@ inline Shape transformed(const Shape& in, const Eigen::Matrix3d& R, const Vec3& 
   }
   for (auto& n : s.skeleton.nodes) n = R * n + t;
   return s;
+}
+
+inline double mean_edge(const stm::Mesh& m) {
+  double s = 0;
+  for (auto e : m.edges()) s += m.calc_edge_length(e);
+  return s / double(m.n_edges());
+}
+
+// A copy of `mesh` with another tessellation (mean edge times edge_factor), its vertices on the
+// original surface; without uv.
+inline stm::Mesh remeshed(const stm::Mesh& mesh, double edge_factor) {
+  const stm::TriangleBvh bvh(stm::vertex_matrix(mesh), stm::face_matrix(mesh));
+  stm::Mesh copy = mesh;
+  copy.release_halfedge_texcoords2D();
+  stm::isotropic_remesh(copy, edge_factor * mean_edge(mesh), 4, [&](const Eigen::Vector3d& p) { return bvh.closest_point(p).point; });
+  return copy;
+}
+
+// The right arm of the ypsilon primitive (primitives.cpp): from the origin towards (0.78, 0.78, 0).
+inline const Vec3 kYpsilonArm = Vec3(1, 1, 0).normalized();
+
+// The ypsilon's right arm bent by `degrees` out of the Y's plane towards +z (progressively, from 0.3
+// along the arm on) and thickened by `thicken` (radially, same ramp). Out of the plane, so that the
+// bent Y is not an in-plane Y with its arms relabelled: bent within the plane towards the stem, the
+// Y's angles fit a match with stem and left arm exchanged better than the true one.
+inline Vec3 bend_ypsilon_arm(const Vec3& p, double degrees, double thicken) {
+  const Vec3 pivot = 0.3 * kYpsilonArm;
+  const double s = (p - pivot).dot(kYpsilonArm);
+  if (s <= 0) return p;
+  const double w = std::min(1.0, s / 0.4);
+  const Vec3 radial = (p - pivot) - s * kYpsilonArm;
+  const Vec3 q = s * kYpsilonArm + (1 + thicken * w) * radial;
+  const Vec3 across = Vec3::UnitZ().cross(kYpsilonArm);  // in the plane, across the arm
+  return pivot + Eigen::AngleAxisd(-degrees * M_PI / 180 * w, across).toRotationMatrix() * q;
+}
+
+// Every vertex moved by `move`.
+inline stm::Mesh moved(stm::Mesh m, const std::function<Vec3(const Vec3&)>& move) {
+  for (auto v : m.vertices()) {
+    const Vec3 q = move(stm::point(m, v));
+    m.set_point(v, stm::Mesh::Point(q.x(), q.y(), q.z()));
+  }
+  return m;
 }
 
 }  // namespace synth

@@ -2,11 +2,11 @@
 // the registration, every new vertex to the node its surface point belongs to in the source.
 #include "libstm/carry_skeleton.h"
 #include "libstm/extract_skeleton.h"
-#include "libstm/isotropic_remesh.h"
 #include "libstm/primitives.h"
 #include "libstm/register_surfaces.h"
 #include "libstm/segments.h"
-#include "libstm/triangle_bvh.h"
+
+#include "synthetic_shapes.h"
 
 #include <catch2/catch.hpp>
 
@@ -16,22 +16,12 @@ TEST_CASE("a skeleton carried onto a moved retessellation keeps its graph and it
   const stm::Mesh a = stm::make_primitive("ypsilon", 1500);
   const stm::Skeleton sa = stm::extract_skeleton(a);
   // b: another tessellation, turned 90 degrees about z, scaled and moved.
-  stm::Mesh b = a;
-  {
-    const stm::TriangleBvh bvh(stm::vertex_matrix(a), stm::face_matrix(a));
-    double edge = 0;
-    for (auto e : a.edges()) edge += a.calc_edge_length(e) / double(a.n_edges());
-    stm::isotropic_remesh(b, 0.8 * edge, 4, [&](const Eigen::Vector3d& p) { return bvh.closest_point(p).point; });
-  }
-  REQUIRE(b.n_vertices() != a.n_vertices());
   stm::Similarity T;
   T.scale = 2;
   T.rotation = Eigen::AngleAxisd(M_PI / 2, Eigen::Vector3d::UnitZ()).toRotationMatrix();
   T.translation = {1, 2, 3};
-  for (auto v : b.vertices()) {
-    const Eigen::Vector3d q = T(stm::point(b, v));
-    b.set_point(v, stm::Mesh::Point(q.x(), q.y(), q.z()));
-  }
+  const stm::Mesh b = synth::moved(synth::remeshed(a, 0.8), [&](const Eigen::Vector3d& p) { return T(p); });
+  REQUIRE(b.n_vertices() != a.n_vertices());
   const stm::Skeleton sb = stm::carry_skeleton(a, sa, b, T);
   CHECK(sb.edges == sa.edges);
   REQUIRE(sb.nodes.size() == sa.nodes.size());

@@ -3,10 +3,10 @@
 #include "libsdm/transfer_texture.h"
 #include "libstm/extract_skeleton.h"
 #include "libstm/fit_skeleton.h"
-#include "libstm/isotropic_remesh.h"
 #include "libstm/primitives.h"
 #include "libstm/register_surfaces.h"
-#include "libstm/triangle_bvh.h"
+
+#include "synthetic_shapes.h"
 
 #include <catch2/catch.hpp>
 
@@ -14,32 +14,11 @@
 
 namespace {
 
-const Eigen::Vector3d kArm = Eigen::Vector3d(1, 1, 0).normalized();  // the ypsilon's right arm
+Eigen::Vector3d bend(const Eigen::Vector3d& p, double degrees, double thicken) { return synth::bend_ypsilon_arm(p, degrees, thicken); }
 
-// The right arm bent `degrees` out of the plane from 0.3 along it, and thickened by `thicken`.
-Eigen::Vector3d bend(const Eigen::Vector3d& p, double degrees, double thicken) {
-  const Eigen::Vector3d pivot = 0.3 * kArm;
-  const double s = (p - pivot).dot(kArm);
-  if (s <= 0) return p;
-  const double w = std::min(1.0, s / 0.4);
-  const Eigen::Vector3d radial = (p - pivot) - s * kArm;
-  const Eigen::Vector3d q = s * kArm + (1 + thicken * w) * radial;
-  const Eigen::Vector3d across = Eigen::Vector3d::UnitZ().cross(kArm);
-  return pivot + Eigen::AngleAxisd(-degrees * M_PI / 180 * w, across).toRotationMatrix() * q;
-}
-
+// The bent copy, tessellated anew.
 stm::Mesh bent_remeshed(const stm::Mesh& a, double degrees, double thicken) {
-  stm::Mesh bent = a;
-  for (auto v : bent.vertices()) {
-    const Eigen::Vector3d q = bend(stm::point(bent, v), degrees, thicken);
-    bent.set_point(v, stm::Mesh::Point(q.x(), q.y(), q.z()));
-  }
-  const stm::TriangleBvh bvh(stm::vertex_matrix(bent), stm::face_matrix(bent));
-  double edge = 0;
-  for (auto e : bent.edges()) edge += bent.calc_edge_length(e) / double(bent.n_edges());
-  stm::Mesh b = bent;
-  stm::isotropic_remesh(b, 0.8 * edge, 4, [&](const Eigen::Vector3d& p) { return bvh.closest_point(p).point; });
-  return b;
+  return synth::remeshed(synth::moved(a, [&](const Eigen::Vector3d& p) { return bend(p, degrees, thicken); }), 0.8);
 }
 
 }  // namespace

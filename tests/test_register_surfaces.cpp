@@ -1,10 +1,10 @@
 // Similarity registration (register_surfaces): a moved, turned, scaled and retessellated copy of a
 // model is brought back onto it, with the transform recovered and the surfaces within a fraction of
 // an edge; two different shapes stay far apart.
-#include "libstm/isotropic_remesh.h"
 #include "libstm/primitives.h"
 #include "libstm/register_surfaces.h"
-#include "libstm/triangle_bvh.h"
+
+#include "synthetic_shapes.h"
 
 #include <catch2/catch.hpp>
 
@@ -12,28 +12,7 @@
 
 namespace {
 
-stm::Mesh transformed(stm::Mesh m, const stm::Similarity& T) {
-  for (auto v : m.vertices()) {
-    const Eigen::Vector3d q = T(stm::point(m, v));
-    m.set_point(v, stm::Mesh::Point(q.x(), q.y(), q.z()));
-  }
-  return m;
-}
-
-double mean_edge(const stm::Mesh& m) {
-  double s = 0;
-  for (auto e : m.edges()) s += m.calc_edge_length(e);
-  return s / double(m.n_edges());
-}
-
-// Another tessellation of the same surface.
-stm::Mesh remeshed(const stm::Mesh& mesh, double factor) {
-  const stm::TriangleBvh bvh(stm::vertex_matrix(mesh), stm::face_matrix(mesh));
-  stm::Mesh copy = mesh;
-  copy.release_halfedge_texcoords2D();
-  stm::isotropic_remesh(copy, factor * mean_edge(mesh), 4, [&](const Eigen::Vector3d& p) { return bvh.closest_point(p).point; });
-  return copy;
-}
+stm::Mesh transformed(const stm::Mesh& m, const stm::Similarity& T) { return synth::moved(m, [&](const Eigen::Vector3d& p) { return T(p); }); }
 
 double angle_between(const Eigen::Matrix3d& a, const Eigen::Matrix3d& b) {
   return Eigen::AngleAxisd(a.transpose() * b).angle() * 180 / M_PI;
@@ -63,7 +42,7 @@ TEST_CASE("a moved, turned, scaled and retessellated copy registers back onto it
   T.scale = 1.3;
   T.rotation = Eigen::AngleAxisd(15 * M_PI / 180, Eigen::Vector3d(0.3, 1, 0.2).normalized()).toRotationMatrix();
   T.translation = {0.4, -0.2, 0.7};
-  const stm::Mesh target = transformed(remeshed(spot, 0.9), T);
+  const stm::Mesh target = transformed(synth::remeshed(spot, 0.9), T);
   REQUIRE(target.n_vertices() != spot.n_vertices());
   const stm::Registration r = stm::register_surfaces(spot, target);
   INFO("RMS " << r.rms << ", p99 " << r.p99 << ", scale " << r.transform.scale << ", rotation off by "

@@ -14,6 +14,7 @@
 #include "libstm/render_mesh.h"
 #include "libstm/segments.h"
 #include "libstm/triangle_bvh.h"
+#include "synthetic_shapes.h"
 #include "test_util.h"
 
 #include <catch2/catch.hpp>
@@ -28,8 +29,9 @@
 
 namespace {
 
-// The right arm of the ypsilon primitive (primitives.cpp): from the origin towards (0.78, 0.78, 0).
-const Eigen::Vector3d kArm = Eigen::Vector3d(1, 1, 0).normalized();
+const Eigen::Vector3d kArm = synth::kYpsilonArm;
+using synth::mean_edge;
+using synth::remeshed;
 
 // A smooth colour over space (a few periods across the models), in [0, 1].
 Eigen::Vector3d smooth_colour(const Eigen::Vector3d& p) {
@@ -69,21 +71,6 @@ stm::Image bake_texture(stm::GlContext& gl, stm::Mesh& mesh, const stm::Skeleton
     }
   mesh = stm::stm_coordinates(mesh, layout).mesh;
   return tex;
-}
-
-double mean_edge(const stm::Mesh& m) {
-  double s = 0;
-  for (auto e : m.edges()) s += m.calc_edge_length(e);
-  return s / double(m.n_edges());
-}
-
-// A copy of `mesh` with another tessellation, its vertices on the original surface.
-stm::Mesh remeshed(const stm::Mesh& mesh, double edge_factor) {
-  const stm::TriangleBvh bvh(stm::vertex_matrix(mesh), stm::face_matrix(mesh));
-  stm::Mesh copy = mesh;
-  copy.release_halfedge_texcoords2D();
-  stm::isotropic_remesh(copy, edge_factor * mean_edge(mesh), 4, [&](const Eigen::Vector3d& p) { return bvh.closest_point(p).point; });
-  return copy;
 }
 
 // What `sdm remesh --factor F` makes: the equilateral edge for the mesh's area and vertex count
@@ -182,21 +169,7 @@ stm::Skeleton spot_skeleton(const stm::Mesh& mesh, double cut_longer = 1e9) {
   return sk;
 }
 
-// The deformation of the bent target: the ypsilon's right arm bent by `degrees` out of the Y's plane
-// towards +z (progressively, from 0.3 along the arm on) and thickened by `thicken` (radially, same
-// ramp). Out of the plane, so that the bent Y is not an in-plane Y with its arms relabelled: bent
-// within the plane towards the stem, the Y's angles fit a match with stem and left arm exchanged
-// better than the true one, and match_skeletons rightly ranks shape before pose.
-Eigen::Vector3d bend_point(const Eigen::Vector3d& p, double degrees, double thicken) {
-  const Eigen::Vector3d pivot = 0.3 * kArm;
-  const double s = (p - pivot).dot(kArm);
-  if (s <= 0) return p;
-  const double w = std::min(1.0, s / 0.4);
-  const Eigen::Vector3d radial = (p - pivot) - s * kArm;
-  const Eigen::Vector3d q = s * kArm + (1 + thicken * w) * radial;
-  const Eigen::Vector3d across = Eigen::Vector3d::UnitZ().cross(kArm);  // in the plane, across the arm
-  return pivot + Eigen::AngleAxisd(-degrees * M_PI / 180 * w, across).toRotationMatrix() * q;
-}
+using synth::bend_ypsilon_arm;
 
 // The ypsilon's ideal skeleton (junction at the origin, arms along the primitive's capsule axes),
 // arm k cut into per_arm[k] edges, every node moved by `move`.
@@ -377,7 +350,7 @@ void check_band(bool extracted) {
   // Target: the right arm bent 50 degrees out of the plane and 40 % thicker, then tessellated anew. Faces of
   // the bent copy are labelled "arm" when their undeformed centroid lies past 0.3 along the arm;
   // the remeshed target's faces take the label of the nearest face of the bent copy.
-  auto bend = [](const Eigen::Vector3d& p) { return bend_point(p, 50, 0.4); };
+  auto bend = [](const Eigen::Vector3d& p) { return bend_ypsilon_arm(p, 50, 0.4); };
   stm::Mesh bent = stm::make_primitive("ypsilon", 2000);
   for (auto v : bent.vertices()) {
     const Eigen::Vector3d q = bend(stm::point(bent, v));
