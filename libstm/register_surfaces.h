@@ -32,10 +32,10 @@ struct Registration {
   int iterations = 0;
 };
 
-// The similarity that brings `source` closest to `target`, started from centroids and RMS radii
-// matched with no rotation (the models are assumed in about the same orientation, as for matching
-// skeletons) and from each of `starts` (e.g. the similarity of two matched skeletons); the result
-// with the smallest RMS distance is kept. Each start runs at most
+// The similarity that brings `source` closest to `target`. Started with centroids and RMS radii
+// matched and no rotation, and from each of `starts` (e.g. the similarity of two matched
+// skeletons): the models are assumed in about the same orientation. Starts with the principal axes
+// matched (four ways) find a turned copy, but win only with a quarter of the other's RMS distance. Each start runs at most
 // max_iterations steps; pairs further apart than three times their median distance are left out
 // after the first steps, so parts one surface has and the other lacks do not drag the fit.
 // Deterministic. Both meshes need at least one face.

@@ -38,14 +38,16 @@ TEST_CASE("fit_similarity recovers an exact similarity", "[register_surfaces]") 
 TEST_CASE("a moved, turned, scaled and retessellated copy registers back onto its source", "[register_surfaces]") {
   std::string tex;
   const stm::Mesh spot = stm::load_mesh(std::string(SDM_EXAMPLES) + "/spot/spot_triangulated.obj", &tex);
+  // A small turn (found from no rotation) and a large one (from the principal axes).
+  const double degrees = GENERATE(15.0, 130.0);
   stm::Similarity T;
   T.scale = 1.3;
-  T.rotation = Eigen::AngleAxisd(15 * M_PI / 180, Eigen::Vector3d(0.3, 1, 0.2).normalized()).toRotationMatrix();
+  T.rotation = Eigen::AngleAxisd(degrees * M_PI / 180, Eigen::Vector3d(0.3, 1, 0.2).normalized()).toRotationMatrix();
   T.translation = {0.4, -0.2, 0.7};
   const stm::Mesh target = transformed(synth::remeshed(spot, 0.9), T);
   REQUIRE(target.n_vertices() != spot.n_vertices());
   const stm::Registration r = stm::register_surfaces(spot, target);
-  INFO("RMS " << r.rms << ", p99 " << r.p99 << ", scale " << r.transform.scale << ", rotation off by "
+  INFO("turned " << degrees << " degrees: RMS " << r.rms << ", p99 " << r.p99 << ", scale " << r.transform.scale << ", rotation off by "
               << angle_between(r.transform.rotation, T.rotation) << " degrees, " << r.iterations << " iterations");
   // Vertices of two tessellations of one curved surface lie off each other's flat triangles by a
   // small fraction of an edge (0.03 of the diagonal here): the residual is that, not misalignment.
