@@ -1,6 +1,7 @@
 #include "libstm/triangle_bvh.h"
 
 #include <algorithm>
+#include <cmath>
 #include <numeric>
 
 namespace stm {
@@ -72,7 +73,11 @@ Eigen::Vector3d closest_point_on_triangle(const Eigen::Vector3d& p, const Eigen:
 
 TriangleBvh::TriangleBvh(const Eigen::MatrixX3d& V, const Eigen::MatrixX3i& F, const std::vector<int>& faces) {
   auto add = [&](int f) {
-    tris_.push_back({V.row(F(f, 0)).transpose(), V.row(F(f, 1)).transpose(), V.row(F(f, 2)).transpose(), f});
+    const Eigen::Vector3d a = V.row(F(f, 0)), b = V.row(F(f, 1)), c = V.row(F(f, 2));
+    Eigen::Vector3d n = (b - a).cross(c - a);
+    const double len = n.norm();
+    n = len > 0 && std::isfinite(len) ? Eigen::Vector3d(n / len) : Eigen::Vector3d::Zero();
+    tris_.push_back({a, b, c, n, f});
   };
   if (faces.empty()) {
     for (int f = 0; f < F.rows(); ++f) add(f);
@@ -123,15 +128,27 @@ TriangleBvh::Closest TriangleBvh::closest_point(const Eigen::Vector3d& p, double
   Closest best;
   if (nodes_.empty()) return best;
   double best2 = max_distance * max_distance;
-  int stack[128];
+  // Entries carry their box distance, computed when the parent was opened, so that a node is
+  // measured once; it is compared with the best found so far again when popped.
+  struct Item {
+    double d2;
+    int node;
+  };
+  Item stack[128];
   int sp = 0;
-  stack[sp++] = 0;
+  stack[sp++] = {box_distance2(p, nodes_[0].lo, nodes_[0].hi), 0};
   while (sp) {
-    const Node& n = nodes_[stack[--sp]];
-    if (box_distance2(p, n.lo, n.hi) >= best2) continue;
+    const Item item = stack[--sp];
+    if (item.d2 >= best2) continue;
+    const Node& n = nodes_[item.node];
     if (n.left < 0) {
       for (int i = n.begin; i < n.end; ++i) {
         const Tri& t = tris_[i];
+        // The plane bound skips most triangles tangent to a query ball (the medial poles'
+        // queries); the margin leaves near-ties to the exact distance, so results do not change.
+        const Eigen::Vector3d pa = p - t.a;
+        const double h = t.normal.dot(pa);
+        if (h * h > best2 * (1 + 1e-9) + 1e-20 * pa.squaredNorm()) continue;
         const Eigen::Vector3d q = closest_point_on_triangle(p, t.a, t.b, t.c);
         const double d2 = (q - p).squaredNorm();
         if (d2 < best2) {
@@ -146,11 +163,11 @@ TriangleBvh::Closest TriangleBvh::closest_point(const Eigen::Vector3d& p, double
     const double dl = box_distance2(p, nodes_[n.left].lo, nodes_[n.left].hi);
     const double dr = box_distance2(p, nodes_[n.right].lo, nodes_[n.right].hi);
     if (dl < dr) {
-      stack[sp++] = n.right;
-      stack[sp++] = n.left;
+      if (dr < best2) stack[sp++] = {dr, n.right};
+      stack[sp++] = {dl, n.left};
     } else {
-      stack[sp++] = n.left;
-      stack[sp++] = n.right;
+      if (dl < best2) stack[sp++] = {dl, n.left};
+      if (dr < best2) stack[sp++] = {dr, n.right};
     }
   }
   if (best.face >= 0) best.distance = std::sqrt(best2);
