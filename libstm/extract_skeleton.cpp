@@ -13,9 +13,11 @@
 #include <cstdio>
 #include <cmath>
 #include <exception>
+#include <future>
 #include <map>
 #include <mutex>
 #include <numeric>
+#include <optional>
 #include <set>
 #include <thread>
 
@@ -730,7 +732,8 @@ Skeleton extract_skeleton(const Mesh& mesh, const SkeletonOptions& opt, const Pr
     // the contraction runs, and the contraction's thread joins in once it is done: the poles are
     // on the medial candidate's critical path, the contraction's surgery is not. Vertices are
     // independent, so the split does not change them.
-    const MedialPoles pole_finder(XV, XF);
+    const TriangleBvh surface(PV, PF, {}, 8);  // wide leaves: it serves the poles' ball queries
+    const MedialPoles pole_finder(XV, XF, use_proxy ? nullptr : &surface);
     Eigen::MatrixX3d poles(XV.rows(), 3);
     const int pole_chunk = 32, pole_chunks = int((XV.rows() + pole_chunk - 1) / pole_chunk);
     std::atomic<int> next_chunk{0};
@@ -764,8 +767,11 @@ Skeleton extract_skeleton(const Mesh& mesh, const SkeletonOptions& opt, const Pr
       if (poles_failure) std::rethrow_exception(poles_failure);
     };
 
-    const InsideMesh in(PV, PF);
-    const TriangleBvh surface(PV, PF);
+    // The inside tests are first needed by a surgery, well after the poles have started: they
+    // are built on this thread while the second one starts on the poles.
+    std::optional<InsideMesh> inside;
+    std::promise<void> inside_built;
+    const std::shared_future<void> inside_ready = inside_built.get_future().share();
     // Genus of the part from its Euler characteristic (closed: E = 3F/2).
     const int genus = int((2 - PV.rows() + PF.rows() / 2) / 2);
     struct Candidate {
@@ -786,6 +792,8 @@ Skeleton extract_skeleton(const Mesh& mesh, const SkeletonOptions& opt, const Pr
       return deg;
     };
     auto cut = [&](const Eigen::MatrixX3d& contracted, const char* name, Candidate& c) {
+      std::shared_future<void>(inside_ready).get();  // each thread waits through its own copy
+      const InsideMesh& in = *inside;
       const auto t = Clock::now();
       c.g = surgery(XV, contracted, XF, in, genus, opt, c.st);
       c.st.surgery_seconds += seconds_since(t);
@@ -798,6 +806,7 @@ Skeleton extract_skeleton(const Mesh& mesh, const SkeletonOptions& opt, const Pr
     };
     // Refinement needs the poles (bent edges, tube error).
     auto finish = [&](const char* name, Candidate& c) {
+      const InsideMesh& in = *inside;  // built: the candidate's surgery waited for it
       const auto t = Clock::now();
       refine(c.g, XV, in, surface, diag, opt);
       if (opt.centre_junctions > 0) centre_junctions(c.g, XV, poles, in, opt.centre_junctions);
@@ -848,6 +857,12 @@ Skeleton extract_skeleton(const Mesh& mesh, const SkeletonOptions& opt, const Pr
         medial_failure = std::current_exception();
       }
     });
+    try {
+      inside.emplace(PV, PF);
+      inside_built.set_value();
+    } catch (...) {
+      inside_built.set_exception(std::current_exception());
+    }
     std::exception_ptr contraction_failure;
     try {
       if (run_contraction) {
@@ -895,7 +910,7 @@ Skeleton extract_skeleton(const Mesh& mesh, const SkeletonOptions& opt, const Pr
                           : contraction;
     if (&best == &medial) ++st.medial_parts;
     Graph& g = best.g;
-    split_lone_node(g, XV, in);
+    split_lone_node(g, XV, *inside);
     st.outside_edges += best.outside;
     const auto t1 = Clock::now();
     std::vector<int> owner(PV.rows());

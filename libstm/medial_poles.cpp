@@ -6,7 +6,8 @@
 
 namespace stm {
 
-MedialPoles::MedialPoles(const Eigen::MatrixX3d& V, const Eigen::MatrixX3i& F) : V_(V), bvh_(V, F) {
+MedialPoles::MedialPoles(const Eigen::MatrixX3d& V, const Eigen::MatrixX3i& F, const TriangleBvh* surface)
+    : V_(V), own_(surface ? TriangleBvh() : TriangleBvh(V, F, {}, 8)), bvh_(surface ? surface : &own_) {
   const int n = int(V.rows());
   N_ = Eigen::MatrixX3d::Zero(n, 3);
   double volume = 0;
@@ -35,11 +36,11 @@ Eigen::Vector3d MedialPoles::pole(int i) const {
   // Shrink a ball tangent at p until the surface point nearest its centre is p itself: each
   // step takes the ball through p and that nearest point.
   // No ball tangent at p is wider than the chord along the inward normal: start from half of it.
-  const auto hit = bvh_.first_hit(p, m, eps_);
+  const auto hit = bvh_->first_hit(p, m, eps_);
   double r = hit.face >= 0 ? std::min(r_max_, 0.5 * hit.t) : r_max_;
   for (int it = 0; it < 50; ++it) {
     const Eigen::Vector3d c = p + r * m;
-    const auto q = bvh_.closest_point(c, r - eps_);
+    const auto q = bvh_->closest_point(c, r - eps_);
     if (q.face < 0) break;  // the ball is empty
     const Eigen::Vector3d d = q.point - p;
     // The nearest point lies next to p: the vertex normal is not the normal of the faces around

@@ -16,7 +16,11 @@ namespace stm {
 // Deterministic; commutes with rigid motions.
 class MedialPoles {
  public:
-  MedialPoles(const Eigen::MatrixX3d& V, const Eigen::MatrixX3i& F);
+  // `surface`, when given, is a BVH over exactly V and F that the caller keeps alive (the
+  // skeleton builds one anyway; building it twice cost a millisecond before the threads start).
+  MedialPoles(const Eigen::MatrixX3d& V, const Eigen::MatrixX3i& F, const TriangleBvh* surface = nullptr);
+  MedialPoles(const MedialPoles&) = delete;
+  MedialPoles& operator=(const MedialPoles&) = delete;
   int size() const { return int(V_.rows()); }
   Eigen::Vector3d pole(int i) const;  // safe to call from several threads
 
@@ -24,7 +28,8 @@ class MedialPoles {
   Eigen::MatrixX3d V_, N_;  // vertices and their area-weighted normals
   std::vector<double> reach_;  // longest edge at each vertex
   double inward_ = -1, r_max_ = 0, eps_ = 0;
-  TriangleBvh bvh_;
+  TriangleBvh own_;
+  const TriangleBvh* bvh_;
 };
 
 // All n poles (n x 3 ball centres).

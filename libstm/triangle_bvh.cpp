@@ -7,8 +7,6 @@
 namespace stm {
 namespace {
 
-constexpr int kLeafSize = 4;
-
 double box_distance2(const Eigen::Vector3d& p, const Eigen::Vector3d& lo, const Eigen::Vector3d& hi) {
   Eigen::Vector3d d = (lo - p).cwiseMax(p - hi).cwiseMax(0.0);
   return d.squaredNorm();
@@ -71,7 +69,9 @@ Eigen::Vector3d closest_point_on_triangle(const Eigen::Vector3d& p, const Eigen:
   return a + ab * (vb * denom) + ac * (vc * denom);
 }
 
-TriangleBvh::TriangleBvh(const Eigen::MatrixX3d& V, const Eigen::MatrixX3i& F, const std::vector<int>& faces) {
+TriangleBvh::TriangleBvh(const Eigen::MatrixX3d& V, const Eigen::MatrixX3i& F, const std::vector<int>& faces,
+                         int leaf_size)
+    : leaf_size_(std::max(leaf_size, 1)) {
   auto add = [&](int f) {
     const Eigen::Vector3d a = V.row(F(f, 0)), b = V.row(F(f, 1)), c = V.row(F(f, 2));
     Eigen::Vector3d n = (b - a).cross(c - a);
@@ -85,7 +85,7 @@ TriangleBvh::TriangleBvh(const Eigen::MatrixX3d& V, const Eigen::MatrixX3i& F, c
     for (int f : faces) add(f);
   }
   if (!tris_.empty()) {
-    nodes_.reserve(2 * tris_.size() / kLeafSize + 2);
+    nodes_.reserve(2 * tris_.size() / leaf_size_ + 2);
     build(0, int(tris_.size()));
   }
 }
@@ -105,7 +105,7 @@ int TriangleBvh::build(int begin, int end) {
   }
   const int index = int(nodes_.size());
   nodes_.push_back(node);
-  if (end - begin <= kLeafSize) {
+  if (end - begin <= leaf_size_) {
     nodes_[index].begin = begin;
     nodes_[index].end = end;
     return index;

@@ -11,8 +11,11 @@ class TriangleBvh {
  public:
   TriangleBvh() = default;
   // V: points, F: triangles (indices into V). Only the triangles listed in `faces` are used
-  // when it is given (e.g. one segment's faces); hits report indices into F.
-  TriangleBvh(const Eigen::MatrixX3d& V, const Eigen::MatrixX3i& F, const std::vector<int>& faces = {});
+  // when it is given (e.g. one segment's faces); hits report indices into F. Leaves hold up to
+  // leaf_size triangles: closest-point queries with wide balls (the medial poles) run about 10 %
+  // faster with 8, where the triangles' plane bound is cheaper than opening more boxes.
+  TriangleBvh(const Eigen::MatrixX3d& V, const Eigen::MatrixX3i& F, const std::vector<int>& faces = {},
+              int leaf_size = 4);
 
   struct Closest {
     double distance = INFINITY;
@@ -50,6 +53,7 @@ class TriangleBvh {
     int face;
   };
   int build(int begin, int end);
+  int leaf_size_ = 4;
   std::vector<Node> nodes_;
   std::vector<Tri> tris_;
 };
