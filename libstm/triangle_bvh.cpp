@@ -77,7 +77,7 @@ TriangleBvh::TriangleBvh(const Eigen::MatrixX3d& V, const Eigen::MatrixX3i& F, c
     Eigen::Vector3d n = (b - a).cross(c - a);
     const double len = n.norm();
     n = len > 0 && std::isfinite(len) ? Eigen::Vector3d(n / len) : Eigen::Vector3d::Zero();
-    tris_.push_back({a, b, c, n, f});
+    tris_.push_back({a, n, b, c, f});
   };
   if (faces.empty()) {
     for (int f = 0; f < F.rows(); ++f) add(f);
@@ -103,6 +103,22 @@ int TriangleBvh::build(int begin, int end) {
     clo = clo.cwiseMin(ctr);
     chi = chi.cwiseMax(ctr);
   }
+  Eigen::Vector3d normal = Eigen::Vector3d::Zero();
+  for (int i = begin; i < end; ++i) normal += (tris_[i].b - tris_[i].a).cross(tris_[i].c - tris_[i].a);
+  const double len = normal.norm();
+  if (len > 0 && std::isfinite(len)) {
+    node.axis = normal / len;
+    node.slab_lo = INFINITY, node.slab_hi = -INFINITY;
+    for (int i = begin; i < end; ++i)
+      for (const Eigen::Vector3d* v : {&tris_[i].a, &tris_[i].b, &tris_[i].c}) {
+        const double h = node.axis.dot(*v);
+        node.slab_lo = std::min(node.slab_lo, h), node.slab_hi = std::max(node.slab_hi, h);
+      }
+    // Widened past the rounding of the dot products, so that the bound never exceeds a
+    // distance the exact triangle test would find.
+    const double pad = 1e-12 * (node.lo.cwiseAbs().maxCoeff() + node.hi.cwiseAbs().maxCoeff());
+    node.slab_lo -= pad, node.slab_hi += pad;
+  }
   const int index = int(nodes_.size());
   nodes_.push_back(node);
   if (end - begin <= leaf_size_) {
@@ -124,6 +140,12 @@ int TriangleBvh::build(int begin, int end) {
   return index;
 }
 
+double TriangleBvh::node_distance2(const Eigen::Vector3d& p, const Node& n) {
+  const double h = n.axis.dot(p);
+  const double slab = std::max(std::max(n.slab_lo - h, h - n.slab_hi), 0.0);
+  return std::max(box_distance2(p, n.lo, n.hi), slab * slab);
+}
+
 TriangleBvh::Closest TriangleBvh::closest_point(const Eigen::Vector3d& p, double max_distance) const {
   Closest best;
   if (nodes_.empty()) return best;
@@ -136,7 +158,7 @@ TriangleBvh::Closest TriangleBvh::closest_point(const Eigen::Vector3d& p, double
   };
   Item stack[128];
   int sp = 0;
-  stack[sp++] = {box_distance2(p, nodes_[0].lo, nodes_[0].hi), 0};
+  stack[sp++] = {node_distance2(p, nodes_[0]), 0};
   while (sp) {
     const Item item = stack[--sp];
     if (item.d2 >= best2) continue;
@@ -160,8 +182,8 @@ TriangleBvh::Closest TriangleBvh::closest_point(const Eigen::Vector3d& p, double
       continue;
     }
     // Visit the nearer child first so that pruning bites early.
-    const double dl = box_distance2(p, nodes_[n.left].lo, nodes_[n.left].hi);
-    const double dr = box_distance2(p, nodes_[n.right].lo, nodes_[n.right].hi);
+    const double dl = node_distance2(p, nodes_[n.left]);
+    const double dr = node_distance2(p, nodes_[n.right]);
     if (dl < dr) {
       if (dr < best2) stack[sp++] = {dr, n.right};
       stack[sp++] = {dl, n.left};
