@@ -147,10 +147,21 @@ Graph surgery(const Eigen::MatrixX3d& O, const Eigen::MatrixX3d& P, const Eigen:
   const std::greater<Entry> later;
   size_t sweep_at = size_t(n) + 64;
   auto stale = [&](const Entry& e) { return !alive[e.i] || !alive[e.j] || e.si != stamp[e.i] || e.sj != stamp[e.j]; };
-  auto push = [&](int i, int j) {
-    if (!has_face(i, j)) return;
+  auto queue = [&](int i, int j) {
     heap.push_back({cost(i, j), i, j, stamp[i], stamp[j]});
     std::push_heap(heap.begin(), heap.end(), later);
+  };
+  auto push = [&](int i, int j) {
+    if (has_face(i, j)) queue(i, j);
+  };
+  // The vertices sharing a face with k, marked once, so that queueing all of k's edges does not
+  // scan k's faces for every one of them.
+  std::vector<unsigned> face_mark(n, 0);
+  unsigned face_marks = 0;
+  auto mark_face_neighbours = [&](int k) {
+    ++face_marks;
+    for (int f : vfaces[k])
+      for (int x : faces[f]) face_mark[x] = face_marks;
   };
   for (int i = 0; i < n; ++i)
     for (int j : nbr[i]) push(i, j);
@@ -202,9 +213,10 @@ Graph surgery(const Eigen::MatrixX3d& O, const Eigen::MatrixX3d& P, const Eigen:
     for (int k : nbr[j]) ++stamp[k];
     for (int k : nbr[j]) {
       push(j, k);
-      push(k, j);
+      mark_face_neighbours(k);
+      if (face_mark[j] == face_marks) queue(k, j);
       for (int l : nbr[k])
-        if (l != j) push(k, l);
+        if (l != j && face_mark[l] == face_marks) queue(k, l);
     }
   };
 
