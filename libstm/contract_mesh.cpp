@@ -1,6 +1,7 @@
 #include "libstm/contract_mesh.h"
 
 #include "libstm/errors.h"
+#include "libstm/supernodal_cholesky.h"
 
 #include <Eigen/Sparse>
 #include <Eigen/SparseCholesky>
@@ -18,6 +19,19 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 double seconds_since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
+
+// SupernodalCholesky behind the interface of Eigen's factorisations, for the iteration below.
+class SupernodalSolver {
+ public:
+  void analyzePattern(const Eigen::SparseMatrix<double>& A) { llt_.analyze(A); }
+  void factorize(const Eigen::SparseMatrix<double>& A) { ok_ = llt_.factorize(A); }
+  Eigen::ComputationInfo info() const { return ok_ ? Eigen::Success : Eigen::NumericalIssue; }
+  Eigen::MatrixX3d solve(const Eigen::MatrixX3d& B) const { return llt_.solve(B); }
+
+ private:
+  SupernodalCholesky llt_;
+  bool ok_ = false;
+};
 
 // Cotangent of the angle between u and v, clamped: contracted triangles degenerate, and an
 // unbounded weight would make the system singular.
@@ -207,8 +221,11 @@ ContractResult contract_mesh(const Eigen::MatrixX3d& V0, const Eigen::MatrixX3i&
     iterate(solver);
   } else
 #endif
-  {
+  if (opt.solver == SparseSolver::eigen) {
     Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> solver;
+    iterate(solver);
+  } else {
+    SupernodalSolver solver;
     iterate(solver);
   }
   res.positions = V;
@@ -220,7 +237,7 @@ bool sparse_solver_available(SparseSolver s) {
   (void)s;
   return true;
 #else
-  return s == SparseSolver::eigen;
+  return s != SparseSolver::cholmod;
 #endif
 }
 

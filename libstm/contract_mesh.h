@@ -11,13 +11,14 @@
 
 namespace stm {
 
-// Sparse Cholesky used by the contraction: Eigen's simplicial LDL^T, or CHOLMOD's supernodal
-// LL^T where the build found SuiteSparse (sparse_solver_available tells).
-enum class SparseSolver { eigen, cholmod };
+// Sparse Cholesky used by the contraction: the project's supernodal LL^T (supernodal_cholesky.h),
+// Eigen's simplicial LDL^T, or CHOLMOD's supernodal LL^T where the build found SuiteSparse
+// (sparse_solver_available tells).
+enum class SparseSolver { supernodal, eigen, cholmod };
 bool sparse_solver_available(SparseSolver s);
 
 struct ContractOptions {
-  SparseSolver solver = SparseSolver::eigen;
+  SparseSolver solver = SparseSolver::supernodal;
   // Weights of the Laplacian: cotangent weights of the current (contracted) shape, as Au et al.,
   // clamped to [cot_min, cot_max] so that degenerating triangles neither blow up nor turn the
   // Laplacian indefinite. They need well-shaped triangles to start from: on raw CAD meshes (long

@@ -1,12 +1,11 @@
 #include "libstm/triangle_bvh.h"
 
 #include <algorithm>
+#include <cmath>
 #include <numeric>
 
 namespace stm {
 namespace {
-
-constexpr int kLeafSize = 4;
 
 double box_distance2(const Eigen::Vector3d& p, const Eigen::Vector3d& lo, const Eigen::Vector3d& hi) {
   Eigen::Vector3d d = (lo - p).cwiseMax(p - hi).cwiseMax(0.0);
@@ -70,9 +69,15 @@ Eigen::Vector3d closest_point_on_triangle(const Eigen::Vector3d& p, const Eigen:
   return a + ab * (vb * denom) + ac * (vc * denom);
 }
 
-TriangleBvh::TriangleBvh(const Eigen::MatrixX3d& V, const Eigen::MatrixX3i& F, const std::vector<int>& faces) {
+TriangleBvh::TriangleBvh(const Eigen::MatrixX3d& V, const Eigen::MatrixX3i& F, const std::vector<int>& faces,
+                         int leaf_size)
+    : leaf_size_(std::max(leaf_size, 1)) {
   auto add = [&](int f) {
-    tris_.push_back({V.row(F(f, 0)).transpose(), V.row(F(f, 1)).transpose(), V.row(F(f, 2)).transpose(), f});
+    const Eigen::Vector3d a = V.row(F(f, 0)), b = V.row(F(f, 1)), c = V.row(F(f, 2));
+    Eigen::Vector3d n = (b - a).cross(c - a);
+    const double len = n.norm();
+    n = len > 0 && std::isfinite(len) ? Eigen::Vector3d(n / len) : Eigen::Vector3d::Zero();
+    tris_.push_back({a, n, b, c, f});
   };
   if (faces.empty()) {
     for (int f = 0; f < F.rows(); ++f) add(f);
@@ -80,7 +85,7 @@ TriangleBvh::TriangleBvh(const Eigen::MatrixX3d& V, const Eigen::MatrixX3i& F, c
     for (int f : faces) add(f);
   }
   if (!tris_.empty()) {
-    nodes_.reserve(2 * tris_.size() / kLeafSize + 2);
+    nodes_.reserve(2 * tris_.size() / leaf_size_ + 2);
     build(0, int(tris_.size()));
   }
 }
@@ -98,9 +103,25 @@ int TriangleBvh::build(int begin, int end) {
     clo = clo.cwiseMin(ctr);
     chi = chi.cwiseMax(ctr);
   }
+  Eigen::Vector3d normal = Eigen::Vector3d::Zero();
+  for (int i = begin; i < end; ++i) normal += (tris_[i].b - tris_[i].a).cross(tris_[i].c - tris_[i].a);
+  const double len = normal.norm();
+  if (len > 0 && std::isfinite(len)) {
+    node.axis = normal / len;
+    node.slab_lo = INFINITY, node.slab_hi = -INFINITY;
+    for (int i = begin; i < end; ++i)
+      for (const Eigen::Vector3d* v : {&tris_[i].a, &tris_[i].b, &tris_[i].c}) {
+        const double h = node.axis.dot(*v);
+        node.slab_lo = std::min(node.slab_lo, h), node.slab_hi = std::max(node.slab_hi, h);
+      }
+    // Widened past the rounding of the dot products, so that the bound never exceeds a
+    // distance the exact triangle test would find.
+    const double pad = 1e-12 * (node.lo.cwiseAbs().maxCoeff() + node.hi.cwiseAbs().maxCoeff());
+    node.slab_lo -= pad, node.slab_hi += pad;
+  }
   const int index = int(nodes_.size());
   nodes_.push_back(node);
-  if (end - begin <= kLeafSize) {
+  if (end - begin <= leaf_size_) {
     nodes_[index].begin = begin;
     nodes_[index].end = end;
     return index;
@@ -119,19 +140,37 @@ int TriangleBvh::build(int begin, int end) {
   return index;
 }
 
+double TriangleBvh::node_distance2(const Eigen::Vector3d& p, const Node& n) {
+  const double h = n.axis.dot(p);
+  const double slab = std::max(std::max(n.slab_lo - h, h - n.slab_hi), 0.0);
+  return std::max(box_distance2(p, n.lo, n.hi), slab * slab);
+}
+
 TriangleBvh::Closest TriangleBvh::closest_point(const Eigen::Vector3d& p, double max_distance) const {
   Closest best;
   if (nodes_.empty()) return best;
   double best2 = max_distance * max_distance;
-  int stack[128];
+  // Entries carry their box distance, computed when the parent was opened, so that a node is
+  // measured once; it is compared with the best found so far again when popped.
+  struct Item {
+    double d2;
+    int node;
+  };
+  Item stack[128];
   int sp = 0;
-  stack[sp++] = 0;
+  stack[sp++] = {node_distance2(p, nodes_[0]), 0};
   while (sp) {
-    const Node& n = nodes_[stack[--sp]];
-    if (box_distance2(p, n.lo, n.hi) >= best2) continue;
+    const Item item = stack[--sp];
+    if (item.d2 >= best2) continue;
+    const Node& n = nodes_[item.node];
     if (n.left < 0) {
       for (int i = n.begin; i < n.end; ++i) {
         const Tri& t = tris_[i];
+        // The plane bound skips most triangles tangent to a query ball (the medial poles'
+        // queries); the margin leaves near-ties to the exact distance, so results do not change.
+        const Eigen::Vector3d pa = p - t.a;
+        const double h = t.normal.dot(pa);
+        if (h * h > best2 * (1 + 1e-9) + 1e-20 * pa.squaredNorm()) continue;
         const Eigen::Vector3d q = closest_point_on_triangle(p, t.a, t.b, t.c);
         const double d2 = (q - p).squaredNorm();
         if (d2 < best2) {
@@ -143,14 +182,14 @@ TriangleBvh::Closest TriangleBvh::closest_point(const Eigen::Vector3d& p, double
       continue;
     }
     // Visit the nearer child first so that pruning bites early.
-    const double dl = box_distance2(p, nodes_[n.left].lo, nodes_[n.left].hi);
-    const double dr = box_distance2(p, nodes_[n.right].lo, nodes_[n.right].hi);
+    const double dl = node_distance2(p, nodes_[n.left]);
+    const double dr = node_distance2(p, nodes_[n.right]);
     if (dl < dr) {
-      stack[sp++] = n.right;
-      stack[sp++] = n.left;
+      if (dr < best2) stack[sp++] = {dr, n.right};
+      stack[sp++] = {dl, n.left};
     } else {
-      stack[sp++] = n.left;
-      stack[sp++] = n.right;
+      if (dl < best2) stack[sp++] = {dl, n.left};
+      if (dr < best2) stack[sp++] = {dr, n.right};
     }
   }
   if (best.face >= 0) best.distance = std::sqrt(best2);

@@ -11,8 +11,11 @@ class TriangleBvh {
  public:
   TriangleBvh() = default;
   // V: points, F: triangles (indices into V). Only the triangles listed in `faces` are used
-  // when it is given (e.g. one segment's faces); hits report indices into F.
-  TriangleBvh(const Eigen::MatrixX3d& V, const Eigen::MatrixX3i& F, const std::vector<int>& faces = {});
+  // when it is given (e.g. one segment's faces); hits report indices into F. Leaves hold up to
+  // leaf_size triangles: closest-point queries with wide balls (the medial poles) run about 10 %
+  // faster with 8, where the triangles' plane bound is cheaper than opening more boxes.
+  TriangleBvh(const Eigen::MatrixX3d& V, const Eigen::MatrixX3i& F, const std::vector<int>& faces = {},
+              int leaf_size = 4);
 
   struct Closest {
     double distance = INFINITY;
@@ -39,14 +42,25 @@ class TriangleBvh {
  private:
   struct Node {
     Eigen::Vector3d lo, hi;
+    // A slab along the node's mean normal that holds its triangles: near the leaves a patch of
+    // surface is nearly flat, so a ball tangent to it (the medial poles' queries) overlaps the
+    // box but not the slab.
+    Eigen::Vector3d axis = Eigen::Vector3d::Zero();
+    double slab_lo = 0, slab_hi = 0;
     int left = -1, right = -1;  // children, or -1 for a leaf
     int begin = 0, end = 0;     // leaf range in tris_
   };
+  // Lower bound of the squared distance from p to the node's triangles.
+  static double node_distance2(const Eigen::Vector3d& p, const Node& n);
   struct Tri {
-    Eigen::Vector3d a, b, c;
+    // Unit normal (zero when degenerate): the distance to the plane bounds the distance to the
+    // triangle from below and costs one dot product, against the Voronoi walk's dozen. Beside
+    // a, so that the bound reads one cache line.
+    Eigen::Vector3d a, normal, b, c;
     int face;
   };
   int build(int begin, int end);
+  int leaf_size_ = 4;
   std::vector<Node> nodes_;
   std::vector<Tri> tris_;
 };
