@@ -8,6 +8,8 @@
 
 #include <catch2/catch.hpp>
 
+#include <tuple>
+
 #include <array>
 #include <cmath>
 #include <cstdio>
@@ -387,6 +389,24 @@ TEST_CASE("sdm skeleton writes JSON and refuses an open mesh", "[skeleton]") {
   const int rc = std::system((std::string(SDM_BINARY) + " skeleton " + open + " -o " + bad_out + " 2>/dev/null").c_str());
   CHECK(WEXITSTATUS(rc) == 2);
   CHECK_FALSE(fs::exists(bad_out));
+
+  // A tetrahedron with a NaN coordinate, and one with a fin (an edge of four faces): refused, the
+  // message names the problem, nothing is written.
+  const std::string tet = "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 2 3 4\nf 3 1 4\n";
+  for (const auto& [name, text, says] :
+       {std::tuple<std::string, std::string, std::string>{"nan.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 nan\nf 1 3 2\nf 1 2 4\nf 2 3 4\nf 3 1 4\n", "NaN"},
+        {"fin.obj", tet + "v 1 1 1\nv 1 1 -1\nf 1 2 5\nf 1 6 2\n", "non-manifold edge"}}) {
+    const std::string in = (dir / name).string(), log = (dir / "log.txt").string();
+    std::ofstream(in) << text;
+    fs::remove(bad_out);
+    const int code = std::system((std::string(SDM_BINARY) + " skeleton " + in + " -o " + bad_out + " 2>" + log).c_str());
+    std::ifstream lf(log);
+    const std::string message((std::istreambuf_iterator<char>(lf)), std::istreambuf_iterator<char>());
+    INFO(name << ": " << message);
+    CHECK(WEXITSTATUS(code) == 2);
+    CHECK(message.find(says) != std::string::npos);
+    CHECK_FALSE(fs::exists(bad_out));
+  }
 }
 
 TEST_CASE("large input goes through the remeshed proxy and keeps genus and the vertex map", "[skeleton]") {
