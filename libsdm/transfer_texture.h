@@ -81,10 +81,11 @@ struct TransferOptions {
   double split_ratio = 2.0;   // share_skeletons
   std::vector<std::pair<int, int>> fixed;  // (source node, target node) key pairs that must match
   // A target that is the source's shape (registered by register_surfaces with an RMS distance under
-  // same_shape_rms and a 99th percentile under same_shape_p99, fractions of its diagonal) takes the
-  // source's skeleton carried over (carry_skeleton) instead of skeleton_b: two extractions of one
-  // shape differ with the tessellation, in node positions and even in small branches. Not done
-  // when `fixed` pairs are given (they name nodes of skeleton_b).
+  // same_shape_rms and a 99th percentile under same_shape_p99, fractions of its diagonal; or under
+  // twice that RMS and no more than 1.5 times the bent fit's below) takes the source's skeleton
+  // carried over (carry_skeleton) instead of skeleton_b: two extractions of one shape differ with
+  // the tessellation, in node positions and even in small branches. Not done when `fixed` pairs
+  // are given (they name nodes of skeleton_b).
   bool carry_same_shape = true;
   double same_shape_rms = 0.005, same_shape_p99 = 0.02;
   // Otherwise (same condition) the source's skeleton is bent onto the target (fit_skeleton): it is
