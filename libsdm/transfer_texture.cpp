@@ -6,7 +6,6 @@
 #include "libstm/render_atlas.h"
 #include "libstm/segment_frames.h"
 #include "libstm/segments.h"
-#include "libstm/triangle_bvh.h"
 
 #include <Eigen/SVD>
 #include <algorithm>
@@ -434,23 +433,24 @@ TextureTransfer transfer_texture(GlContext& gl, const Mesh& source, const Image&
     // skeleton's own capsules tore the spots at the back of a turned Spot's head).
     const std::vector<int> fa = assign_faces(source, r.skeletons.a);
     const Eigen::MatrixX3i F = face_matrix(source);
-    Eigen::MatrixX3d P(placed.size(), 3);
-    for (size_t v = 0; v < placed.size(); ++v) P.row(Eigen::Index(v)) = placed[v].transpose();
-    const TriangleBvh bvh(P, F);
-    Mesh under = target;
-    for (auto v : target.vertices()) {
-      const auto c = bvh.closest_point(point(target, v));
-      const Eigen::Vector3d b = barycentric(c.point, P.row(F(c.face, 0)), P.row(F(c.face, 1)), P.row(F(c.face, 2)));
-      Eigen::Vector3d p = Eigen::Vector3d::Zero();
-      for (int k = 0; k < 3; ++k) p += b[k] * point(source, source.vertex_handle(F(c.face, k)));
-      under.set_point(v, Mesh::Point(p.x(), p.y(), p.z()));
-    }
-    std::vector<int> face_segment;
+    // Source points under the target's vertices, then under its face centroids.
+    std::vector<Eigen::Vector3d> points;
+    for (auto v : target.vertices()) points.push_back(point(target, v));
     for (auto f : target.faces()) {
       Eigen::Vector3d c = Eigen::Vector3d::Zero();
       for (auto v : target.fv_range(f)) c += point(target, v) / 3;
-      face_segment.push_back(fa[bvh.closest_point(c).face]);
+      points.push_back(c);
     }
+    const std::vector<SourcePoint> at = source_points_under(source, placed, points);
+    Mesh under = target;
+    for (auto v : target.vertices()) {
+      const SourcePoint& q = at[v.idx()];
+      Eigen::Vector3d p = Eigen::Vector3d::Zero();
+      for (int k = 0; k < 3; ++k) p += q.barycentric[k] * point(source, source.vertex_handle(F(q.face, k)));
+      under.set_point(v, Mesh::Point(p.x(), p.y(), p.z()));
+    }
+    std::vector<int> face_segment;
+    for (auto f : target.faces()) face_segment.push_back(fa[at[target.n_vertices() + f.idx()].face]);
     sc = stm_coordinates(under, r.layout_a, face_segment);
     for (auto v : target.vertices()) sc.mesh.set_point(v, target.point(v));
     sc.stretch = l2_stretch(sc.mesh);

@@ -1,5 +1,6 @@
 #include "libstm/fit_skeleton.h"
 
+#include "libstm/carry_skeleton.h"
 #include "libstm/errors.h"
 #include "libstm/segments.h"
 #include "libstm/triangle_bvh.h"
@@ -165,6 +166,7 @@ SkeletonFit fit_skeleton(const Mesh& source, const Skeleton& skeleton, const Mes
     int vertex[3] = {0, 0, 0};
     double beta[3] = {1, 0, 0};
     int corners = 1;
+    int face = -1;  // the bent source's face, for a target vertex's pair
     Eigen::Vector3d q;
     double weight = 0, distance = 0;
   };
@@ -181,6 +183,7 @@ SkeletonFit fit_skeleton(const Mesh& source, const Skeleton& skeleton, const Mes
       const auto c = bvh.closest_point(tp[j]);
       Pair p;
       p.corners = 3;
+      p.face = c.face;
       for (int i = 0; i < 3; ++i) p.vertex[i] = F(c.face, i);
       const Eigen::Vector3d b = barycentric(c.point, vd[p.vertex[0]], vd[p.vertex[1]], vd[p.vertex[2]]);
       for (int i = 0; i < 3; ++i) p.beta[i] = b[i];
@@ -329,31 +332,14 @@ SkeletonFit fit_skeleton(const Mesh& source, const Skeleton& skeleton, const Mes
     out.nodes[k] = local(g[k]);
     result.node_rotation[k] = local.rotation * start.rotation;
   }
-  // Target vertices take the node of the nearest corner of the bent source.
-  out.vertex_node.assign(nt, 0);
+  // Target vertices take the node of the bent source's corner under them (the last pairs).
+  std::vector<SourcePoint> under(nt);
   for (int j = 0; j < nt; ++j) {
     const Pair& p = pairs[ns + j];
-    int best = 0;
-    for (int c = 1; c < 3; ++c)
-      if (p.beta[c] > p.beta[best]) best = c;
-    out.vertex_node[j] = skeleton.vertex_node[p.vertex[best]];
+    under[j].face = p.face;
+    under[j].barycentric = Eigen::Vector3d(p.beta[0], p.beta[1], p.beta[2]);
   }
-  std::vector<int> count(N, 0);
-  for (int x : out.vertex_node) ++count[x];
-  for (int k = 0; k < N; ++k) {
-    if (count[k] > 0) continue;
-    int best = -1;
-    double best_d = INFINITY;
-    for (int j = 0; j < nt; ++j)
-      if (count[out.vertex_node[j]] > 1) {
-        const double dj = (tp[j] - out.nodes[k]).norm();
-        if (dj < best_d) best_d = dj, best = j;
-      }
-    if (best < 0) continue;
-    --count[out.vertex_node[best]];
-    out.vertex_node[best] = k;
-    ++count[k];
-  }
+  out.vertex_node = vertex_nodes_through(source, skeleton, under, target, out.nodes);
   return result;
 }
 

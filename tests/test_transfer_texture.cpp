@@ -93,6 +93,17 @@ std::string views_text(const std::vector<double>& p) {
   return o.str();
 }
 
+// Every view at least min_db (each view reported on failure).
+void check_views(const std::vector<double>& p, double min_db) {
+  for (size_t v = 0; v < p.size(); ++v) {
+    INFO("view " << v << ": PSNR " << p[v] << " dB");
+    CHECK(p[v] >= min_db);
+  }
+}
+
+// The skeleton `sdm transfer` extracts.
+stm::Skeleton extracted(const stm::Mesh& m) { return stm::extract_skeleton(m, stm::transfer_skeleton_options()); }
+
 // PSNR per view between the source (own uv) and the target (transferred uv), unlit, over the
 // pixels both cover.
 std::vector<double> compare_views(stm::GlContext& gl, const stm::Mesh& a, const stm::Image& ta, const stm::Mesh& b,
@@ -198,13 +209,13 @@ stm::Skeleton ypsilon_skeleton(const stm::Mesh& mesh, std::array<int, 3> per_arm
 // With carry false the given target skeleton is used as it is (what the resampling tests need);
 // with carry true the transfer may replace it by the source's carried over, as `sdm transfer` does.
 std::vector<double> transfer_round(stm::GlContext& gl, stm::Mesh a, const stm::Skeleton& sa, const stm::Mesh& b, const stm::Skeleton& sb,
-                                  stm::TextureTransfer* out = nullptr, bool carry = false) {
+                                  stm::TextureTransfer* out = nullptr, bool carry = false, const std::string& dump_name = "ypsilon_transfer_view") {
   const stm::Image tex = bake_texture(gl, a, sa, smooth_colour);
   stm::TransferOptions to;
   to.size = 1024;
   to.carry_same_shape = carry;
   stm::TextureTransfer r = stm::transfer_texture(gl, a, tex, sa, b, sb, to);
-  const std::vector<double> p = compare_views(gl, a, tex, r.target, r.atlas, "ypsilon_transfer_view");
+  const std::vector<double> p = compare_views(gl, a, tex, r.target, r.atlas, dump_name);
   if (out) *out = std::move(r);
   return p;
 }
@@ -217,7 +228,7 @@ TEST_CASE("transfer onto a new tessellation of the ypsilon with extracted skelet
   const stm::Mesh a = stm::make_primitive("ypsilon", 2000);
   const stm::Mesh b = remeshed(a, 0.75);
   REQUIRE(b.n_vertices() != a.n_vertices());
-  const stm::Skeleton sa = stm::extract_skeleton(a, stm::transfer_skeleton_options()), sb = stm::extract_skeleton(b, stm::transfer_skeleton_options());
+  const stm::Skeleton sa = extracted(a), sb = extracted(b);
   stm::TextureTransfer r;
   const std::vector<double> p = transfer_round(gl, a, sa, b, sb, &r, true);
   CHECK(r.carried);
@@ -232,10 +243,7 @@ TEST_CASE("transfer onto a new tessellation of the ypsilon with extracted skelet
     CHECK(*std::min_element(count.begin(), count.end()) >= 1);
   }
   WARN("ypsilon onto its remesh, extracted skeletons: registered to " << 100 * r.registration.rms << " % (RMS), PSNR per view" << views_text(p));
-  for (size_t v = 0; v < p.size(); ++v) {
-    INFO("view " << v << ": PSNR " << p[v] << " dB");
-    CHECK(p[v] >= 28.0);
-  }
+  check_views(p, 28.0);
 }
 
 // A copy turned, scaled and moved (and tessellated anew) is the same shape: registered from the
@@ -248,7 +256,7 @@ TEST_CASE("transfer onto a turned, scaled and retessellated ypsilon carries the 
   T.rotation = Eigen::AngleAxisd(100 * M_PI / 180, Eigen::Vector3d(1, 2, 3).normalized()).toRotationMatrix();
   T.translation = {3, -1, 2};
   const stm::Mesh b = synth::moved(remeshed(a, 0.8), [&](const Eigen::Vector3d& p) { return T(p); });
-  const stm::Skeleton sa = stm::extract_skeleton(a, stm::transfer_skeleton_options()), sb = stm::extract_skeleton(b, stm::transfer_skeleton_options());
+  const stm::Skeleton sa = extracted(a), sb = extracted(b);
   const stm::Image tex = bake_texture(gl, a, sa, smooth_colour);
   stm::TransferOptions to;
   to.size = 1024;
@@ -258,10 +266,7 @@ TEST_CASE("transfer onto a turned, scaled and retessellated ypsilon carries the 
   const stm::Mesh back = synth::moved(r.target, [&](const Eigen::Vector3d& p) { return T.inverse()(p); });
   const std::vector<double> p = compare_views(gl, a, tex, back, r.atlas, "ypsilon_turned_view");
   WARN("ypsilon onto a turned copy: registered to " << 100 * r.registration.rms << " % (RMS), PSNR per view" << views_text(p));
-  for (size_t v = 0; v < p.size(); ++v) {
-    INFO("view " << v << ": PSNR " << p[v] << " dB");
-    CHECK(p[v] >= 28.0);
-  }
+  check_views(p, 28.0);
 }
 
 // A coarse real mesh (231 vertices, quads fan-triangulated) and its remesh: the remesh cuts the
@@ -269,26 +274,19 @@ TEST_CASE("transfer onto a turned, scaled and retessellated ypsilon carries the 
 // than bent (0.4 %); it is still the same shape and takes the source's skeleton carried over.
 TEST_CASE("transfer onto the remesh of a coarse genus-2 mesh carries the skeleton", "[transfer_texture]") {
   stm::GlContext gl;
-  stm::Mesh a = stm::load_mesh(std::string(SDM_TEST_DATA) + "/double-torus-example.off");
+  const stm::Mesh a = stm::load_mesh(std::string(SDM_TEST_DATA) + "/double-torus-example.off");
   const stm::Mesh b = remeshed_like_cli(a, 1.0);
   REQUIRE(b.n_vertices() != a.n_vertices());
-  const stm::Skeleton sa = stm::extract_skeleton(a, stm::transfer_skeleton_options()), sb = stm::extract_skeleton(b, stm::transfer_skeleton_options());
-  const stm::Image tex = bake_texture(gl, a, sa, smooth_colour);
-  stm::TransferOptions to;
-  to.size = 1024;
-  const stm::TextureTransfer r = stm::transfer_texture(gl, a, tex, sa, b, sb, to);
+  stm::TextureTransfer r;
+  const std::vector<double> p = transfer_round(gl, a, extracted(a), b, extracted(b), &r, true, "double_torus_view");
   CHECK(r.carried);
   CHECK(r.skeletons.b.cycles() == 2);
-  const std::vector<double> p = compare_views(gl, a, tex, r.target, r.atlas, "double_torus_view");
   WARN("double torus onto its remesh: moved " << 100 * r.registration.rms << " %, bent " << 100 * r.fit_rms << " % (RMS), PSNR per view"
                                              << views_text(p));
   // The remesh is 0.5 % of the diagonal off the source's surface (its corners cut), which moves
   // silhouettes and the spatial colour itself: 21.7-26.5 dB carried, 21.2-26.2 bent, 8.0-8.4 with
   // the two extracted skeletons matched.
-  for (size_t v = 0; v < p.size(); ++v) {
-    INFO("view " << v << ": PSNR " << p[v] << " dB");
-    CHECK(p[v] >= 20.0);
-  }
+  check_views(p, 20.0);
 }
 
 // The resampling itself, with hand-made skeletons of other node counts on each arm.
@@ -308,10 +306,7 @@ TEST_CASE("transfer between hand-made ypsilon skeletons with other node counts s
     CHECK(r.layout_a.segments[s].e1.dot(r.layout_b.segments[s].e1) > 0.999);
     CHECK(r.layout_a.segments[s].axis.dot(r.layout_b.segments[s].axis) > 0.999);
   }
-  for (size_t v = 0; v < p.size(); ++v) {
-    INFO("view " << v << ": PSNR " << p[v] << " dB");
-    CHECK(p[v] >= 28.0);
-  }
+  check_views(p, 28.0);
 }
 
 // A ring skeleton around z (radius 1, in the plane z = 0) with n nodes, the first at angle `start`.
@@ -333,10 +328,7 @@ TEST_CASE("transfer onto a new tessellation of the donut lines up the rings", "[
   // Pure cycles: the rings' first nodes (their key nodes) lie at other angles.
   const stm::Skeleton sa = ring_skeleton(a, 8, 0.0), sb = ring_skeleton(b, 11, 2.0);
   const std::vector<double> p = transfer_round(gl, a, sa, b, sb);
-  for (size_t v = 0; v < p.size(); ++v) {
-    INFO("view " << v << ": PSNR " << p[v] << " dB");
-    CHECK(p[v] >= 28.0);
-  }
+  check_views(p, 28.0);
 }
 
 TEST_CASE("transfer onto a new tessellation of Spot with hand-made skeletons reproduces its texture", "[transfer_texture]") {
@@ -359,10 +351,7 @@ TEST_CASE("transfer onto a new tessellation of Spot with hand-made skeletons rep
   CHECK(r.skeletons.a.edges == r.skeletons.b.edges);
   CHECK(r.skeletons.a.edges.size() >= sb.edges.size());
   const std::vector<double> p = compare_views(gl, a, tex, r.target, r.atlas, "spot_transfer_view");
-  for (size_t v = 0; v < p.size(); ++v) {
-    INFO("view " << v << ": PSNR " << p[v] << " dB");
-    CHECK(p[v] >= 28.0);
-  }
+  check_views(p, 28.0);
 }
 
 // The acceptance as a user gets it, on the remesh of the demo (`sdm remesh --factor 1.2`). Spot's
@@ -376,7 +365,7 @@ TEST_CASE("transfer onto a new tessellation of Spot with extracted skeletons rep
   const stm::Image tex = stm::read_png(tex_path);
   const stm::Mesh b = remeshed_like_cli(a, 1.2);
   REQUIRE(b.n_vertices() != a.n_vertices());
-  const stm::Skeleton sa = stm::extract_skeleton(a, stm::transfer_skeleton_options()), sb = stm::extract_skeleton(b, stm::transfer_skeleton_options());
+  const stm::Skeleton sa = extracted(a), sb = extracted(b);
   stm::TransferOptions to;
   to.size = 2048;
   const stm::TextureTransfer r = stm::transfer_texture(gl, a, tex, sa, b, sb, to);
@@ -388,10 +377,7 @@ TEST_CASE("transfer onto a new tessellation of Spot with extracted skeletons rep
   const std::vector<double> p = compare_views(gl, a, tex, r.target, r.atlas, "spot_transfer_view");
   WARN("Spot onto its remesh (" << b.n_vertices() << " vertices), extracted skeletons (" << sa.end_nodes() << " and " << sb.end_nodes()
                                 << " ends), registered to " << 100 * r.registration.rms << " % (RMS): PSNR per view" << views_text(p));
-  for (size_t v = 0; v < p.size(); ++v) {
-    INFO("view " << v << ": PSNR " << p[v] << " dB");
-    CHECK(p[v] >= 28.0);
-  }
+  check_views(p, 28.0);
 }
 
 // The band test with hand-made skeletons (the ideal ones, bent with the target) or extracted ones.
