@@ -8,7 +8,6 @@
 #include <Eigen/Geometry>
 #include <Eigen/SVD>
 #include <algorithm>
-#include <numeric>
 
 namespace stm {
 
