@@ -2,14 +2,14 @@
 // encode/decode times, and a large real mesh. Figures, not pass/fail: speed is measured here and
 // written to docs/BENCHMARKS.md, never asserted by tests.
 #include "apps/commands.h"
-#include "libsdm/decode_sdm.h"
-#include "libsdm/encode_sdm.h"
-#include "libstm/extract_skeleton.h"
-#include "libstm/gl_context.h"
-#include "libstm/layout.h"
-#include "libstm/mesh.h"
-#include "libstm/primitives.h"
-#include "libstm/render_atlas.h"
+#include "libsdm/decode/decode_sdm.h"
+#include "libsdm/encode/encode_sdm.h"
+#include "libstm/skeleton/extract_skeleton.h"
+#include "libstm/render/gl_context.h"
+#include "libstm/layout/layout.h"
+#include "libstm/mesh/mesh.h"
+#include "libstm/mesh/primitives.h"
+#include "libstm/render/render_atlas.h"
 
 #include <chrono>
 #include <filesystem>
@@ -19,7 +19,7 @@
 #include <sstream>
 #include <thread>
 
-namespace sdm_cli {
+namespace sdm::cli {
 namespace {
 
 using Clock = std::chrono::steady_clock;
@@ -51,21 +51,21 @@ struct Row {
 };
 
 // Times every stage, keeping the fastest of `repeat` runs (the machine may be shared).
-Row measure(const std::string& name, const stm::Mesh& mesh, int repeat, int size, bool sdm, stm::GlContext* gl) {
+Row measure(const std::string& name, const sdm::Mesh& mesh, int repeat, int size, bool sdm, sdm::GlContext* gl) {
   Row r;
   r.name = name;
   r.vertices = long(mesh.n_vertices());
   for (int k = 0; k < repeat; ++k) {
-    stm::SkeletonStats st;
-    const stm::Skeleton sk = stm::extract_skeleton(mesh, {}, nullptr, &st);
+    sdm::SkeletonStats st;
+    const sdm::Skeleton sk = sdm::extract_skeleton(mesh, {}, nullptr, &st);
     r.contraction = std::min(r.contraction, st.contraction_seconds);
     r.surgery = std::min(r.surgery, st.surgery_seconds);
     r.refinement = std::min(r.refinement, st.refinement_seconds);
     r.skeleton_wall = std::min(r.skeleton_wall, st.seconds);
-    stm::LayoutOptions lo;
+    sdm::LayoutOptions lo;
     lo.size = size;
     auto t = Clock::now();
-    const stm::Layout layout = stm::compute_layout(mesh, sk, lo);
+    const sdm::Layout layout = sdm::compute_layout(mesh, sk, lo);
     r.packing = std::min(r.packing, since(t));
     r.segments = int(layout.segments.size());
     r.coverage = layout.coverage;
@@ -78,21 +78,21 @@ Row measure(const std::string& name, const stm::Mesh& mesh, int repeat, int size
           values.emplace_back(float(p[0]), float(p[1]), float(p[2]), 1.0f);
         }
       t = Clock::now();
-      stm::render_atlas_values(*gl, mesh, layout, values);
+      sdm::render_atlas_values(*gl, mesh, layout, values);
       r.composing = std::min(r.composing, since(t));
     }
     if (sdm) {
-      stm::LayoutOptions l1024;
+      sdm::LayoutOptions l1024;
       l1024.size = 1024;
-      const stm::Layout layout1024 = stm::compute_layout(mesh, sk, l1024);
+      const sdm::Layout layout1024 = sdm::compute_layout(mesh, sk, l1024);
       t = Clock::now();
-      const stm::SdmImage im = stm::encode_sdm(mesh, layout1024);
+      const sdm::SdmImage im = sdm::encode_sdm(mesh, layout1024);
       r.encode = std::min(r.encode, since(t));
       for (int level : {3, 5}) {
-        stm::DecodeOptions d;
+        sdm::DecodeOptions d;
         d.level = level;
         t = Clock::now();
-        stm::decode_sdm(im, d);
+        sdm::decode_sdm(im, d);
         double& slot = level == 3 ? r.decode3 : r.decode5;
         slot = std::min(slot, since(t));
       }
@@ -129,18 +129,18 @@ Command add_bench_command(CLI::App& parent) {
   app->add_flag("--no-gl", o->no_gl, "Skip the GL atlas composing timing");
   app->add_flag("--json", o->json, "Print one JSON object instead of tables");
   return {app, [o]() {
-            std::unique_ptr<stm::GlContext> gl;
-            if (!o->no_gl) gl = std::make_unique<stm::GlContext>();
+            std::unique_ptr<sdm::GlContext> gl;
+            if (!o->no_gl) gl = std::make_unique<sdm::GlContext>();
             std::vector<Row> rows;
             for (const auto& p : kPaper) {
               progress("bench: " + std::string(p.name));
-              rows.push_back(measure(p.name, stm::make_primitive(p.name), o->repeat, o->size, !o->no_sdm, gl.get()));
+              rows.push_back(measure(p.name, sdm::make_primitive(p.name), o->repeat, o->size, !o->no_sdm, gl.get()));
             }
             Row bunny;
             bool have_bunny = std::filesystem::exists(o->bunny);
             if (have_bunny) {
               progress("bench: " + o->bunny);
-              bunny = measure("bunny00", stm::load_mesh(o->bunny), o->repeat, o->size, false, nullptr);
+              bunny = measure("bunny00", sdm::load_mesh(o->bunny), o->repeat, o->size, false, nullptr);
             }
             const std::string machine = cpu_model() + ", " + std::to_string(std::thread::hardware_concurrency()) + " threads";
             if (o->json) {
@@ -209,4 +209,4 @@ Command add_bench_command(CLI::App& parent) {
           }};
 }
 
-}  // namespace sdm_cli
+}  // namespace sdm::cli

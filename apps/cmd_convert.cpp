@@ -1,11 +1,11 @@
 #include "apps/commands.h"
-#include "libstm/errors.h"
-#include "libstm/mesh.h"
-#include "libstm/validate_mesh.h"
+#include "libstm/core/errors.h"
+#include "libstm/mesh/mesh.h"
+#include "libstm/mesh/validate_mesh.h"
 
 #include <memory>
 
-namespace sdm_cli {
+namespace sdm::cli {
 
 Command add_convert_command(CLI::App& parent) {
   struct Opts {
@@ -20,18 +20,18 @@ Command add_convert_command(CLI::App& parent) {
   app->add_option("-o,--output", o->out, "Output mesh; the format follows the extension")->required();
   app->add_flag("--strict", o->strict, "Also refuse meshes with tolerated findings (degenerate faces, isolated vertices)");
   return {app, [o]() {
-            stm::MeshSoup soup = stm::read_mesh_soup(o->mesh);
-            stm::MeshReport r = stm::validate_mesh(soup);
-            if (!r.usable()) throw stm::InputError(r.refusal(o->mesh));
+            sdm::MeshSoup soup = sdm::read_mesh_soup(o->mesh);
+            sdm::MeshReport r = sdm::validate_mesh(soup);
+            if (!r.usable()) throw sdm::InputError(r.refusal(o->mesh));
             if (o->strict) check_strict(r, o->mesh);
             for (const auto& f : r.findings) progress("note: " + std::to_string(f.count) + " " + f.kind + ", e.g. " + f.example);
-            stm::orient_outward(soup, r);
-            stm::Mesh mesh = stm::build_mesh(soup);
-            stm::write_mesh(mesh, o->out, soup.texture);
+            sdm::orient_outward(soup, r);
+            sdm::Mesh mesh = sdm::build_mesh(soup);
+            sdm::write_mesh(mesh, o->out, soup.texture);
             progress("wrote " + o->out + " (" + std::to_string(mesh.n_vertices()) + " vertices, " +
                      std::to_string(mesh.n_faces()) + " faces)");
             return 0;
           }};
 }
 
-}  // namespace sdm_cli
+}  // namespace sdm::cli

@@ -1,11 +1,11 @@
 #include "apps/commands.h"
-#include "libstm/mesh.h"
-#include "libstm/validate_mesh.h"
+#include "libstm/mesh/mesh.h"
+#include "libstm/mesh/validate_mesh.h"
 
 #include <iomanip>
 #include <memory>
 
-namespace sdm_cli {
+namespace sdm::cli {
 
 Command add_info_command(CLI::App& parent) {
   struct Opts {
@@ -21,9 +21,9 @@ Command add_info_command(CLI::App& parent) {
   app->add_flag("--json", o->json, "Print one JSON object instead of text");
   app->add_flag("--strict", o->strict, "Exit 2 also for tolerated findings (degenerate faces, isolated vertices)");
   return {app, [o]() {
-            stm::MeshSoup soup = stm::read_mesh_soup(o->mesh);
-            stm::MeshReport r = stm::validate_mesh(soup);
-            if (r.usable()) stm::orient_outward(soup, r);
+            sdm::MeshSoup soup = sdm::read_mesh_soup(o->mesh);
+            sdm::MeshReport r = sdm::validate_mesh(soup);
+            if (r.usable()) sdm::orient_outward(soup, r);
             if (o->json) {
               auto j = r.to_json();
               j["file"] = o->mesh;
@@ -58,4 +58,4 @@ Command add_info_command(CLI::App& parent) {
           }};
 }
 
-}  // namespace sdm_cli
+}  // namespace sdm::cli

@@ -1,11 +1,11 @@
 #include "apps/commands.h"
-#include "libstm/isotropic_remesh.h"
-#include "libstm/mesh.h"
-#include "libstm/primitives.h"
+#include "libstm/mesh/isotropic_remesh.h"
+#include "libstm/mesh/mesh.h"
+#include "libstm/mesh/primitives.h"
 
 #include <memory>
 
-namespace sdm_cli {
+namespace sdm::cli {
 
 Command add_primitive_command(CLI::App& parent) {
   struct Opts {
@@ -15,7 +15,7 @@ Command add_primitive_command(CLI::App& parent) {
   };
   auto o = std::make_shared<Opts>();
   std::string names;
-  for (const auto& n : stm::primitive_names()) names += (names.empty() ? "" : ", ") + n;
+  for (const auto& n : sdm::primitive_names()) names += (names.empty() ? "" : ", ") + n;
   auto* app = parent.add_subcommand(
       "primitive", "Write one of the paper's test shapes (or an analytic cylinder/capsule) as a closed 2-manifold\n"
                    "triangle mesh with well-shaped triangles. Names: " + names);
@@ -26,12 +26,12 @@ Command add_primitive_command(CLI::App& parent) {
       ->check(CLI::NonNegativeNumber);
   app->add_flag("--json", o->json, "Print one JSON object instead of text");
   return {app, [o]() {
-            stm::Mesh mesh = stm::make_primitive(o->name, o->resolution);
-            stm::write_mesh(mesh, o->output);
+            sdm::Mesh mesh = sdm::make_primitive(o->name, o->resolution);
+            sdm::write_mesh(mesh, o->output);
             const long v = static_cast<long>(mesh.n_vertices()), e = static_cast<long>(mesh.n_edges()),
                        f = static_cast<long>(mesh.n_faces());
             const long genus = (2 - (v - e + f)) / 2;  // every primitive is one closed part
-            const double min_angle = stm::min_triangle_angle_degrees(mesh);
+            const double min_angle = sdm::min_triangle_angle_degrees(mesh);
             if (o->json) {
               print_json({{"name", o->name},
                           {"file", o->output},
@@ -49,4 +49,4 @@ Command add_primitive_command(CLI::App& parent) {
           }};
 }
 
-}  // namespace sdm_cli
+}  // namespace sdm::cli

@@ -1,17 +1,17 @@
 #include "apps/commands.h"
-#include "libstm/errors.h"
-#include "libstm/extract_skeleton.h"
-#include "libstm/gl_context.h"
-#include "libstm/image.h"
-#include "libstm/layout.h"
-#include "libstm/mesh.h"
-#include "libstm/render_atlas.h"
+#include "libstm/core/errors.h"
+#include "libstm/skeleton/extract_skeleton.h"
+#include "libstm/render/gl_context.h"
+#include "libstm/core/image.h"
+#include "libstm/layout/layout.h"
+#include "libstm/mesh/mesh.h"
+#include "libstm/render/render_atlas.h"
 
 #include <chrono>
 #include <filesystem>
 #include <memory>
 
-namespace sdm_cli {
+namespace sdm::cli {
 
 Command add_remap_command(CLI::App& parent) {
   struct Opts {
@@ -42,41 +42,41 @@ Command add_remap_command(CLI::App& parent) {
             using clock = std::chrono::steady_clock;
             auto seconds = [](clock::time_point a) { return std::chrono::duration<double>(clock::now() - a).count(); };
             std::string material;
-            const stm::Mesh mesh = stm::load_mesh(o->mesh, &material);
+            const sdm::Mesh mesh = sdm::load_mesh(o->mesh, &material);
             const std::string texture_path = o->texture.empty() ? material : o->texture;
             if (texture_path.empty())
-              throw stm::InputError("'" + o->mesh + "' names no texture in its material: pass --texture TEX.png");
+              throw sdm::InputError("'" + o->mesh + "' names no texture in its material: pass --texture TEX.png");
             if (!mesh.has_halfedge_texcoords2D())
-              throw stm::InputError("'" + o->mesh + "' has no texture coordinates, so its texture cannot be remapped");
-            const stm::Image source = stm::read_png(texture_path);
-            stm::Layout layout;
+              throw sdm::InputError("'" + o->mesh + "' has no texture coordinates, so its texture cannot be remapped");
+            const sdm::Image source = sdm::read_png(texture_path);
+            sdm::Layout layout;
             double t_skeleton = 0, t_layout = 0;
             std::string layout_path = o->layout;
             if (!o->layout.empty()) {
-              layout = stm::read_layout_json(o->layout);
+              layout = sdm::read_layout_json(o->layout);
             } else {
               auto t0 = clock::now();
-              const stm::Skeleton sk = stm::extract_skeleton(mesh, {}, progress);
+              const sdm::Skeleton sk = sdm::extract_skeleton(mesh, {}, progress);
               t_skeleton = seconds(t0);
               t0 = clock::now();
-              stm::LayoutOptions lo;
+              sdm::LayoutOptions lo;
               lo.size = o->size;
               lo.margin = o->margin;
               lo.progress = progress;
-              layout = stm::compute_layout(mesh, sk, lo);
+              layout = sdm::compute_layout(mesh, sk, lo);
               t_layout = seconds(t0);
               layout_path = (std::filesystem::path(o->output).replace_extension(".json")).string();
             }
             auto t0 = clock::now();
-            stm::GlContext gl;
+            sdm::GlContext gl;
             progress("GL renderer: " + gl.renderer() + " (" + gl.version() + ", " + gl.platform() + ")");
-            stm::AtlasOptions ao;
+            sdm::AtlasOptions ao;
             ao.progress = progress;
             std::vector<uint8_t> covered;
-            const stm::Image atlas = stm::render_atlas(gl, mesh, layout, source, ao, &covered);
+            const sdm::Image atlas = sdm::render_atlas(gl, mesh, layout, source, ao, &covered);
             const double t_atlas = seconds(t0);
-            stm::write_png(atlas, o->output);
-            if (o->layout.empty()) stm::write_layout_json(layout, layout_path);
+            sdm::write_png(atlas, o->output);
+            if (o->layout.empty()) sdm::write_layout_json(layout, layout_path);
             size_t n = 0;
             for (uint8_t c : covered) n += c ? 1 : 0;
             const double covered_fraction = double(n) / double(covered.size());
@@ -101,4 +101,4 @@ Command add_remap_command(CLI::App& parent) {
           }};
 }
 
-}  // namespace sdm_cli
+}  // namespace sdm::cli

@@ -1,11 +1,11 @@
 #include "apps/commands.h"
-#include "libstm/isotropic_remesh.h"
-#include "libstm/mesh.h"
-#include "libstm/triangle_bvh.h"
+#include "libstm/mesh/isotropic_remesh.h"
+#include "libstm/mesh/mesh.h"
+#include "libstm/geometry/triangle_bvh.h"
 
 #include <memory>
 
-namespace sdm_cli {
+namespace sdm::cli {
 
 Command add_remesh_command(CLI::App& parent) {
   struct Opts {
@@ -25,7 +25,7 @@ Command add_remesh_command(CLI::App& parent) {
   app->add_option("--factor", o->factor, "Scale of the default target edge length")->capture_default_str()->check(CLI::Range(0.1, 10.0));
   app->add_option("--iterations", o->iterations, "Remeshing iterations")->capture_default_str()->check(CLI::Range(1, 100));
   return {app, [o]() {
-            const stm::Mesh input = stm::load_mesh(o->mesh);
+            const sdm::Mesh input = sdm::load_mesh(o->mesh);
             double edge = o->edge;
             if (edge <= 0) {
               // The edge of an equilateral mesh with as many vertices over the same area (F = 2V,
@@ -34,17 +34,17 @@ Command add_remesh_command(CLI::App& parent) {
               for (auto f : input.faces()) area += input.calc_face_area(f);
               edge = std::sqrt(2.0 * area / (std::sqrt(3.0) * double(input.n_vertices()))) * o->factor;
             }
-            const stm::TriangleBvh bvh(stm::vertex_matrix(input), stm::face_matrix(input));
-            stm::Mesh mesh = input;
+            const sdm::TriangleBvh bvh(sdm::vertex_matrix(input), sdm::face_matrix(input));
+            sdm::Mesh mesh = input;
             mesh.release_halfedge_texcoords2D();
-            stm::isotropic_remesh(mesh, edge, o->iterations,
+            sdm::isotropic_remesh(mesh, edge, o->iterations,
                                   [&](const Eigen::Vector3d& p) { return bvh.closest_point(p).point; });
-            stm::write_mesh(mesh, o->out);
+            sdm::write_mesh(mesh, o->out);
             std::cout << o->out << ": " << mesh.n_vertices() << " vertices, " << mesh.n_faces() << " faces (input "
                       << input.n_vertices() << "), edge length " << edge << ", smallest angle "
-                      << stm::min_triangle_angle_degrees(mesh) << " degrees\n";
+                      << sdm::min_triangle_angle_degrees(mesh) << " degrees\n";
             return 0;
           }};
 }
 
-}  // namespace sdm_cli
+}  // namespace sdm::cli

@@ -1,21 +1,21 @@
 #include "apps/commands.h"
-#include "libstm/draw_atlas.h"
-#include "libstm/errors.h"
-#include "libstm/gl_context.h"
-#include "libstm/image.h"
-#include "libstm/mesh.h"
-#include "libstm/render_mesh.h"
-#include "libstm/layout.h"
-#include "libstm/render_skeleton.h"
-#include "libstm/render_stm.h"
-#include "libstm/validate_mesh.h"
+#include "libstm/layout/draw_atlas.h"
+#include "libstm/core/errors.h"
+#include "libstm/render/gl_context.h"
+#include "libstm/core/image.h"
+#include "libstm/mesh/mesh.h"
+#include "libstm/render/render_mesh.h"
+#include "libstm/layout/layout.h"
+#include "libstm/render/render_skeleton.h"
+#include "libstm/render/render_stm.h"
+#include "libstm/mesh/validate_mesh.h"
 
 #include <cmath>
 #include <iomanip>
 #include <limits>
 #include <memory>
 
-namespace sdm_cli {
+namespace sdm::cli {
 
 Command add_render_command(CLI::App& parent) {
   struct Opts {
@@ -63,48 +63,48 @@ Command add_render_command(CLI::App& parent) {
   return {app, [o]() {
             // A picture is useful for any mesh, so unlike the pipeline commands, render also draws open
             // meshes (lighting is two-sided); only input the halfedge structure cannot hold is refused.
-            stm::MeshSoup soup = stm::read_mesh_soup(o->mesh);
-            stm::MeshReport report = stm::validate_mesh(soup);
-            if (report.usable()) stm::orient_outward(soup, report);
-            stm::Mesh mesh;
+            sdm::MeshSoup soup = sdm::read_mesh_soup(o->mesh);
+            sdm::MeshReport report = sdm::validate_mesh(soup);
+            if (report.usable()) sdm::orient_outward(soup, report);
+            sdm::Mesh mesh;
             try {
-              mesh = stm::build_mesh(soup);
-            } catch (const stm::InputError&) {
-              throw stm::InputError(report.refusal(o->mesh));
+              mesh = sdm::build_mesh(soup);
+            } catch (const sdm::InputError&) {
+              throw sdm::InputError(report.refusal(o->mesh));
             }
             const std::string material_texture = soup.texture;
             std::string texture_path = o->texture.empty() ? material_texture : o->texture;
             if (o->no_texture) texture_path.clear();
             // Drawn from the STM, the mesh's own uv and texture only serve the --compare-uv picture.
             if ((!o->stm.empty() || o->checker) && !o->compare_uv) texture_path.clear();
-            stm::Image texture;
+            sdm::Image texture;
             if (!texture_path.empty()) {
               if (!mesh.has_halfedge_texcoords2D())
-                throw stm::InputError("'" + o->mesh + "' has no texture coordinates, so texture '" + texture_path +
+                throw sdm::InputError("'" + o->mesh + "' has no texture coordinates, so texture '" + texture_path +
                                       "' cannot be applied");
-              texture = stm::read_png(texture_path);
+              texture = sdm::read_png(texture_path);
             }
-            if (!o->stm.empty() && o->layout.empty()) throw stm::InputError("--stm needs the atlas's --layout LAYOUT.json");
+            if (!o->stm.empty() && o->layout.empty()) throw sdm::InputError("--stm needs the atlas's --layout LAYOUT.json");
             if (o->checker && (o->layout.empty() || !o->stm.empty()))
-              throw stm::InputError("--checker needs --layout LAYOUT.json and no --stm");
+              throw sdm::InputError("--checker needs --layout LAYOUT.json and no --stm");
             if (o->stm.empty() && !o->checker && (!o->layout.empty() || o->compare_uv))
-              throw stm::InputError("--layout and --compare-uv go with --stm ATLAS.png (or --layout with --checker)");
+              throw sdm::InputError("--layout and --compare-uv go with --stm ATLAS.png (or --layout with --checker)");
             if (o->compare_uv && texture_path.empty())
-              throw stm::InputError("--compare-uv needs the mesh's own texture: '" + o->mesh + "' names none (pass --texture)");
-            if (!o->stm.empty() && !o->skeleton.empty()) throw stm::InputError("--skeleton cannot be combined with --stm");
-            stm::Layout layout;
-            stm::Image atlas;
+              throw sdm::InputError("--compare-uv needs the mesh's own texture: '" + o->mesh + "' names none (pass --texture)");
+            if (!o->stm.empty() && !o->skeleton.empty()) throw sdm::InputError("--skeleton cannot be combined with --stm");
+            sdm::Layout layout;
+            sdm::Image atlas;
             if (!o->stm.empty()) {
-              layout = stm::read_layout_json(o->layout);
-              atlas = stm::read_png(o->stm);
+              layout = sdm::read_layout_json(o->layout);
+              atlas = sdm::read_png(o->stm);
             } else if (o->checker) {
-              layout = stm::read_layout_json(o->layout);
-              atlas = stm::checker_atlas(layout, std::max(4, layout.size / 64));
+              layout = sdm::read_layout_json(o->layout);
+              atlas = sdm::checker_atlas(layout, std::max(4, layout.size / 64));
             }
             const bool from_stm = !o->stm.empty() || o->checker;
-            stm::GlContext gl;
+            sdm::GlContext gl;
             progress("GL renderer: " + gl.renderer() + " (" + gl.version() + ", " + gl.platform() + ")");
-            stm::RenderOptions ro;
+            sdm::RenderOptions ro;
             ro.width = o->width;
             ro.height = o->height;
             ro.elevation_deg = o->elevation;
@@ -112,30 +112,30 @@ Command add_render_command(CLI::App& parent) {
             ro.orthographic = o->orthographic;
             ro.flat_shading = o->flat;
             if (!texture_path.empty()) ro.texture = &texture;
-            std::vector<stm::Image> cells;
+            std::vector<sdm::Image> cells;
             std::vector<double> psnrs;
             size_t covered = 0;
             for (int view = 0; view < o->views; ++view) {
               ro.azimuth_deg = o->azimuth + 360.0 * view / o->views;
               std::vector<uint8_t> mask;
-              stm::Image img;
+              sdm::Image img;
               if (from_stm) {
-                img = stm::render_stm(gl, mesh, layout, atlas, ro, &mask);
+                img = sdm::render_stm(gl, mesh, layout, atlas, ro, &mask);
                 if (o->compare_uv) {
                   std::vector<uint8_t> uv_mask;
-                  const stm::Image uv_img = stm::render_mesh(gl, mesh, ro, &uv_mask);
-                  const double p = stm::psnr(uv_img, img, &(mask = stm::mask_union(mask, uv_mask)));
+                  const sdm::Image uv_img = sdm::render_mesh(gl, mesh, ro, &uv_mask);
+                  const double p = sdm::psnr(uv_img, img, &(mask = sdm::mask_union(mask, uv_mask)));
                   psnrs.push_back(p);
                   progress("view " + std::to_string(view) + " (azimuth " + std::to_string(ro.azimuth_deg) + "): PSNR " +
                            std::to_string(p) + " dB");
-                  img = stm::side_by_side({uv_img, img});
+                  img = sdm::side_by_side({uv_img, img});
                 }
               } else if (!o->skeleton.empty()) {
-                const stm::Skeleton sk = stm::read_skeleton_json(o->skeleton);
-                img = stm::render_with_skeleton(gl, mesh, sk, ro);
-                stm::render_mesh(gl, mesh, ro, &mask);
+                const sdm::Skeleton sk = sdm::read_skeleton_json(o->skeleton);
+                img = sdm::render_with_skeleton(gl, mesh, sk, ro);
+                sdm::render_mesh(gl, mesh, ro, &mask);
               } else {
-                img = stm::render_mesh(gl, mesh, ro, &mask);
+                img = sdm::render_mesh(gl, mesh, ro, &mask);
               }
               for (uint8_t m : mask) covered += m ? 1 : 0;
               cells.push_back(std::move(img));
@@ -143,8 +143,8 @@ Command add_render_command(CLI::App& parent) {
             int columns = 1;
             while (columns * columns < o->views) ++columns;
             if (o->compare_uv) columns = std::max(1, (columns + 1) / 2);  // each cell is a pair
-            const stm::Image img = cells.size() == 1 ? cells[0] : stm::contact_sheet(cells, columns);
-            stm::write_png(img, o->output);
+            const sdm::Image img = cells.size() == 1 ? cells[0] : sdm::contact_sheet(cells, columns);
+            sdm::write_png(img, o->output);
             double min_psnr = std::numeric_limits<double>::infinity(), mean_psnr = 0;
             for (double p : psnrs) min_psnr = std::min(min_psnr, p), mean_psnr += p / psnrs.size();
             if (o->json) {
@@ -171,4 +171,4 @@ Command add_render_command(CLI::App& parent) {
           }};
 }
 
-}  // namespace sdm_cli
+}  // namespace sdm::cli

@@ -1,21 +1,21 @@
 // sdm encode / decode / roundtrip: skeleton displacement maps.
 #include "apps/commands.h"
-#include "libsdm/decode_sdm.h"
-#include "libsdm/encode_sdm.h"
-#include "libsdm/sdm_exr.h"
-#include "libsdm/surface_distance.h"
-#include "libstm/errors.h"
-#include "libstm/extract_skeleton.h"
-#include "libstm/image.h"
-#include "libstm/layout.h"
-#include "libstm/mesh.h"
-#include "libstm/validate_mesh.h"
+#include "libsdm/decode/decode_sdm.h"
+#include "libsdm/encode/encode_sdm.h"
+#include "libsdm/map/sdm_exr.h"
+#include "libstm/mesh/surface_distance.h"
+#include "libstm/core/errors.h"
+#include "libstm/skeleton/extract_skeleton.h"
+#include "libstm/core/image.h"
+#include "libstm/layout/layout.h"
+#include "libstm/mesh/mesh.h"
+#include "libstm/mesh/validate_mesh.h"
 
 #include <chrono>
 #include <cmath>
 #include <memory>
 
-namespace sdm_cli {
+namespace sdm::cli {
 namespace {
 
 double seconds_since(std::chrono::steady_clock::time_point t0) {
@@ -23,35 +23,35 @@ double seconds_since(std::chrono::steady_clock::time_point t0) {
 }
 
 // The layout of a mesh: from a layout file, or from a skeleton file, or extracted here.
-stm::Layout layout_for(const stm::Mesh& mesh, const std::string& layout_path, const std::string& skeleton_path, int size) {
+sdm::Layout layout_for(const sdm::Mesh& mesh, const std::string& layout_path, const std::string& skeleton_path, int size) {
   if (!layout_path.empty()) {
-    stm::Layout layout = stm::read_layout_json(layout_path);
+    sdm::Layout layout = sdm::read_layout_json(layout_path);
     if (layout.skeleton.vertex_node.size() != mesh.n_vertices())
-      throw stm::InputError("layout " + layout_path + " was made for a mesh with " +
+      throw sdm::InputError("layout " + layout_path + " was made for a mesh with " +
                             std::to_string(layout.skeleton.vertex_node.size()) + " vertices, this one has " +
                             std::to_string(mesh.n_vertices()));
     return layout;
   }
-  stm::Skeleton skeleton;
+  sdm::Skeleton skeleton;
   if (!skeleton_path.empty()) {
-    skeleton = stm::read_skeleton_json(skeleton_path);
+    skeleton = sdm::read_skeleton_json(skeleton_path);
   } else {
     progress("extracting the skeleton");
-    skeleton = stm::extract_skeleton(mesh, {}, [](const std::string& s) { progress("  " + s); });
+    skeleton = sdm::extract_skeleton(mesh, {}, [](const std::string& s) { progress("  " + s); });
   }
-  stm::LayoutOptions lo;
+  sdm::LayoutOptions lo;
   lo.size = size;
   lo.progress = [](const std::string& s) { progress("  " + s); };
   progress("computing the layout");
-  return stm::compute_layout(mesh, skeleton, lo);
+  return sdm::compute_layout(mesh, skeleton, lo);
 }
 
 // False colour of D (blue near the axis, red far) where A = 1, grey where A = 0, black outside.
-stm::Image false_colour(const stm::SdmImage& im) {
+sdm::Image false_colour(const sdm::SdmImage& im) {
   float lo = INFINITY, hi = -INFINITY;
   for (size_t i = 0; i < im.D.size(); ++i)
     if (im.A[i] > 0.5f) lo = std::min(lo, im.D[i]), hi = std::max(hi, im.D[i]);
-  stm::Image out;
+  sdm::Image out;
   out.width = im.width;
   out.height = im.height;
   out.channels = 4;
@@ -85,13 +85,13 @@ std::map<int, int> parse_segment_levels(const std::vector<std::string>& items) {
       if (a != eq || b != s.size() - eq - 1) throw std::invalid_argument("");
       out[id] = level;
     } catch (const std::exception&) {
-      throw stm::InputError("--lod-segment '" + s + "' is not of the form ID=LEVEL (e.g. 3=1)");
+      throw sdm::InputError("--lod-segment '" + s + "' is not of the form ID=LEVEL (e.g. 3=1)");
     }
   }
   return out;
 }
 
-bool closed_manifold(const stm::Mesh& m) { return stm::validate_mesh(stm::mesh_to_soup(m)).usable(); }
+bool closed_manifold(const sdm::Mesh& m) { return sdm::validate_mesh(sdm::mesh_to_soup(m)).usable(); }
 
 }  // namespace
 
@@ -114,17 +114,17 @@ Command add_encode_command(CLI::App& parent) {
   app->add_flag("--json", o->json, "Print one JSON object with the summary");
   return {app, [o]() {
             const auto t0 = std::chrono::steady_clock::now();
-            const stm::Mesh mesh = stm::load_mesh(o->mesh);
-            const stm::Layout layout = layout_for(mesh, o->layout, o->skeleton, o->size);
+            const sdm::Mesh mesh = sdm::load_mesh(o->mesh);
+            const sdm::Layout layout = layout_for(mesh, o->layout, o->skeleton, o->size);
             const double layout_s = seconds_since(t0);
             const auto t1 = std::chrono::steady_clock::now();
-            stm::EncodeStats st;
-            stm::EncodeOptions eo;
+            sdm::EncodeStats st;
+            sdm::EncodeOptions eo;
             eo.progress = [](const std::string& s) { progress("  " + s); };
-            const stm::SdmImage im = stm::encode_sdm(mesh, layout, eo, &st);
+            const sdm::SdmImage im = sdm::encode_sdm(mesh, layout, eo, &st);
             const double encode_s = seconds_since(t1);
-            stm::write_sdm_exr(im, o->out);
-            if (!o->png.empty()) stm::write_png(false_colour(im), o->png);
+            sdm::write_sdm_exr(im, o->out);
+            if (!o->png.empty()) sdm::write_png(false_colour(im), o->png);
             const double own = st.texels ? double(st.own_hits) / st.texels : 0.0;
             if (o->json) {
               print_json({{"output", o->out}, {"size", im.width}, {"segments", layout.segments.size()},
@@ -162,20 +162,20 @@ Command add_decode_command(CLI::App& parent) {
   app->add_flag("--json", o->json, "Print one JSON object with the summary");
   return {app, [o]() {
             const auto t0 = std::chrono::steady_clock::now();
-            const stm::SdmImage im = stm::read_sdm_exr(o->map);
-            stm::DecodeOptions d;
+            const sdm::SdmImage im = sdm::read_sdm_exr(o->map);
+            sdm::DecodeOptions d;
             d.level = o->lod;
             d.segment_level = parse_segment_levels(o->segment_lod);
-            if (!o->skeleton.empty()) d.skeleton = stm::read_skeleton_json(o->skeleton);
-            const stm::Mesh mesh = stm::decode_sdm(im, d);
+            if (!o->skeleton.empty()) d.skeleton = sdm::read_skeleton_json(o->skeleton);
+            const sdm::Mesh mesh = sdm::decode_sdm(im, d);
             const double s = seconds_since(t0);
-            stm::write_mesh(mesh, o->out);
+            sdm::write_mesh(mesh, o->out);
             if (!o->write_skeleton.empty()) {
-              const stm::Skeleton sk = stm::layout_from_json(im.layout).skeleton;
+              const sdm::Skeleton sk = sdm::layout_from_json(im.layout).skeleton;
               if (o->write_skeleton.size() > 4 && o->write_skeleton.substr(o->write_skeleton.size() - 4) == ".obj")
-                stm::write_skeleton_obj(sk, o->write_skeleton);
+                sdm::write_skeleton_obj(sk, o->write_skeleton);
               else
-                stm::write_skeleton_json(sk, o->write_skeleton);
+                sdm::write_skeleton_json(sk, o->write_skeleton);
             }
             const bool closed = closed_manifold(mesh);
             if (o->json) {
@@ -210,21 +210,21 @@ Command add_roundtrip_command(CLI::App& parent) {
   app->add_flag("--json", o->json, "Print one JSON object with the summary");
   return {app, [o]() {
             const auto t0 = std::chrono::steady_clock::now();
-            const stm::Mesh mesh = stm::load_mesh(o->mesh);
-            const stm::Layout layout = layout_for(mesh, "", "", o->size);
+            const sdm::Mesh mesh = sdm::load_mesh(o->mesh);
+            const sdm::Layout layout = layout_for(mesh, "", "", o->size);
             const auto t1 = std::chrono::steady_clock::now();
             progress("encoding");
-            const stm::SdmImage im = stm::encode_sdm(mesh, layout);
+            const sdm::SdmImage im = sdm::encode_sdm(mesh, layout);
             const double encode_s = seconds_since(t1);
             const auto t2 = std::chrono::steady_clock::now();
             progress("decoding");
-            stm::DecodeOptions d;
+            sdm::DecodeOptions d;
             d.level = o->lod;
-            const stm::Mesh out = stm::decode_sdm(im, d);
+            const sdm::Mesh out = sdm::decode_sdm(im, d);
             const double decode_s = seconds_since(t2);
-            if (!o->out.empty()) stm::write_mesh(out, o->out);
+            if (!o->out.empty()) sdm::write_mesh(out, o->out);
             progress("measuring");
-            const stm::SurfaceDistance dist = stm::surface_distance(mesh, out, o->samples);
+            const sdm::SurfaceDistance dist = sdm::surface_distance(mesh, out, o->samples);
             const double rms = dist.rms / dist.diagonal, hd = dist.hausdorff / dist.diagonal;
             const double psnr = 20 * std::log10(1.0 / rms);
             const bool closed = closed_manifold(out);
@@ -246,4 +246,4 @@ Command add_roundtrip_command(CLI::App& parent) {
           }};
 }
 
-}  // namespace sdm_cli
+}  // namespace sdm::cli

@@ -1,17 +1,17 @@
 #include "apps/commands.h"
-#include "libstm/extract_skeleton.h"
-#include "libstm/mesh.h"
-#include "libstm/skeleton.h"
+#include "libstm/skeleton/extract_skeleton.h"
+#include "libstm/mesh/mesh.h"
+#include "libstm/skeleton/skeleton.h"
 
 #include <memory>
 
-namespace sdm_cli {
+namespace sdm::cli {
 
 Command add_skeleton_command(CLI::App& parent) {
   struct Opts {
     std::string mesh, out, obj, method = "auto";
     bool json = false, uniform = false;
-    stm::SkeletonOptions sk;
+    sdm::SkeletonOptions sk;
   };
   auto o = std::make_shared<Opts>();
   auto* app = parent.add_subcommand(
@@ -36,15 +36,15 @@ Command add_skeleton_command(CLI::App& parent) {
   app->add_option("--medial-smoothing", o->sk.medial_smoothing, "Umbrella smoothing steps of the medial poles before their surgery");
   app->add_option("--sampling-weight", o->sk.sampling_weight, "Weight of the sampling term of the collapse cost");
   return {app, [o]() {
-            const stm::Mesh mesh = stm::load_mesh(o->mesh);
-            if (o->uniform) o->sk.contraction = stm::uniform_contraction();
-            o->sk.method = o->method == "contraction" ? stm::SkeletonMethod::contraction
-                           : o->method == "medial"    ? stm::SkeletonMethod::medial
-                                                      : stm::SkeletonMethod::automatic;
-            stm::SkeletonStats st;
-            const stm::Skeleton sk = stm::extract_skeleton(mesh, o->sk, progress, &st);
-            stm::write_skeleton_json(sk, o->out);
-            if (!o->obj.empty()) stm::write_skeleton_obj(sk, o->obj);
+            const sdm::Mesh mesh = sdm::load_mesh(o->mesh);
+            if (o->uniform) o->sk.contraction = sdm::uniform_contraction();
+            o->sk.method = o->method == "contraction" ? sdm::SkeletonMethod::contraction
+                           : o->method == "medial"    ? sdm::SkeletonMethod::medial
+                                                      : sdm::SkeletonMethod::automatic;
+            sdm::SkeletonStats st;
+            const sdm::Skeleton sk = sdm::extract_skeleton(mesh, o->sk, progress, &st);
+            sdm::write_skeleton_json(sk, o->out);
+            if (!o->obj.empty()) sdm::write_skeleton_obj(sk, o->obj);
             nlohmann::json j = {{"nodes", sk.nodes.size()},
                                 {"edges", sk.edges.size()},
                                 {"branch_nodes", sk.branch_nodes()},
@@ -71,4 +71,4 @@ Command add_skeleton_command(CLI::App& parent) {
           }};
 }
 
-}  // namespace sdm_cli
+}  // namespace sdm::cli

@@ -1,16 +1,16 @@
 #include "apps/commands.h"
-#include "libstm/draw_atlas.h"
-#include "libstm/errors.h"
-#include "libstm/extract_skeleton.h"
-#include "libstm/layout.h"
-#include "libstm/mesh.h"
-#include "libstm/skeleton.h"
+#include "libstm/layout/draw_atlas.h"
+#include "libstm/core/errors.h"
+#include "libstm/skeleton/extract_skeleton.h"
+#include "libstm/layout/layout.h"
+#include "libstm/mesh/mesh.h"
+#include "libstm/skeleton/skeleton.h"
 
 #include <filesystem>
 #include <iomanip>
 #include <memory>
 
-namespace sdm_cli {
+namespace sdm::cli {
 
 Command add_stm_command(CLI::App& parent) {
   struct Opts {
@@ -35,18 +35,18 @@ Command add_stm_command(CLI::App& parent) {
   app->add_option("--atlas-png", o->atlas_png, "Also draw the atlas: rectangles and each segment's triangles in its colour (PNG)");
   app->add_flag("--json", o->json, "Print one JSON object instead of text");
   return {app, [o]() {
-            stm::Mesh mesh = stm::load_mesh(o->mesh);
-            const stm::Skeleton sk =
-                o->skeleton.empty() ? stm::extract_skeleton(mesh, {}, progress) : stm::read_skeleton_json(o->skeleton);
-            stm::LayoutOptions opt;
+            sdm::Mesh mesh = sdm::load_mesh(o->mesh);
+            const sdm::Skeleton sk =
+                o->skeleton.empty() ? sdm::extract_skeleton(mesh, {}, progress) : sdm::read_skeleton_json(o->skeleton);
+            sdm::LayoutOptions opt;
             opt.size = o->size;
             opt.margin = o->margin;
             opt.progress = progress;
-            const stm::Layout layout = stm::compute_layout(mesh, sk, opt);
-            const stm::StmCoordinates c = stm::stm_coordinates(mesh, layout);
-            stm::write_layout_json(layout, o->out);
-            if (!o->atlas_png.empty()) stm::write_atlas_png(mesh, layout, c.face_segment, o->atlas_png);
-            if (!o->uv_obj.empty()) stm::write_mesh(c.mesh, o->uv_obj, o->atlas_png.empty() ? "" : std::filesystem::absolute(o->atlas_png).string());
+            const sdm::Layout layout = sdm::compute_layout(mesh, sk, opt);
+            const sdm::StmCoordinates c = sdm::stm_coordinates(mesh, layout);
+            sdm::write_layout_json(layout, o->out);
+            if (!o->atlas_png.empty()) sdm::write_atlas_png(mesh, layout, c.face_segment, o->atlas_png);
+            if (!o->uv_obj.empty()) sdm::write_mesh(c.mesh, o->uv_obj, o->atlas_png.empty() ? "" : std::filesystem::absolute(o->atlas_png).string());
             if (o->json) {
               nlohmann::json j;
               j["mesh"] = o->mesh;
@@ -81,4 +81,4 @@ Command add_stm_command(CLI::App& parent) {
           }};
 }
 
-}  // namespace sdm_cli
+}  // namespace sdm::cli

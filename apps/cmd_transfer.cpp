@@ -1,20 +1,20 @@
 #include "apps/commands.h"
-#include "libsdm/decode_sdm.h"
-#include "libsdm/sdm_exr.h"
-#include "libsdm/transfer_texture.h"
-#include "libstm/errors.h"
-#include "libstm/extract_skeleton.h"
-#include "libstm/gl_context.h"
-#include "libstm/image.h"
-#include "libstm/mesh.h"
-#include "libstm/render_mesh.h"
+#include "libsdm/decode/decode_sdm.h"
+#include "libsdm/map/sdm_exr.h"
+#include "libstm/transfer/transfer_texture.h"
+#include "libstm/core/errors.h"
+#include "libstm/skeleton/extract_skeleton.h"
+#include "libstm/render/gl_context.h"
+#include "libstm/core/image.h"
+#include "libstm/mesh/mesh.h"
+#include "libstm/render/render_mesh.h"
 
 #include <cmath>
 #include <filesystem>
 #include <memory>
 #include <sstream>
 
-namespace sdm_cli {
+namespace sdm::cli {
 
 namespace {
 
@@ -32,22 +32,22 @@ std::vector<std::pair<int, int>> parse_match_pairs(const std::vector<std::string
       if (used != rhs.size()) throw std::invalid_argument("junk");
       out.push_back({a, b});
     } catch (const std::exception&) {
-      throw stm::InputError("--match " + s + ": expected SOURCE_NODE=TARGET_NODE (two skeleton node indices)");
+      throw sdm::InputError("--match " + s + ": expected SOURCE_NODE=TARGET_NODE (two skeleton node indices)");
     }
   }
   return out;
 }
 
-stm::Skeleton skeleton_for(const stm::Mesh& mesh, const std::string& json_path, const std::string& what) {
+sdm::Skeleton skeleton_for(const sdm::Mesh& mesh, const std::string& json_path, const std::string& what) {
   if (!json_path.empty()) {
-    stm::Skeleton s = stm::read_skeleton_json(json_path);
+    sdm::Skeleton s = sdm::read_skeleton_json(json_path);
     if (s.vertex_node.size() != mesh.n_vertices())
-      throw stm::InputError(what + " skeleton " + json_path + " was made for a mesh with " + std::to_string(s.vertex_node.size()) +
+      throw sdm::InputError(what + " skeleton " + json_path + " was made for a mesh with " + std::to_string(s.vertex_node.size()) +
                             " vertices, not " + std::to_string(mesh.n_vertices()));
     return s;
   }
   progress("extracting the " + what + " skeleton");
-  return stm::extract_skeleton(mesh, stm::transfer_skeleton_options(), progress);
+  return sdm::extract_skeleton(mesh, sdm::transfer_skeleton_options(), progress);
 }
 
 std::string sibling(const std::string& path, const std::string& suffix) {
@@ -55,7 +55,7 @@ std::string sibling(const std::string& path, const std::string& suffix) {
   return (p.parent_path() / (p.stem().string() + suffix)).string();
 }
 
-std::string match_text(const stm::SkeletonMatch& m, nlohmann::json* chains) {
+std::string match_text(const sdm::SkeletonMatch& m, nlohmann::json* chains) {
   std::ostringstream out;
   *chains = nlohmann::json::array();
   for (size_t c = 0; c < m.a.chains.size(); ++c) {
@@ -77,17 +77,17 @@ std::string match_text(const stm::SkeletonMatch& m, nlohmann::json* chains) {
 template <class Opts>
 int run_sdm_transfer(const Opts& o) {
   if (!o.source.empty() || !o.target.empty())
-    throw stm::InputError("--sdm decodes a map around --target-skeleton; --source and --target belong to the texture transfer");
-  if (o.target_skeleton.empty()) throw stm::InputError("--sdm needs --target-skeleton SKEL.json (the skeleton to decode around)");
-  const stm::SdmImage im = stm::read_sdm_exr(o.sdm);
-  const stm::Skeleton graph = stm::layout_from_json(im.layout).skeleton;
-  const stm::Skeleton target = stm::read_skeleton_json(o.target_skeleton);
-  stm::SkeletonMatch m;
-  stm::DecodeOptions d;
+    throw sdm::InputError("--sdm decodes a map around --target-skeleton; --source and --target belong to the texture transfer");
+  if (o.target_skeleton.empty()) throw sdm::InputError("--sdm needs --target-skeleton SKEL.json (the skeleton to decode around)");
+  const sdm::SdmImage im = sdm::read_sdm_exr(o.sdm);
+  const sdm::Skeleton graph = sdm::layout_from_json(im.layout).skeleton;
+  const sdm::Skeleton target = sdm::read_skeleton_json(o.target_skeleton);
+  sdm::SkeletonMatch m;
+  sdm::DecodeOptions d;
   d.level = o.lod;
-  d.skeleton = stm::skeleton_onto_graph(graph, target, parse_match_pairs(o.match), &m);
-  const stm::Mesh mesh = stm::decode_sdm(im, d);
-  stm::write_mesh(mesh, o.output);
+  d.skeleton = sdm::skeleton_onto_graph(graph, target, parse_match_pairs(o.match), &m);
+  const sdm::Mesh mesh = sdm::decode_sdm(im, d);
+  sdm::write_mesh(mesh, o.output);
   nlohmann::json chains;
   const std::string text = match_text(m, &chains);
   if (o.json) {
@@ -145,23 +145,23 @@ Command add_transfer_command(CLI::App& parent) {
   return {app, [o]() {
             if (!o->sdm.empty()) return run_sdm_transfer(*o);
             if (o->source.empty() || o->target.empty())
-              throw stm::InputError("transfer needs --source and --target (texture), or --sdm and --target-skeleton (geometry)");
+              throw sdm::InputError("transfer needs --source and --target (texture), or --sdm and --target-skeleton (geometry)");
             if (std::filesystem::path(o->output).extension() != ".obj")
-              throw stm::InputError("--output must be an .obj file (it carries the uv and names the atlas)");
+              throw sdm::InputError("--output must be an .obj file (it carries the uv and names the atlas)");
             std::string material;
-            const stm::Mesh source = stm::load_mesh(o->source, &material);
+            const sdm::Mesh source = sdm::load_mesh(o->source, &material);
             const std::string texture_path = o->texture.empty() ? material : o->texture;
             if (texture_path.empty())
-              throw stm::InputError("'" + o->source + "' names no texture in its material: pass --texture TEX.png");
+              throw sdm::InputError("'" + o->source + "' names no texture in its material: pass --texture TEX.png");
             if (!source.has_halfedge_texcoords2D())
-              throw stm::InputError("'" + o->source + "' has no texture coordinates, so its texture cannot be transferred");
-            const stm::Image texture = stm::read_png(texture_path);
-            const stm::Mesh target = stm::load_mesh(o->target);
-            const stm::Skeleton sa = skeleton_for(source, o->source_skeleton, "source");
-            const stm::Skeleton sb = skeleton_for(target, o->target_skeleton, "target");
-            stm::GlContext gl;
+              throw sdm::InputError("'" + o->source + "' has no texture coordinates, so its texture cannot be transferred");
+            const sdm::Image texture = sdm::read_png(texture_path);
+            const sdm::Mesh target = sdm::load_mesh(o->target);
+            const sdm::Skeleton sa = skeleton_for(source, o->source_skeleton, "source");
+            const sdm::Skeleton sb = skeleton_for(target, o->target_skeleton, "target");
+            sdm::GlContext gl;
             progress("GL renderer: " + gl.renderer() + " (" + gl.version() + ", " + gl.platform() + ")");
-            stm::TransferOptions to;
+            sdm::TransferOptions to;
             to.size = o->size;
             to.margin = o->margin;
             to.fixed = parse_match_pairs(o->match);
@@ -169,30 +169,30 @@ Command add_transfer_command(CLI::App& parent) {
             // A skeleton the user gives is used as given; an extracted one gives way to the source's
             // when the target turns out to be the source's shape (transfer_texture).
             to.carry_same_shape = o->target_skeleton.empty();
-            const stm::TextureTransfer r = stm::transfer_texture(gl, source, texture, sa, target, sb, to);
+            const sdm::TextureTransfer r = sdm::transfer_texture(gl, source, texture, sa, target, sb, to);
             for (int x : r.skeletons.pruned_a) progress("source end branch at node " + std::to_string(x) + " pruned: the target's skeleton has none there");
             for (int x : r.skeletons.pruned_b) progress("target end branch at node " + std::to_string(x) + " pruned: the source's skeleton has none there");
 
             progress("rendering the preview");
-            stm::RenderOptions ro;
+            sdm::RenderOptions ro;
             ro.width = ro.height = 512;
             ro.texture = &texture;
-            const stm::Image left = stm::render_mesh(gl, source, ro);
+            const sdm::Image left = sdm::render_mesh(gl, source, ro);
             ro.texture = &r.atlas;
-            const stm::Image right = stm::render_mesh(gl, r.target, ro);
-            const stm::Image preview = stm::side_by_side({left, right});
+            const sdm::Image right = sdm::render_mesh(gl, r.target, ro);
+            const sdm::Image preview = sdm::side_by_side({left, right});
 
             // Everything is computed; now the files, each atomically, removed again if a later one fails.
             const std::string atlas_path = sibling(o->output, "_atlas.png"), preview_path = sibling(o->output, "_preview.png");
             const std::string mtl_path = sibling(o->output, ".mtl");
             std::vector<std::string> written;
             try {
-              stm::write_png(r.atlas, atlas_path);
+              sdm::write_png(r.atlas, atlas_path);
               written.push_back(atlas_path);
-              stm::write_png(preview, preview_path);
+              sdm::write_png(preview, preview_path);
               written.push_back(preview_path);
               written.push_back(mtl_path);
-              stm::write_mesh(r.target, o->output, std::filesystem::absolute(atlas_path).string());
+              sdm::write_mesh(r.target, o->output, std::filesystem::absolute(atlas_path).string());
             } catch (...) {
               std::error_code ec;
               for (const auto& f : written) std::filesystem::remove(f, ec);
@@ -200,7 +200,7 @@ Command add_transfer_command(CLI::App& parent) {
             }
 
             // Node numbers as in the given skeletons (the match numbers the pruned ones).
-            stm::SkeletonMatch m = r.skeletons.match;
+            sdm::SkeletonMatch m = r.skeletons.match;
             for (auto* red : {&m.a, &m.b}) {
               const auto& orig = red == &m.a ? r.skeletons.node_a : r.skeletons.node_b;
               for (int& k : red->keys) k = orig[k];
@@ -250,4 +250,4 @@ Command add_transfer_command(CLI::App& parent) {
           }};
 }
 
-}  // namespace sdm_cli
+}  // namespace sdm::cli

@@ -1,17 +1,17 @@
 #pragma once
 // Every subcommand lives in its own apps/cmd_NAME.cpp: it declares its options on a CLI11
 // subcommand and returns the function that runs it. The command line only parses arguments and
-// calls the libraries; the libraries throw stm::InputError for bad input (exit code 2).
+// calls the libraries; the libraries throw sdm::InputError for bad input (exit code 2).
 #include <CLI/CLI.hpp>
 #include <functional>
 #include <iostream>
 #include <nlohmann/json.hpp>
 #include <string>
 
-#include "libstm/errors.h"
-#include "libstm/validate_mesh.h"
+#include "libstm/core/errors.h"
+#include "libstm/mesh/validate_mesh.h"
 
-namespace sdm_cli {
+namespace sdm::cli {
 
 struct Command {
   CLI::App* app = nullptr;
@@ -36,13 +36,13 @@ Command add_transfer_command(CLI::App& parent);
 inline void progress(const std::string& line) { std::cerr << line << std::endl; }
 
 // --strict: tolerated findings (degenerate faces, isolated vertices) refuse the input too.
-inline void check_strict(const stm::MeshReport& r, const std::string& path) {
+inline void check_strict(const sdm::MeshReport& r, const std::string& path) {
   for (const auto& f : r.findings)
     if (f.kind.find("degenerate") != std::string::npos || f.kind.find("isolated") != std::string::npos)
-      throw stm::InputError("mesh " + path + " has " + std::to_string(f.count) + " " + f.kind + ", e.g. " + f.example +
+      throw sdm::InputError("mesh " + path + " has " + std::to_string(f.count) + " " + f.kind + ", e.g. " + f.example +
                             " (refused by --strict). Fix: " + f.fix);
 }
 
 inline void print_json(const nlohmann::json& j) { std::cout << j.dump(2) << std::endl; }
 
-}  // namespace sdm_cli
+}  // namespace sdm::cli

@@ -1,5 +1,6 @@
 #include "apps/commands.h"
-#include "libstm/errors.h"
+#include "libstm/core/errors.h"
+#include "libstm/core/version.h"
 
 #include <iostream>
 #include <vector>
@@ -11,22 +12,22 @@ int main(int argc, char** argv) {
       "skeleton segment as a capsule, packs the rectangles into one square atlas, and uses it to\n"
       "render, encode and transfer textures and displacement."};
   app.require_subcommand(1);
-  app.set_version_flag("--version", "sdm 0.1.0");
+  app.set_version_flag("--version", std::string("sdm ") + SDM_VERSION);
   // Pipeline order: --help lists them so.
-  std::vector<sdm_cli::Command> commands = {
-      sdm_cli::add_info_command(app),
-      sdm_cli::add_convert_command(app),
-      sdm_cli::add_remesh_command(app),
-      sdm_cli::add_primitive_command(app),
-      sdm_cli::add_skeleton_command(app),
-      sdm_cli::add_stm_command(app),
-      sdm_cli::add_remap_command(app),
-      sdm_cli::add_render_command(app),
-      sdm_cli::add_encode_command(app),
-      sdm_cli::add_decode_command(app),
-      sdm_cli::add_roundtrip_command(app),
-      sdm_cli::add_transfer_command(app),
-      sdm_cli::add_bench_command(app),
+  std::vector<sdm::cli::Command> commands = {
+      sdm::cli::add_info_command(app),
+      sdm::cli::add_convert_command(app),
+      sdm::cli::add_remesh_command(app),
+      sdm::cli::add_primitive_command(app),
+      sdm::cli::add_skeleton_command(app),
+      sdm::cli::add_stm_command(app),
+      sdm::cli::add_remap_command(app),
+      sdm::cli::add_render_command(app),
+      sdm::cli::add_encode_command(app),
+      sdm::cli::add_decode_command(app),
+      sdm::cli::add_roundtrip_command(app),
+      sdm::cli::add_transfer_command(app),
+      sdm::cli::add_bench_command(app),
   };
   try {
     app.parse(argc, argv);
@@ -37,7 +38,7 @@ int main(int argc, char** argv) {
     if (!c.app->parsed()) continue;
     try {
       return c.run();
-    } catch (const stm::InputError& e) {
+    } catch (const sdm::InputError& e) {
       std::cerr << "sdm " << c.app->get_name() << ": error: " << e.what() << std::endl;
       return 2;
     } catch (const std::exception& e) {

@@ -1,12 +1,12 @@
-# Writes OUT: a C++ source defining stm::shader_source(name) for every shaders/*.glsl.
+# Writes OUT: a C++ source defining sdm::shader_source(name) for every shaders/*.glsl.
 file(GLOB shaders ${SHADER_DIR}/*.glsl)
 list(SORT shaders)
-set(body "// Generated from shaders/*.glsl by cmake/embed_shaders.cmake. Do not edit.\n#include <string>\n#include <stdexcept>\nnamespace stm {\nconst char* shader_source(const std::string& name) {\n")
+set(body "// Generated from shaders/*.glsl by cmake/embed_shaders.cmake. Do not edit.\n#include <string>\n#include <stdexcept>\nnamespace sdm {\nconst char* shader_source(const std::string& name) {\n")
 foreach(f ${shaders})
   get_filename_component(n ${f} NAME)
   file(READ ${f} text)
   string(APPEND body "  if (name == \"${n}\") return R\"sdm_glsl(${text})sdm_glsl\";\n")
 endforeach()
-string(APPEND body "  throw std::runtime_error(\"unknown shader: \" + name);\n}\n}  // namespace stm\n")
+string(APPEND body "  throw std::runtime_error(\"unknown shader: \" + name);\n}\n}  // namespace sdm\n")
 file(WRITE ${OUT}.tmp "${body}")
 file(COPY_FILE ${OUT}.tmp ${OUT} ONLY_IF_DIFFERENT)

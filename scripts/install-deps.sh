@@ -6,8 +6,8 @@ set -euo pipefail
 PACKAGES=(
   build-essential cmake ninja-build pkg-config
   libeigen3-dev libopenmesh-dev libopenexr-dev libosd-dev
-  libegl-dev libgl-dev libegl-mesa0 libgl1-mesa-dri libglm-dev
-  catch2 libcli11-dev nlohmann-json3-dev libstb-dev libsuitesparse-dev
+  libegl-dev libgl-dev libegl-mesa0 libgl1-mesa-dri
+  catch2 libcli11-dev nlohmann-json3-dev libstb-dev libsuitesparse-dev python3
 )
 
 missing=()

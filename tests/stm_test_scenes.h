@@ -1,10 +1,10 @@
 #pragma once
 // Scenes shared by the atlas and STM rendering tests: a cylinder along +y with a hand-made
 // one-segment skeleton and a procedural texture that is continuous all the way around it.
-#include "libstm/image.h"
-#include "libstm/layout.h"
-#include "libstm/mesh.h"
-#include "libstm/primitives.h"
+#include "libstm/core/image.h"
+#include "libstm/layout/layout.h"
+#include "libstm/mesh/mesh.h"
+#include "libstm/mesh/primitives.h"
 
 #include <cmath>
 
@@ -16,8 +16,8 @@ inline Eigen::Vector3d procedural(double s, double t) {
   return {0.5 + 0.4 * std::sin(tau * 2 * s), 0.5 + 0.4 * std::cos(tau * (3 * s + 2 * t)), 0.5 + 0.4 * std::sin(tau * 2 * t)};
 }
 
-inline stm::Image procedural_image(int w, int h) {
-  stm::Image img(w, h, 4, 255);
+inline sdm::Image procedural_image(int w, int h) {
+  sdm::Image img(w, h, 4, 255);
   for (int y = 0; y < h; ++y)
     for (int x = 0; x < w; ++x) {
       const Eigen::Vector3d c = procedural((x + 0.5) / w, (h - 1 - y + 0.5) / h);  // row 0 is the top (t = 1)
@@ -40,8 +40,8 @@ inline Eigen::Vector2d cylinder_st(const Eigen::Vector3d& p, const Eigen::Vector
 }
 
 struct CylinderScene {
-  stm::Mesh mesh;      // axis +y, radius 1, y in [-1, 1], with uv (cylinder_st, unwrapped per face)
-  stm::Layout layout;  // one segment, nodes at y = -0.5 and y = 0.5
+  sdm::Mesh mesh;      // axis +y, radius 1, y in [-1, 1], with uv (cylinder_st, unwrapped per face)
+  sdm::Layout layout;  // one segment, nodes at y = -0.5 and y = 0.5
   Eigen::Vector3d uv_zero;  // where the mesh's own uv has s = 0: opposite the STM seam
 };
 
@@ -49,32 +49,32 @@ struct CylinderScene {
 // source texture is continuous and the two seams never meet.
 inline CylinderScene cylinder_scene(int atlas_size, int margin) {
   CylinderScene sc;
-  const stm::Mesh z = stm::make_primitive("cylinder");
+  const sdm::Mesh z = sdm::make_primitive("cylinder");
   sc.mesh = z;
   for (auto v : sc.mesh.vertices()) {  // (x, y, z) -> (y, z, x): axis z becomes y, orientation kept
     const auto p = z.point(v);
-    sc.mesh.set_point(v, stm::Mesh::Point(p[1], p[2], p[0]));
+    sc.mesh.set_point(v, sdm::Mesh::Point(p[1], p[2], p[0]));
   }
-  stm::Skeleton sk;
+  sdm::Skeleton sk;
   sk.nodes = {Eigen::Vector3d(0, -0.5, 0), Eigen::Vector3d(0, 0.5, 0)};
   sk.edges = {{0, 1}};
   for (auto v : sc.mesh.vertices()) sk.vertex_node.push_back(sc.mesh.point(v)[1] < 0 ? 0 : 1);
-  stm::LayoutOptions lo;
+  sdm::LayoutOptions lo;
   lo.size = atlas_size;
   lo.margin = margin;
-  sc.layout = stm::compute_layout(sc.mesh, sk, lo);
+  sc.layout = sdm::compute_layout(sc.mesh, sk, lo);
   sc.uv_zero = -sc.layout.segments[0].e1;
   sc.mesh.request_halfedge_texcoords2D();
   for (auto f : sc.mesh.faces()) {
     double s0 = -1;
     for (auto h : sc.mesh.fh_range(f)) {
-      Eigen::Vector2d st = cylinder_st(stm::point(sc.mesh, sc.mesh.to_vertex_handle(h)), sc.uv_zero);
+      Eigen::Vector2d st = cylinder_st(sdm::point(sc.mesh, sc.mesh.to_vertex_handle(h)), sc.uv_zero);
       if (s0 < 0) s0 = st.x();
       st.x() -= std::round(st.x() - s0);  // unwrapped within the face; the texture repeats
-      sc.mesh.set_texcoord2D(h, stm::Mesh::TexCoord2D(st.x(), st.y()));
+      sc.mesh.set_texcoord2D(h, sdm::Mesh::TexCoord2D(st.x(), st.y()));
     }
   }
   return sc;
 }
 
-}  // namespace stm_test
+}  // namespace sdm_test

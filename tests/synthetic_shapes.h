@@ -2,10 +2,10 @@
 // Synthetic meshes with known skeletons for the layout tests: surfaces of revolution around z
 // (capsules, tubes), unions of such tubes (a Y), and a torus with a ring of nodes; and the
 // deformations the transfer tests put them through (a new tessellation, a bent arm).
-#include "libstm/isotropic_remesh.h"
-#include "libstm/mesh.h"
-#include "libstm/skeleton.h"
-#include "libstm/triangle_bvh.h"
+#include "libstm/mesh/isotropic_remesh.h"
+#include "libstm/mesh/mesh.h"
+#include "libstm/skeleton/skeleton.h"
+#include "libstm/geometry/triangle_bvh.h"
 
 #include <Eigen/Geometry>
 
@@ -20,16 +20,16 @@ using Vec3 = Eigen::Vector3d;
 // Adds a closed surface of revolution around z: `profile` lists (z, rho) from the south pole
 // (rho = 0) to the north pole (rho = 0); `n` vertices per ring, ring k turned by k * twist radians.
 // `deform` maps each point (e.g. a radial bump, a rotation). Returns the first vertex index.
-inline int add_revolution(stm::Mesh& m, const std::vector<std::pair<double, double>>& profile, int n, double twist,
+inline int add_revolution(sdm::Mesh& m, const std::vector<std::pair<double, double>>& profile, int n, double twist,
                           const std::function<Vec3(const Vec3&)>& deform) {
   const int first = int(m.n_vertices());
   const int rings = int(profile.size()) - 2;
   auto add = [&](const Vec3& p) {
     const Vec3 q = deform ? deform(p) : p;
-    return m.add_vertex(stm::Mesh::Point(q.x(), q.y(), q.z()));
+    return m.add_vertex(sdm::Mesh::Point(q.x(), q.y(), q.z()));
   };
   auto south = add({0, 0, profile.front().first});
-  std::vector<std::vector<stm::Mesh::VertexHandle>> ring(rings);
+  std::vector<std::vector<sdm::Mesh::VertexHandle>> ring(rings);
   for (int k = 0; k < rings; ++k)
     for (int i = 0; i < n; ++i) {
       const double a = 2 * M_PI * i / n + k * twist;
@@ -66,7 +66,7 @@ inline std::vector<std::pair<double, double>> capsule_profile(double r, double l
 
 // Straight chain of `nodes` skeleton nodes from a to b; vertices [first, last) go to the node
 // nearest by axial parameter.
-inline void add_chain(stm::Skeleton& s, const stm::Mesh& m, int first, int last, const Vec3& a, const Vec3& b, int nodes,
+inline void add_chain(sdm::Skeleton& s, const sdm::Mesh& m, int first, int last, const Vec3& a, const Vec3& b, int nodes,
                       int shared_first_node = -1) {
   const int base = int(s.nodes.size());
   std::vector<int> ids;
@@ -83,15 +83,15 @@ inline void add_chain(stm::Skeleton& s, const stm::Mesh& m, int first, int last,
   s.vertex_node.resize(m.n_vertices(), 0);
   const Vec3 ab = b - a;
   for (int v = first; v < last; ++v) {
-    const Vec3 p = stm::point(m, m.vertex_handle(v));
+    const Vec3 p = sdm::point(m, m.vertex_handle(v));
     const double t = std::clamp((p - a).dot(ab) / ab.squaredNorm(), 0.0, 1.0);
     s.vertex_node[v] = ids[int(std::lround(t * (nodes - 1)))];
   }
 }
 
 struct Shape {
-  stm::Mesh mesh;
-  stm::Skeleton skeleton;
+  sdm::Mesh mesh;
+  sdm::Skeleton skeleton;
 };
 
 // A capsule along z (axis from 0 to len) with `nodes` chain nodes; `bump` > 0 makes the section
@@ -139,12 +139,12 @@ inline Shape ypsilon(int n_around = 40, int side_rings = 20, double twist = 0) {
 // A torus around z: major radius R, minor radius r, `segs` skeleton nodes on the ring.
 inline Shape torus(double R, double r, int segs, int n_major = 96, int n_minor = 24) {
   Shape s;
-  std::vector<stm::Mesh::VertexHandle> vh;
+  std::vector<sdm::Mesh::VertexHandle> vh;
   for (int i = 0; i < n_major; ++i)
     for (int j = 0; j < n_minor; ++j) {
       const double a = 2 * M_PI * i / n_major, b = 2 * M_PI * j / n_minor;
       vh.push_back(s.mesh.add_vertex(
-          stm::Mesh::Point((R + r * std::cos(b)) * std::cos(a), (R + r * std::cos(b)) * std::sin(a), r * std::sin(b))));
+          sdm::Mesh::Point((R + r * std::cos(b)) * std::cos(a), (R + r * std::cos(b)) * std::sin(a), r * std::sin(b))));
     }
   auto id = [&](int i, int j) { return vh[(i % n_major) * n_minor + (j % n_minor)]; };
   for (int i = 0; i < n_major; ++i)
@@ -158,7 +158,7 @@ inline Shape torus(double R, double r, int segs, int n_major = 96, int n_minor =
     s.skeleton.edges.push_back({k, (k + 1) % segs});
   }
   for (auto v : s.mesh.vertices()) {
-    const Vec3 p = stm::point(s.mesh, v);
+    const Vec3 p = sdm::point(s.mesh, v);
     double a = std::atan2(p.y(), p.x());
     if (a < 0) a += 2 * M_PI;
     s.skeleton.vertex_node.push_back(int(std::lround(a / (2 * M_PI) * segs)) % segs);
@@ -170,14 +170,14 @@ inline Shape torus(double R, double r, int segs, int n_major = 96, int n_minor =
 inline Shape transformed(const Shape& in, const Eigen::Matrix3d& R, const Vec3& t) {
   Shape s = in;
   for (auto v : s.mesh.vertices()) {
-    const Vec3 p = R * stm::point(s.mesh, v) + t;
-    s.mesh.set_point(v, stm::Mesh::Point(p.x(), p.y(), p.z()));
+    const Vec3 p = R * sdm::point(s.mesh, v) + t;
+    s.mesh.set_point(v, sdm::Mesh::Point(p.x(), p.y(), p.z()));
   }
   for (auto& n : s.skeleton.nodes) n = R * n + t;
   return s;
 }
 
-inline double mean_edge(const stm::Mesh& m) {
+inline double mean_edge(const sdm::Mesh& m) {
   double s = 0;
   for (auto e : m.edges()) s += m.calc_edge_length(e);
   return s / double(m.n_edges());
@@ -185,11 +185,11 @@ inline double mean_edge(const stm::Mesh& m) {
 
 // A copy of `mesh` with another tessellation (mean edge times edge_factor), its vertices on the
 // original surface; without uv.
-inline stm::Mesh remeshed(const stm::Mesh& mesh, double edge_factor) {
-  const stm::TriangleBvh bvh(stm::vertex_matrix(mesh), stm::face_matrix(mesh));
-  stm::Mesh copy = mesh;
+inline sdm::Mesh remeshed(const sdm::Mesh& mesh, double edge_factor) {
+  const sdm::TriangleBvh bvh(sdm::vertex_matrix(mesh), sdm::face_matrix(mesh));
+  sdm::Mesh copy = mesh;
   copy.release_halfedge_texcoords2D();
-  stm::isotropic_remesh(copy, edge_factor * mean_edge(mesh), 4, [&](const Eigen::Vector3d& p) { return bvh.closest_point(p).point; });
+  sdm::isotropic_remesh(copy, edge_factor * mean_edge(mesh), 4, [&](const Eigen::Vector3d& p) { return bvh.closest_point(p).point; });
   return copy;
 }
 
@@ -212,10 +212,10 @@ inline Vec3 bend_ypsilon_arm(const Vec3& p, double degrees, double thicken) {
 }
 
 // Every vertex moved by `move`.
-inline stm::Mesh moved(stm::Mesh m, const std::function<Vec3(const Vec3&)>& move) {
+inline sdm::Mesh moved(sdm::Mesh m, const std::function<Vec3(const Vec3&)>& move) {
   for (auto v : m.vertices()) {
-    const Vec3 q = move(stm::point(m, v));
-    m.set_point(v, stm::Mesh::Point(q.x(), q.y(), q.z()));
+    const Vec3 q = move(sdm::point(m, v));
+    m.set_point(v, sdm::Mesh::Point(q.x(), q.y(), q.z()));
   }
   return m;
 }

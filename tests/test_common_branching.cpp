@@ -1,8 +1,8 @@
 // common_branching: a short end branch found in one skeleton only is pruned (its vertices go to its
 // junction) and the branchings then match; a long limb is never pruned.
-#include "libstm/common_branching.h"
-#include "libstm/errors.h"
-#include "libstm/match_skeletons.h"
+#include "libstm/skeleton/common_branching.h"
+#include "libstm/core/errors.h"
+#include "libstm/skeleton/match_skeletons.h"
 
 #include <catch2/catch.hpp>
 
@@ -10,9 +10,9 @@ namespace {
 
 // A Y: junction at the origin, three arms of `n` edges and length 1 (stem down, arms up left and
 // right); optionally a spur of length `spur` along +z from the junction. One vertex per node.
-stm::Skeleton y_skeleton(int n, double spur) {
+sdm::Skeleton y_skeleton(int n, double spur) {
   const Eigen::Vector3d dirs[3] = {{0, -1, 0}, Eigen::Vector3d(-1, 1, 0).normalized(), Eigen::Vector3d(1, 1, 0).normalized()};
-  stm::Skeleton s;
+  sdm::Skeleton s;
   s.nodes.push_back(Eigen::Vector3d::Zero());
   auto arm = [&](const Eigen::Vector3d& d, double length, int pieces) {
     int prev = 0;
@@ -31,10 +31,10 @@ stm::Skeleton y_skeleton(int n, double spur) {
 }  // namespace
 
 TEST_CASE("a short spur on one skeleton is pruned to the common branching", "[common_branching]") {
-  const stm::Skeleton a = y_skeleton(3, 0.2), b = y_skeleton(2, 0);  // spur: 0.2 of 3.2, 6 %
-  REQUIRE(!stm::branching_difference(a, b).empty());
-  const stm::CommonBranching c = stm::common_branching(a, b);
-  CHECK(stm::branching_difference(c.a, c.b).empty());
+  const sdm::Skeleton a = y_skeleton(3, 0.2), b = y_skeleton(2, 0);  // spur: 0.2 of 3.2, 6 %
+  REQUIRE(!sdm::branching_difference(a, b).empty());
+  const sdm::CommonBranching c = sdm::common_branching(a, b);
+  CHECK(sdm::branching_difference(c.a, c.b).empty());
   CHECK(c.a.end_nodes() == 3);
   REQUIRE(c.pruned_a.size() == 1);
   CHECK(c.pruned_b.empty());
@@ -46,22 +46,22 @@ TEST_CASE("a short spur on one skeleton is pruned to the common branching", "[co
   CHECK(c.a_node.back() == -1);
   for (size_t i = 0; i < c.a.nodes.size(); ++i) CHECK((c.a.nodes[i] - a.nodes[c.a_original[i]]).norm() == 0);
   // The other way round: the target's spur goes.
-  const stm::CommonBranching d = stm::common_branching(b, a);
+  const sdm::CommonBranching d = sdm::common_branching(b, a);
   CHECK(d.pruned_a.empty());
   CHECK(d.pruned_b.size() == 1);
   // Equal branchings come back unchanged.
-  const stm::CommonBranching e = stm::common_branching(a, a);
+  const sdm::CommonBranching e = sdm::common_branching(a, a);
   CHECK(e.pruned_a.empty());
   CHECK(e.a.nodes.size() == a.nodes.size());
 }
 
 TEST_CASE("a long fourth limb is not pruned and the mismatch is named", "[common_branching]") {
   // 0.8 of 3.8: 21 % of the skeleton's length, a limb (crossed cylinders against a Y).
-  const stm::Skeleton a = y_skeleton(2, 0), b = y_skeleton(2, 0.8);
+  const sdm::Skeleton a = y_skeleton(2, 0), b = y_skeleton(2, 0.8);
   try {
-    stm::common_branching(a, b);
+    sdm::common_branching(a, b);
     FAIL("no error");
-  } catch (const stm::InputError& e) {
+  } catch (const sdm::InputError& e) {
     const std::string msg = e.what();
     CHECK(msg.find("branchings differ") != std::string::npos);
     CHECK(msg.find("ends 3 vs 4") != std::string::npos);

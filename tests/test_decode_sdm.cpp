@@ -1,18 +1,18 @@
 // SDM decoding: closed output at any mix of levels, and a surface that follows a moved skeleton.
-#include "libsdm/decode_sdm.h"
-#include "libsdm/encode_sdm.h"
-#include "libsdm/surface_distance.h"
-#include "libstm/errors.h"
-#include "libstm/extract_skeleton.h"
-#include "libstm/layout.h"
-#include "libstm/validate_mesh.h"
-#include "libstm/primitives.h"
+#include "libsdm/decode/decode_sdm.h"
+#include "libsdm/encode/encode_sdm.h"
+#include "libstm/mesh/surface_distance.h"
+#include "libstm/core/errors.h"
+#include "libstm/skeleton/extract_skeleton.h"
+#include "libstm/layout/layout.h"
+#include "libstm/mesh/validate_mesh.h"
+#include "libstm/mesh/primitives.h"
 #include "synthetic_shapes.h"
 
 #include <catch2/catch.hpp>
 #include <cstdio>
 
-using namespace stm;
+using namespace sdm;
 
 namespace {
 

@@ -1,13 +1,13 @@
 // Atlas pictures: the checkerboard follows each rectangle's local (u, v) and wraps around the axis.
-#include "libstm/draw_atlas.h"
-#include "libstm/image.h"
-#include "libstm/layout.h"
+#include "libstm/layout/draw_atlas.h"
+#include "libstm/core/image.h"
+#include "libstm/layout/layout.h"
 #include "tests/synthetic_shapes.h"
 #include "tests/test_util.h"
 
 #include <catch2/catch.hpp>
 
-using namespace stm;
+using namespace sdm;
 
 TEST_CASE("The checker atlas alternates every square texels along u and v in each rectangle", "[draw_atlas]") {
   const synth::Shape shape = synth::capsule(0.5, 3.0, 4);

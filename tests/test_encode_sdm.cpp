@@ -1,17 +1,17 @@
 // SDM encoding on shapes with a known surface: D is the distance along each texel's capsule ray,
 // A covers each segment's own region, and the round trip is accurate.
-#include "libsdm/decode_sdm.h"
-#include "libsdm/encode_sdm.h"
-#include "libsdm/surface_distance.h"
-#include "libstm/capsule_ray.h"
-#include "libstm/layout.h"
-#include "libstm/primitives.h"
-#include "libstm/segments.h"
+#include "libsdm/decode/decode_sdm.h"
+#include "libsdm/encode/encode_sdm.h"
+#include "libstm/mesh/surface_distance.h"
+#include "libstm/geometry/capsule_ray.h"
+#include "libstm/layout/layout.h"
+#include "libstm/mesh/primitives.h"
+#include "libstm/layout/segments.h"
 
 #include <catch2/catch.hpp>
 #include <set>
 
-using namespace stm;
+using namespace sdm;
 
 namespace {
 

@@ -1,10 +1,10 @@
-#include "libstm/contract_mesh.h"
-#include "libstm/extract_skeleton.h"
-#include "libstm/segments.h"
-#include "libstm/inside_mesh.h"
-#include "libstm/mesh.h"
-#include "libstm/primitives.h"
-#include "libstm/skeleton.h"
+#include "libstm/skeleton/contract_mesh.h"
+#include "libstm/skeleton/extract_skeleton.h"
+#include "libstm/layout/segments.h"
+#include "libstm/geometry/inside_mesh.h"
+#include "libstm/mesh/mesh.h"
+#include "libstm/mesh/primitives.h"
+#include "libstm/skeleton/skeleton.h"
 
 #include <catch2/catch.hpp>
 
@@ -22,11 +22,11 @@ namespace {
 
 // Builds a closed mesh from a grid of points (rows x cols, periodic in cols; periodic in rows too
 // when `torus`), closing the two ends of a tube with one apex vertex each.
-stm::Mesh grid_mesh(const std::vector<std::vector<Eigen::Vector3d>>& rows, bool torus, const Eigen::Vector3d* apex0 = nullptr,
+sdm::Mesh grid_mesh(const std::vector<std::vector<Eigen::Vector3d>>& rows, bool torus, const Eigen::Vector3d* apex0 = nullptr,
                     const Eigen::Vector3d* apex1 = nullptr) {
-  stm::Mesh m;
+  sdm::Mesh m;
   const int R = int(rows.size()), C = int(rows[0].size());
-  std::vector<std::vector<stm::Mesh::VertexHandle>> h(R);
+  std::vector<std::vector<sdm::Mesh::VertexHandle>> h(R);
   for (int r = 0; r < R; ++r)
     for (int c = 0; c < C; ++c) h[r].push_back(m.add_vertex({rows[r][c].x(), rows[r][c].y(), rows[r][c].z()}));
   const int rr = torus ? R : R - 1;
@@ -47,7 +47,7 @@ stm::Mesh grid_mesh(const std::vector<std::vector<Eigen::Vector3d>>& rows, bool 
   return m;
 }
 
-stm::Mesh torus_mesh(double R, double r, int nu, int nv) {
+sdm::Mesh torus_mesh(double R, double r, int nu, int nv) {
   std::vector<std::vector<Eigen::Vector3d>> rows(nu);
   for (int i = 0; i < nu; ++i)
     for (int j = 0; j < nv; ++j) {
@@ -59,7 +59,7 @@ stm::Mesh torus_mesh(double R, double r, int nu, int nv) {
 
 // Tube of radius r along z from 0 to length; flat caps (rings shrinking to the axis) or
 // hemispherical caps.
-stm::Mesh tube_mesh(double r, double length, int rings, int around, bool capsule) {
+sdm::Mesh tube_mesh(double r, double length, int rings, int around, bool capsule) {
   std::vector<std::vector<Eigen::Vector3d>> rows;
   const int cap = 6;
   auto ring = [&](double z, double rad) {
@@ -84,7 +84,7 @@ stm::Mesh tube_mesh(double r, double length, int rings, int around, bool capsule
   return grid_mesh(rows, false, &a0, &a1);
 }
 
-void check_map(const stm::Skeleton& s, const stm::Mesh& m) {
+void check_map(const sdm::Skeleton& s, const sdm::Mesh& m) {
   REQUIRE(s.vertex_node.size() == m.n_vertices());
   std::vector<int> owned(s.nodes.size(), 0);
   for (int n : s.vertex_node) {
@@ -95,8 +95,8 @@ void check_map(const stm::Skeleton& s, const stm::Mesh& m) {
   for (int c : owned) CHECK(c > 0);
 }
 
-int outside_samples(const stm::Skeleton& s, const stm::Mesh& m) {
-  const stm::InsideMesh in(m);
+int outside_samples(const sdm::Skeleton& s, const sdm::Mesh& m) {
+  const sdm::InsideMesh in(m);
   int bad = 0;
   for (const auto& e : s.edges)
     for (int k = 0; k <= 20; ++k) {
@@ -108,7 +108,7 @@ int outside_samples(const stm::Skeleton& s, const stm::Mesh& m) {
 
 // Length of the shortest end branch: from an end node along degree-2 nodes to a junction.
 // A graph without junctions (a path) has no end branch: returns infinity.
-double shortest_end_branch(const stm::Skeleton& s) {
+double shortest_end_branch(const sdm::Skeleton& s) {
   const auto adj = s.adjacency();
   double best = INFINITY;
   for (size_t a = 0; a < adj.size(); ++a) {
@@ -128,8 +128,8 @@ double shortest_end_branch(const stm::Skeleton& s) {
 }  // namespace
 
 TEST_CASE("inside test agrees with the analytic torus", "[skeleton]") {
-  const stm::Mesh m = torus_mesh(2.0, 0.5, 64, 24);
-  const stm::InsideMesh in(m);
+  const sdm::Mesh m = torus_mesh(2.0, 0.5, 64, 24);
+  const sdm::InsideMesh in(m);
   CHECK(in.inside({2.0, 0, 0}));
   CHECK(in.inside({0, -2.3, 0.1}));
   CHECK_FALSE(in.inside({0, 0, 0}));  // the hole
@@ -140,8 +140,8 @@ TEST_CASE("inside test agrees with the analytic torus", "[skeleton]") {
 }
 
 TEST_CASE("contraction shrinks the area and keeps a tube on its axis", "[skeleton]") {
-  const stm::Mesh m = tube_mesh(0.5, 4.0, 40, 24, true);
-  const stm::ContractResult r = stm::contract_mesh(m);
+  const sdm::Mesh m = tube_mesh(0.5, 4.0, 40, 24, true);
+  const sdm::ContractResult r = sdm::contract_mesh(m);
   REQUIRE(r.iterations > 0);
   CHECK(r.area_ratio.back() < 1e-3);
   double worst = 0;
@@ -150,9 +150,9 @@ TEST_CASE("contraction shrinks the area and keeps a tube on its axis", "[skeleto
 }
 
 TEST_CASE("torus: one cycle, every vertex mapped, inside", "[skeleton]") {
-  const stm::Mesh m = torus_mesh(2.0, 0.5, 64, 16);
-  stm::SkeletonStats st;
-  const stm::Skeleton s = stm::extract_skeleton(m, {}, nullptr, &st);
+  const sdm::Mesh m = torus_mesh(2.0, 0.5, 64, 16);
+  sdm::SkeletonStats st;
+  const sdm::Skeleton s = sdm::extract_skeleton(m, {}, nullptr, &st);
   CHECK(s.cycles() == 1);
   CHECK(s.components() == 1);
   check_map(s, m);
@@ -163,8 +163,8 @@ TEST_CASE("torus: one cycle, every vertex mapped, inside", "[skeleton]") {
 TEST_CASE("cylinder and capsule: nodes on the axis, spanning it", "[skeleton]") {
   for (bool capsule : {false, true}) {
     const double r = 0.5, L = 4.0;
-    const stm::Mesh m = tube_mesh(r, L, 40, 24, capsule);
-    const stm::Skeleton s = stm::extract_skeleton(m);
+    const sdm::Mesh m = tube_mesh(r, L, 40, 24, capsule);
+    const sdm::Skeleton s = sdm::extract_skeleton(m);
     INFO((capsule ? "capsule" : "cylinder"));
     CHECK(s.cycles() == 0);
     CHECK(s.end_nodes() == 2);
@@ -181,19 +181,19 @@ TEST_CASE("cylinder and capsule: nodes on the axis, spanning it", "[skeleton]") 
 }
 
 TEST_CASE("two parts give two skeletons", "[skeleton]") {
-  stm::Mesh m = torus_mesh(2.0, 0.5, 48, 12);
-  const stm::Mesh t = tube_mesh(0.5, 3.0, 30, 16, true);
-  std::vector<stm::Mesh::VertexHandle> h;
+  sdm::Mesh m = torus_mesh(2.0, 0.5, 48, 12);
+  const sdm::Mesh t = tube_mesh(0.5, 3.0, 30, 16, true);
+  std::vector<sdm::Mesh::VertexHandle> h;
   for (auto v : t.vertices()) {
     auto p = t.point(v);
     h.push_back(m.add_vertex({p[0] + 10, p[1], p[2]}));
   }
   for (auto f : t.faces()) {
-    std::vector<stm::Mesh::VertexHandle> fv;
+    std::vector<sdm::Mesh::VertexHandle> fv;
     for (auto v : t.fv_range(f)) fv.push_back(h[v.idx()]);
     m.add_face(fv);
   }
-  const stm::Skeleton s = stm::extract_skeleton(m);
+  const sdm::Skeleton s = sdm::extract_skeleton(m);
   CHECK(s.components() == 2);
   CHECK(s.cycles() == 1);
   check_map(s, m);
@@ -202,7 +202,7 @@ TEST_CASE("two parts give two skeletons", "[skeleton]") {
 }
 
 // Unit icosahedron subdivided `levels` times, projected onto the sphere of radius r at c.
-stm::Mesh icosphere(int levels, double r, const Eigen::Vector3d& c) {
+sdm::Mesh icosphere(int levels, double r, const Eigen::Vector3d& c) {
   const double g = (1 + std::sqrt(5.0)) / 2;
   std::vector<Eigen::Vector3d> V = {{-1, g, 0}, {1, g, 0}, {-1, -g, 0}, {1, -g, 0}, {0, -1, g}, {0, 1, g},
                                     {0, -1, -g}, {0, 1, -g}, {g, 0, -1}, {g, 0, 1}, {-g, 0, -1}, {-g, 0, 1}};
@@ -226,9 +226,9 @@ stm::Mesh icosphere(int levels, double r, const Eigen::Vector3d& c) {
     }
     F = std::move(next);
   }
-  stm::Mesh m;
-  std::vector<stm::Mesh::VertexHandle> h;
-  for (const auto& v : V) h.push_back(m.add_vertex(stm::Mesh::Point(c.x() + r * v.x(), c.y() + r * v.y(), c.z() + r * v.z())));
+  sdm::Mesh m;
+  std::vector<sdm::Mesh::VertexHandle> h;
+  for (const auto& v : V) h.push_back(m.add_vertex(sdm::Mesh::Point(c.x() + r * v.x(), c.y() + r * v.y(), c.z() + r * v.z())));
   for (const auto& [a, b, d] : F) m.add_face(h[a], h[b], h[d]);
   return m;
 }
@@ -238,22 +238,22 @@ stm::Mesh icosphere(int levels, double r, const Eigen::Vector3d& c) {
 TEST_CASE("a ball alone or beside a capsule still gets a segment of its own", "[skeleton]") {
   const Eigen::Vector3d centre(5, 0, 0);
   {
-    const stm::Mesh ball = icosphere(3, 0.5, centre);
-    const stm::Skeleton s = stm::extract_skeleton(ball);
+    const sdm::Mesh ball = icosphere(3, 0.5, centre);
+    const sdm::Skeleton s = sdm::extract_skeleton(ball);
     CHECK(s.edges.size() >= 1);
     check_map(s, ball);
     CHECK(outside_samples(s, ball) == 0);
   }
-  stm::Mesh m = tube_mesh(1.0, 6.0, 30, 24, true);
-  const stm::Mesh ball = icosphere(3, 0.5, centre);
-  std::vector<stm::Mesh::VertexHandle> h;
+  sdm::Mesh m = tube_mesh(1.0, 6.0, 30, 24, true);
+  const sdm::Mesh ball = icosphere(3, 0.5, centre);
+  std::vector<sdm::Mesh::VertexHandle> h;
   for (auto v : ball.vertices()) h.push_back(m.add_vertex(ball.point(v)));
   for (auto f : ball.faces()) {
-    std::vector<stm::Mesh::VertexHandle> fv;
+    std::vector<sdm::Mesh::VertexHandle> fv;
     for (auto v : ball.fv_range(f)) fv.push_back(h[v.idx()]);
     m.add_face(fv);
   }
-  const stm::Skeleton s = stm::extract_skeleton(m);
+  const sdm::Skeleton s = sdm::extract_skeleton(m);
   CHECK(s.components() == 2);
   check_map(s, m);
   CHECK(outside_samples(s, m) == 0);
@@ -266,7 +266,7 @@ TEST_CASE("a ball alone or beside a capsule still gets a segment of its own", "[
     }
   CHECK(ball_edges >= 1);
   // Every face goes to a segment of its own part.
-  const std::vector<int> fs = stm::assign_faces(m, s);
+  const std::vector<int> fs = sdm::assign_faces(m, s);
   for (auto f : m.faces()) {
     const auto& e = s.edges[fs[f.idx()]];
     CHECK((s.nodes[e[0]].x() > 3) == (m.point(*m.fv_range(f).begin())[0] > 3));
@@ -278,13 +278,13 @@ TEST_CASE("real meshes: cycles equal genus and every sample inside and no branch
       {"double-torus-example.off", 2}, {"rotor.off", 1}, {"anchor_dense.off", 4}, {"blobby.off", 0}, {"retinal.off", 0}};
   for (const auto& [name, genus] : cases) {
     INFO(name);
-    const stm::Mesh m = stm::load_mesh(std::string(SDM_TEST_DATA) + "/" + name);
-    const stm::Skeleton s = stm::extract_skeleton(m);
+    const sdm::Mesh m = sdm::load_mesh(std::string(SDM_TEST_DATA) + "/" + name);
+    const sdm::Skeleton s = sdm::extract_skeleton(m);
     CHECK(s.cycles() == genus);
     CHECK(s.components() == 1);
     check_map(s, m);
     CHECK(outside_samples(s, m) == 0);
-    CHECK(shortest_end_branch(s) >= 0.01 * stm::bounding_box_diagonal(m));
+    CHECK(shortest_end_branch(s) >= 0.01 * sdm::bounding_box_diagonal(m));
   }
 }
 
@@ -297,22 +297,22 @@ TEST_CASE("the paper five shapes: cycles equal genus and ypsilon and crossed-cyl
       {"ypsilon", 0, 3, 1}, {"bottle", 1, -1, -1}, {"donut", 1, -1, -1}, {"triple-torus", 3, -1, -1}, {"crossed-cylinders", 0, 4, -1}};
   for (const auto& c : cases) {
     INFO(c.name);
-    const stm::Mesh m = stm::make_primitive(c.name);
-    const stm::Skeleton s = stm::extract_skeleton(m);
+    const sdm::Mesh m = sdm::make_primitive(c.name);
+    const sdm::Skeleton s = sdm::extract_skeleton(m);
     CHECK(s.cycles() == c.genus);
     CHECK(s.components() == 1);
     if (c.ends >= 0) CHECK(s.end_nodes() == c.ends);
     if (c.branches >= 0) CHECK(s.branch_nodes() == c.branches);
     check_map(s, m);
     CHECK(outside_samples(s, m) == 0);
-    CHECK(shortest_end_branch(s) >= 0.01 * stm::bounding_box_diagonal(m));
+    CHECK(shortest_end_branch(s) >= 0.01 * sdm::bounding_box_diagonal(m));
   }
 }
 
 TEST_CASE("Spot: an end at every hoof and at least one per leg horn and ear and all inside", "[skeleton]") {
-  const stm::Mesh m = stm::load_mesh(std::string(SDM_EXAMPLES) + "/spot/spot_triangulated.obj");
-  const stm::Skeleton s = stm::extract_skeleton(m);
-  const double diag = stm::bounding_box_diagonal(m);
+  const sdm::Mesh m = sdm::load_mesh(std::string(SDM_EXAMPLES) + "/spot/spot_triangulated.obj");
+  const sdm::Skeleton s = sdm::extract_skeleton(m);
+  const double diag = sdm::bounding_box_diagonal(m);
   CHECK(s.cycles() == 0);
   CHECK(s.end_nodes() >= 8);  // four legs, two horns, two ears (and the tail and snout)
   check_map(s, m);
@@ -322,12 +322,12 @@ TEST_CASE("Spot: an end at every hoof and at least one per leg horn and ear and 
   // group's centre must have an end node within 5 % of the diagonal.
   double ymin = INFINITY, zmin = INFINITY, zmax = -INFINITY;
   for (auto v : m.vertices()) {
-    const Eigen::Vector3d p = stm::point(m, v);
+    const Eigen::Vector3d p = sdm::point(m, v);
     ymin = std::min(ymin, p.y());
   }
   std::vector<Eigen::Vector3d> low;
   for (auto v : m.vertices()) {
-    const Eigen::Vector3d p = stm::point(m, v);
+    const Eigen::Vector3d p = sdm::point(m, v);
     if (p.y() < ymin + 0.02 * diag) low.push_back(p), zmin = std::min(zmin, p.z()), zmax = std::max(zmax, p.z());
   }
   std::map<std::pair<bool, bool>, std::pair<Eigen::Vector3d, int>> hoof;
@@ -349,20 +349,20 @@ TEST_CASE("Spot: an end at every hoof and at least one per leg horn and ear and 
 }
 
 TEST_CASE("same input gives the same skeleton; a rotated input the rotated one", "[skeleton]") {
-  const stm::Mesh m = stm::load_mesh(std::string(SDM_TEST_DATA) + "/double-torus-example.off");
-  const auto a = stm::skeleton_to_json(stm::extract_skeleton(m)).dump();
-  const auto b = stm::skeleton_to_json(stm::extract_skeleton(m)).dump();
+  const sdm::Mesh m = sdm::load_mesh(std::string(SDM_TEST_DATA) + "/double-torus-example.off");
+  const auto a = sdm::skeleton_to_json(sdm::extract_skeleton(m)).dump();
+  const auto b = sdm::skeleton_to_json(sdm::extract_skeleton(m)).dump();
   CHECK(a == b);
-  stm::Mesh rot = m;
+  sdm::Mesh rot = m;
   const Eigen::Matrix3d R = Eigen::AngleAxisd(0.7, Eigen::Vector3d(1, 2, 3).normalized()).toRotationMatrix();
   for (auto v : rot.vertices()) {
-    const Eigen::Vector3d p = R * stm::point(m, v);
+    const Eigen::Vector3d p = R * sdm::point(m, v);
     rot.set_point(v, {p.x(), p.y(), p.z()});
   }
-  const stm::Skeleton s0 = stm::extract_skeleton(m), s1 = stm::extract_skeleton(rot);
+  const sdm::Skeleton s0 = sdm::extract_skeleton(m), s1 = sdm::extract_skeleton(rot);
   CHECK(s1.cycles() == s0.cycles());
   REQUIRE(s1.nodes.size() == s0.nodes.size());
-  const double diag = stm::bounding_box_diagonal(m);
+  const double diag = sdm::bounding_box_diagonal(m);
   for (size_t i = 0; i < s0.nodes.size(); ++i) CHECK((R * s0.nodes[i] - s1.nodes[i]).norm() < 1e-6 * diag);
 }
 
@@ -375,7 +375,7 @@ TEST_CASE("sdm skeleton writes JSON and refuses an open mesh", "[skeleton]") {
   const std::string cmd = std::string(SDM_BINARY) + " skeleton " + SDM_TEST_DATA + "/rotor.off -o " + out + " --json > " +
                           (dir / "stdout.txt").string() + " 2>/dev/null";
   REQUIRE(std::system(cmd.c_str()) == 0);
-  const stm::Skeleton s = stm::read_skeleton_json(out);
+  const sdm::Skeleton s = sdm::read_skeleton_json(out);
   CHECK(s.cycles() == 1);
   std::ifstream js((dir / "stdout.txt").string());
   const auto j = nlohmann::json::parse(js);
@@ -412,10 +412,10 @@ TEST_CASE("sdm skeleton writes JSON and refuses an open mesh", "[skeleton]") {
 TEST_CASE("large input goes through the remeshed proxy and keeps genus and the vertex map", "[skeleton]") {
   // A donut above the proxy size: contracted through the cotangent proxy, every original vertex
   // must still map to a node that owns it, and the cycle of the handle must survive.
-  const stm::Mesh m = stm::make_primitive("donut", 6000);
-  REQUIRE(int(m.n_vertices()) > stm::SkeletonOptions{}.proxy_max_vertices);
-  stm::SkeletonStats st;
-  const stm::Skeleton s = stm::extract_skeleton(m, {}, nullptr, &st);
+  const sdm::Mesh m = sdm::make_primitive("donut", 6000);
+  REQUIRE(int(m.n_vertices()) > sdm::SkeletonOptions{}.proxy_max_vertices);
+  sdm::SkeletonStats st;
+  const sdm::Skeleton s = sdm::extract_skeleton(m, {}, nullptr, &st);
   CHECK(st.proxy_vertices < int(m.n_vertices()));
   CHECK(s.cycles() == 1);
   CHECK(s.components() == 1);

@@ -1,13 +1,13 @@
 // Isotropic remeshing of real meshes through `sdm remesh`: new triangles, same surface and genus.
-#include "libsdm/surface_distance.h"
-#include "libstm/isotropic_remesh.h"
-#include "libstm/mesh.h"
-#include "libstm/validate_mesh.h"
+#include "libstm/mesh/surface_distance.h"
+#include "libstm/mesh/isotropic_remesh.h"
+#include "libstm/mesh/mesh.h"
+#include "libstm/mesh/validate_mesh.h"
 #include "tests/test_util.h"
 
 #include <catch2/catch.hpp>
 
-using namespace stm;
+using namespace sdm;
 
 TEST_CASE("sdm remesh keeps the surface and the genus with a new tessellation", "[isotropic_remesh]") {
   test_util::TempDir dir;

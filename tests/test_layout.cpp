@@ -1,9 +1,9 @@
-#include "libstm/atomic_file.h"
-#include "libstm/errors.h"
-#include "libstm/extract_skeleton.h"
-#include "libstm/primitives.h"
-#include "libstm/layout.h"
-#include "libstm/segments.h"
+#include "libstm/core/atomic_file.h"
+#include "libstm/core/errors.h"
+#include "libstm/skeleton/extract_skeleton.h"
+#include "libstm/mesh/primitives.h"
+#include "libstm/layout/layout.h"
+#include "libstm/layout/segments.h"
 #include "synthetic_shapes.h"
 
 #include <catch2/catch.hpp>
@@ -21,16 +21,16 @@ using Eigen::Vector3d;
 namespace {
 
 // Atlas texels -> local (u, v) of segment g.
-Vector2d atlas_to_local(const stm::LayoutSegment& g, const Vector2d& a) {
+Vector2d atlas_to_local(const sdm::LayoutSegment& g, const Vector2d& a) {
   return g.rotated ? Vector2d(a.x() - g.x, a.y() - g.y) : Vector2d(a.y() - g.y, a.x() - g.x);
 }
 
 // Checks what every layout must satisfy on a mesh; returns the number of seam faces. `skip_span`
 // names faces exempt from the half-rectangle span check (faces around a junction that lie across
 // another segment's axis can span any angle).
-int check_coordinates(const synth::Shape& s, const stm::Layout& L, const std::function<bool(int)>& skip_span = {}) {
-  const auto fs = stm::assign_faces(s.mesh, s.skeleton);
-  const auto tris = stm::atlas_triangles(s.mesh, L, fs);
+int check_coordinates(const synth::Shape& s, const sdm::Layout& L, const std::function<bool(int)>& skip_span = {}) {
+  const auto fs = sdm::assign_faces(s.mesh, s.skeleton);
+  const auto tris = sdm::atlas_triangles(s.mesh, L, fs);
   std::map<int, int> copies;
   std::map<int, std::array<Vector2d, 3>> first;
   int seam = 0;
@@ -70,7 +70,7 @@ int check_coordinates(const synth::Shape& s, const stm::Layout& L, const std::fu
     const int seg = fs[f.idx()];
     const auto& g = L.segments[seg];
     for (auto v : s.mesh.fv_range(f)) {
-      const auto c = stm::capsule_uv(stm::capsule_frame(L, seg), g.w, g.h, g.d, stm::point(s.mesh, v));
+      const auto c = sdm::capsule_uv(sdm::capsule_frame(L, seg), g.w, g.h, g.d, sdm::point(s.mesh, v));
       CHECK(c.u >= 0);
       CHECK(c.u <= g.h);
       CHECK(c.v >= 0);
@@ -80,27 +80,27 @@ int check_coordinates(const synth::Shape& s, const stm::Layout& L, const std::fu
   return seam;
 }
 
-stm::Layout layout_of(const synth::Shape& s, int size = 1024, int margin = 4, double split_ratio = 2.0) {
-  stm::LayoutOptions o;
+sdm::Layout layout_of(const synth::Shape& s, int size = 1024, int margin = 4, double split_ratio = 2.0) {
+  sdm::LayoutOptions o;
   o.size = size;
   o.margin = margin;
   o.split_ratio = split_ratio;
-  return stm::compute_layout(s.mesh, s.skeleton, o);
+  return sdm::compute_layout(s.mesh, s.skeleton, o);
 }
 
 }  // namespace
 
 TEST_CASE("layout: segments of a chain get their own faces, radius and cap", "[layout]") {
   const auto s = synth::capsule(0.5, 3.0, 4, 64, 10, 30);
-  const auto fs = stm::assign_faces(s.mesh, s.skeleton);
+  const auto fs = sdm::assign_faces(s.mesh, s.skeleton);
   // Faces over the cylinder part go to the segment they lie over; the caps to the end segments.
   for (auto f : s.mesh.faces()) {
     Vector3d c = Vector3d::Zero();
-    for (auto v : s.mesh.fv_range(f)) c += stm::point(s.mesh, v) / 3;
+    for (auto v : s.mesh.fv_range(f)) c += sdm::point(s.mesh, v) / 3;
     const int expect = c.z() < 0 ? 0 : c.z() > 3 ? 2 : std::min(2, int(c.z() / 1.0));
     CHECK(fs[f.idx()] == expect);
   }
-  const auto geo = stm::segment_geometry(s.mesh, s.skeleton, fs);
+  const auto geo = sdm::segment_geometry(s.mesh, s.skeleton, fs);
   for (const auto& g : geo) {
     CHECK(g.radius == Approx(0.5).epsilon(0.01));
     CHECK(g.cap == Approx(M_PI * g.radius / 2));
@@ -117,7 +117,7 @@ TEST_CASE("layout: on a cylinder the STM coordinates are the capsule mapping, un
   CHECK(std::max(g.w, g.h) >= 1024 - 8 - 1);  // one rectangle spans the atlas
   const int seam = check_coordinates(s, L);
   CHECK(seam > 0);
-  const auto c = stm::stm_coordinates(s.mesh, L);
+  const auto c = sdm::stm_coordinates(s.mesh, L);
   CHECK(c.seam_faces == seam);
   CHECK(c.mesh.has_halfedge_texcoords2D());
   // Side of the cylinder: u linear in the angle from e1, v linear in z.
@@ -125,7 +125,7 @@ TEST_CASE("layout: on a cylinder the STM coordinates are the capsule mapping, un
   for (auto f : c.mesh.faces()) {
     bool on_side = true;
     for (auto h : c.mesh.fh_range(f)) {
-      const Vector3d p = stm::point(c.mesh, c.mesh.to_vertex_handle(h));
+      const Vector3d p = sdm::point(c.mesh, c.mesh.to_vertex_handle(h));
       on_side = on_side && p.z() > -1e-9 && p.z() < len + 1e-9;
       const auto& tc = c.mesh.texcoord2D(h);
       const Vector2d local = atlas_to_local(g, Vector2d(tc[0], tc[1]) * L.size);
@@ -141,7 +141,7 @@ TEST_CASE("layout: on a cylinder the STM coordinates are the capsule mapping, un
     }
     if (on_side) side.push_back(f.idx());
   }
-  const double side_stretch = stm::l2_stretch(c.mesh, side);
+  const double side_stretch = sdm::l2_stretch(c.mesh, side);
   INFO("L2 stretch on the side " << side_stretch << ", overall " << c.stretch);
   CHECK(side_stretch == Approx(1).epsilon(0.05));
   CHECK(c.stretch >= 1.0);
@@ -160,7 +160,7 @@ TEST_CASE("layout: chains, a Y and a torus keep every triangle in its own rectan
     // branches' axes.
     check_coordinates(s, L, [&](int f) {
       Vector3d c = Vector3d::Zero();
-      for (auto v : s.mesh.fv_range(s.mesh.face_handle(f))) c += stm::point(s.mesh, v) / 3;
+      for (auto v : s.mesh.fv_range(s.mesh.face_handle(f))) c += sdm::point(s.mesh, v) / 3;
       return c.norm() < 0.6;  // within the junction's ball of caps
     });
     for (const auto& g : L.segments) CHECK(g.neighbours_a.size() + g.neighbours_b.size() >= 1);
@@ -176,7 +176,7 @@ TEST_CASE("layout: chains, a Y and a torus keep every triangle in its own rectan
       CHECK(g.neighbours_b.size() == 1);
       CHECK(g.radius == Approx(0.5).epsilon(0.02));
     }
-    const auto c = stm::stm_coordinates(s.mesh, L);
+    const auto c = sdm::stm_coordinates(s.mesh, L);
     INFO("torus stretch " << c.stretch);
     CHECK(c.stretch < 1.6);
   }
@@ -185,18 +185,18 @@ TEST_CASE("layout: chains, a Y and a torus keep every triangle in its own rectan
 TEST_CASE("layout: JSON round trip, determinism and invariance under a rigid motion", "[layout]") {
   const auto s = synth::ypsilon();
   const auto L = layout_of(s, 512, 2);
-  const auto j = stm::layout_to_json(L);
+  const auto j = sdm::layout_to_json(L);
   CHECK(j["format"] == "sdm-layout");
   CHECK(j["version"] == 1);
-  const auto back = stm::layout_from_json(nlohmann::json::parse(j.dump()));
-  CHECK(stm::layout_to_json(back) == j);
-  CHECK(stm::layout_to_json(layout_of(s, 512, 2)) == j);  // deterministic
-  const auto c0 = stm::stm_coordinates(s.mesh, L);
-  const auto c1 = stm::stm_coordinates(s.mesh, back);
+  const auto back = sdm::layout_from_json(nlohmann::json::parse(j.dump()));
+  CHECK(sdm::layout_to_json(back) == j);
+  CHECK(sdm::layout_to_json(layout_of(s, 512, 2)) == j);  // deterministic
+  const auto c0 = sdm::stm_coordinates(s.mesh, L);
+  const auto c1 = sdm::stm_coordinates(s.mesh, back);
   const Eigen::Matrix3d R = Eigen::AngleAxisd(-1.3, Vector3d(0.3, -2, 1).normalized()).toRotationMatrix();
   const auto moved = synth::transformed(s, R, Vector3d(-4, 2, 7));
   const auto M = layout_of(moved, 512, 2);
-  const auto c2 = stm::stm_coordinates(moved.mesh, M);
+  const auto c2 = sdm::stm_coordinates(moved.mesh, M);
   for (size_t i = 0; i < L.segments.size(); ++i) {
     CHECK(M.segments[i].x == L.segments[i].x);
     CHECK(M.segments[i].y == L.segments[i].y);
@@ -220,16 +220,16 @@ TEST_CASE("layout: JSON round trip, determinism and invariance under a rigid mot
 
 TEST_CASE("layout: malformed layouts and mismatched skeletons are input errors", "[layout]") {
   const auto s = synth::capsule(0.5, 2.0, 3);
-  auto j = stm::layout_to_json(layout_of(s, 256, 2));
+  auto j = sdm::layout_to_json(layout_of(s, 256, 2));
   auto bad = j;
   bad["format"] = "something";
-  CHECK_THROWS_AS(stm::layout_from_json(bad), stm::InputError);
+  CHECK_THROWS_AS(sdm::layout_from_json(bad), sdm::InputError);
   bad = j;
   bad["segments"][0]["rect"] = {250, 250, 100, 100};
-  CHECK_THROWS_AS(stm::layout_from_json(bad), stm::InputError);
+  CHECK_THROWS_AS(sdm::layout_from_json(bad), sdm::InputError);
   auto sk = s.skeleton;
   sk.vertex_node.pop_back();
-  CHECK_THROWS_AS(stm::compute_layout(s.mesh, sk), stm::InputError);
+  CHECK_THROWS_AS(sdm::compute_layout(s.mesh, sk), sdm::InputError);
 }
 
 TEST_CASE("layout: sdm stm writes the layout, the uv mesh and the atlas picture", "[layout]") {
@@ -237,8 +237,8 @@ TEST_CASE("layout: sdm stm writes the layout, the uv mesh and the atlas picture"
   const fs::path dir = fs::temp_directory_path() / ("sdm_test_layout_" + std::to_string(::getpid()));
   fs::create_directories(dir);
   const auto s = synth::torus(2.0, 0.6, 10, 48, 16);
-  stm::write_mesh(s.mesh, (dir / "torus.obj").string());
-  stm::write_skeleton_json(s.skeleton, (dir / "torus.skel.json").string());
+  sdm::write_mesh(s.mesh, (dir / "torus.obj").string());
+  sdm::write_skeleton_json(s.skeleton, (dir / "torus.skel.json").string());
   const std::string cmd = std::string(SDM_BINARY) + " stm " + (dir / "torus.obj").string() + " -o " + (dir / "torus.layout.json").string() +
                           " --skeleton " + (dir / "torus.skel.json").string() + " --size 256 --margin 2 --uv-obj " +
                           (dir / "torus_uv.obj").string() + " --atlas-png " + (dir / "atlas.png").string() + " --json 2>/dev/null";
@@ -254,9 +254,9 @@ TEST_CASE("layout: sdm stm writes the layout, the uv mesh and the atlas picture"
   CHECK(j["coverage"].get<double>() <= 1.0);
   CHECK(j["stretch"].get<double>() >= 1.0);
   CHECK(j["stretch"].get<double>() < 1.6);
-  const auto L = stm::read_layout_json((dir / "torus.layout.json").string());
+  const auto L = sdm::read_layout_json((dir / "torus.layout.json").string());
   CHECK(L.segments.size() == j["segments"].get<size_t>());
-  const auto uv = stm::load_mesh((dir / "torus_uv.obj").string());
+  const auto uv = sdm::load_mesh((dir / "torus_uv.obj").string());
   CHECK(uv.n_faces() == s.mesh.n_faces());
   CHECK(fs::file_size(dir / "atlas.png") > 100);
   // Without --skeleton the command extracts one: the torus keeps its cycle.
@@ -265,7 +265,7 @@ TEST_CASE("layout: sdm stm writes the layout, the uv mesh and the atlas picture"
   const int rc = std::system(own.c_str());
   CHECK(WEXITSTATUS(rc) == 0);
   REQUIRE(fs::exists(dir / "x.json"));
-  const auto X = stm::read_layout_json((dir / "x.json").string());
+  const auto X = sdm::read_layout_json((dir / "x.json").string());
   CHECK(X.skeleton.cycles() == 1);
   CHECK(X.coverage > 0.8);  // a 256^2 atlas with few segments
   // A missing mesh is an input error and leaves no output.
@@ -288,7 +288,7 @@ TEST_CASE("layout: a straight tube cut into pieces keeps one frame and exact cap
     CHECK((g.e1 - L.segments[0].e1).norm() < 1e-9);  // the same reference direction everywhere
   }
   check_coordinates(s, L);
-  const auto c = stm::stm_coordinates(s.mesh, L);
+  const auto c = sdm::stm_coordinates(s.mesh, L);
   INFO("cut tube stretch " << c.stretch << " coverage " << L.coverage);
   CHECK(c.stretch < 1.1);
 }
@@ -296,7 +296,7 @@ TEST_CASE("layout: a straight tube cut into pieces keeps one frame and exact cap
 namespace {
 
 // The atlas rectangles with their margins lie inside the atlas and do not overlap.
-void check_packing(const stm::Layout& L) {
+void check_packing(const sdm::Layout& L) {
   struct R {
     int x0, y0, x1, y1;
   };
@@ -327,12 +327,12 @@ TEST_CASE("layout: the paper's shapes and Spot with extracted skeletons cover th
   const std::vector<std::pair<std::string, double>> shapes = {
       {"ypsilon", 0.837}, {"bottle", 0.894}, {"donut", 0.997}, {"triple-torus", 0.91}, {"crossed-cylinders", 0.743}, {"spot", 0.0}};
   for (const auto& [name, paper] : shapes) {
-    const stm::Mesh mesh = name == "spot" ? stm::load_mesh(std::string(SDM_EXAMPLES) + "/spot/spot_triangulated.obj")
-                                          : stm::make_primitive(name);
-    const stm::Skeleton sk = stm::extract_skeleton(mesh);
-    stm::LayoutOptions o;  // 1024^2, margin 4
-    const auto L = stm::compute_layout(mesh, sk, o);
-    const auto c = stm::stm_coordinates(mesh, L);
+    const sdm::Mesh mesh = name == "spot" ? sdm::load_mesh(std::string(SDM_EXAMPLES) + "/spot/spot_triangulated.obj")
+                                          : sdm::make_primitive(name);
+    const sdm::Skeleton sk = sdm::extract_skeleton(mesh);
+    sdm::LayoutOptions o;  // 1024^2, margin 4
+    const auto L = sdm::compute_layout(mesh, sk, o);
+    const auto c = sdm::stm_coordinates(mesh, L);
     // Printed for every shape: the figures the issue asks for.
     std::printf("layout %-18s edges %2zu segments %2zu coverage %.3f (inner %.3f) L2 stretch %.3f\n", name.c_str(), sk.edges.size(),
                 L.segments.size(), L.coverage, L.coverage_inner, c.stretch);
@@ -350,7 +350,7 @@ TEST_CASE("layout: the paper's shapes and Spot with extracted skeletons cover th
       const int s = c.face_segment[f.idx()];
       const auto& g = L.segments[s];
       for (auto v : mesh.fv_range(f)) {
-        const auto q = stm::capsule_uv(stm::capsule_frame(L, s), g.w, g.h, g.d, stm::point(mesh, v));
+        const auto q = sdm::capsule_uv(sdm::capsule_frame(L, s), g.w, g.h, g.d, sdm::point(mesh, v));
         CHECK(q.u >= 0);
         CHECK(q.u <= g.h);
         CHECK(q.v >= 0);

@@ -1,11 +1,11 @@
 // Branch matching: isomorphism of junctions, ends and chains, with ties broken by geometry.
-#include "libstm/errors.h"
-#include "libstm/match_skeletons.h"
+#include "libstm/core/errors.h"
+#include "libstm/skeleton/match_skeletons.h"
 
 #include <catch2/catch.hpp>
 #include <random>
 
-using namespace stm;
+using namespace sdm;
 
 namespace {
 

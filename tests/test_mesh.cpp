@@ -1,13 +1,13 @@
 // Mesh I/O: round trips keep positions and uv; formats are chosen by extension.
-#include "libstm/errors.h"
-#include "libstm/mesh.h"
-#include "libstm/validate_mesh.h"
+#include "libstm/core/errors.h"
+#include "libstm/mesh/mesh.h"
+#include "libstm/mesh/validate_mesh.h"
 #include "tests/test_util.h"
 
 #include <catch2/catch.hpp>
 #include <cmath>
 
-using namespace stm;
+using namespace sdm;
 
 namespace {
 

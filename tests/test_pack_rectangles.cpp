@@ -1,5 +1,5 @@
-#include "libstm/errors.h"
-#include "libstm/pack_rectangles.h"
+#include "libstm/core/errors.h"
+#include "libstm/layout/pack_rectangles.h"
 
 #include <catch2/catch.hpp>
 #include <cmath>
@@ -13,7 +13,7 @@ struct Outer {
 
 // Checks the packing contract; returns the outer boxes.
 // `grown`: rectangles may be larger than the packed size (max_anisotropy > 1).
-std::vector<Outer> check_packing(const std::vector<Eigen::Vector2d>& sizes, const stm::Packing& p, int S, int m, bool grown = false) {
+std::vector<Outer> check_packing(const std::vector<Eigen::Vector2d>& sizes, const sdm::Packing& p, int S, int m, bool grown = false) {
   REQUIRE(p.rects.size() == sizes.size());
   std::vector<Outer> o;
   double inner = 0, outer = 0;
@@ -61,7 +61,7 @@ TEST_CASE("pack_rectangles: random sets never overlap and stay in the atlas", "[
     std::vector<Eigen::Vector2d> sizes(n);
     for (auto& s : sizes) s = {side(rng), side(rng)};
     const int S = trial % 2 ? 1024 : 300, m = trial % 3;
-    const auto p = stm::pack_rectangles(sizes, S, m);
+    const auto p = sdm::pack_rectangles(sizes, S, m);
     check_packing(sizes, p, S, m);
     CHECK(p.coverage <= 1.0);
   }
@@ -97,7 +97,7 @@ TEST_CASE("pack_rectangles: sets like the paper's primitives pack as tightly as 
   }
   for (const auto& c : cases) {
     for (int margin : {0, 2}) {
-      const auto p = stm::pack_rectangles(c.sizes, 1024, margin);
+      const auto p = sdm::pack_rectangles(c.sizes, 1024, margin);
       check_packing(c.sizes, p, 1024, margin);
       INFO(c.name << " margin " << margin << " coverage " << p.coverage << " inner " << p.coverage_inner);
       CHECK(p.coverage > c.target);
@@ -107,21 +107,21 @@ TEST_CASE("pack_rectangles: sets like the paper's primitives pack as tightly as 
 
 TEST_CASE("pack_rectangles: one rectangle fills its atlas side, rotation is used", "[pack_rectangles]") {
   // A single 3:1 rectangle: its long side must span the atlas (minus margins).
-  const auto p = stm::pack_rectangles({{3.0, 1.0}}, 512, 4);
+  const auto p = sdm::pack_rectangles({{3.0, 1.0}}, 512, 4);
   check_packing({{3.0, 1.0}}, p, 512, 4);
   CHECK(std::max(p.rects[0].w, p.rects[0].h) >= 512 - 8 - 1);
   // Two tall rectangles side by side: 2 x (1 x 2) fills the square.
   const std::vector<Eigen::Vector2d> two{{2.0, 1.0}, {2.0, 1.0}};
-  const auto q = stm::pack_rectangles(two, 256, 0);
+  const auto q = sdm::pack_rectangles(two, 256, 0);
   check_packing(two, q, 256, 0);
   CHECK(q.coverage > 0.99);
 }
 
 TEST_CASE("pack_rectangles: impossible requests are input errors", "[pack_rectangles]") {
-  CHECK_THROWS_AS(stm::pack_rectangles({}, 64, 0), stm::InputError);
-  CHECK_THROWS_AS(stm::pack_rectangles({{1.0, -1.0}}, 64, 0), stm::InputError);
+  CHECK_THROWS_AS(sdm::pack_rectangles({}, 64, 0), sdm::InputError);
+  CHECK_THROWS_AS(sdm::pack_rectangles({{1.0, -1.0}}, 64, 0), sdm::InputError);
   // 100 rectangles with 4-texel margins cannot fit in 16 x 16 texels.
-  CHECK_THROWS_AS(stm::pack_rectangles(std::vector<Eigen::Vector2d>(100, Eigen::Vector2d(1, 1)), 16, 4), stm::InputError);
+  CHECK_THROWS_AS(sdm::pack_rectangles(std::vector<Eigen::Vector2d>(100, Eigen::Vector2d(1, 1)), 16, 4), sdm::InputError);
 }
 
 TEST_CASE("pack_rectangles: growing into leftover space keeps the packing valid and bounds the anisotropy", "[pack_rectangles]") {
@@ -131,8 +131,8 @@ TEST_CASE("pack_rectangles: growing into leftover space keeps the packing valid 
     std::vector<Eigen::Vector2d> sizes(3 + trial);
     for (auto& s : sizes) s = {side(rng), side(rng)};
     const int S = 512, m = trial % 3;
-    const auto plain = stm::pack_rectangles(sizes, S, m);
-    const auto grown = stm::pack_rectangles(sizes, S, m, 1.25);
+    const auto plain = sdm::pack_rectangles(sizes, S, m);
+    const auto grown = sdm::pack_rectangles(sizes, S, m, 1.25);
     check_packing(sizes, grown, S, m, true);
     CHECK(grown.scale == plain.scale);
     CHECK(grown.coverage >= plain.coverage);

@@ -1,10 +1,10 @@
 // Headless GL, PNG images, PSNR and the mesh renderer, checked against numbers derived from the
 // camera geometry (30 degree field of view framing the bounding sphere).
-#include "libstm/errors.h"
-#include "libstm/gl_context.h"
-#include "libstm/image.h"
-#include "libstm/mesh.h"
-#include "libstm/render_mesh.h"
+#include "libstm/core/errors.h"
+#include "libstm/render/gl_context.h"
+#include "libstm/core/image.h"
+#include "libstm/mesh/mesh.h"
+#include "libstm/render/render_mesh.h"
 
 #include <catch2/catch.hpp>
 
@@ -21,15 +21,15 @@ namespace fs = std::filesystem;
 
 namespace {
 
-stm::GlContext& gl() {
-  static stm::GlContext context;  // one per test run: creating contexts is the slow part
+sdm::GlContext& gl() {
+  static sdm::GlContext context;  // one per test run: creating contexts is the slow part
   return context;
 }
 
 // Unit square in the z = 0 plane, [-0.5, 0.5]^2, uv (0,0) at (-0.5,-0.5); split into n x n cells of
 // two triangles each, so two tessellations of the same textured square can be compared.
-stm::Mesh square(int n = 1) {
-  stm::MeshSoup s;
+sdm::Mesh square(int n = 1) {
+  sdm::MeshSoup s;
   for (int j = 0; j <= n; ++j)
     for (int i = 0; i <= n; ++i) s.points.emplace_back(double(i) / n - 0.5, double(j) / n - 0.5, 0.0);
   auto id = [n](int i, int j) { return j * (n + 1) + i; };
@@ -42,7 +42,7 @@ stm::Mesh square(int n = 1) {
         for (int v : t) s.uv.push_back(uv(v));
       }
     }
-  return stm::build_mesh(s);
+  return sdm::build_mesh(s);
 }
 
 // Analytic half-width in pixels of the unit square seen face-on in an 800 px image: the bounding
@@ -65,7 +65,7 @@ fs::path temp_dir(const std::string& name) {
 }  // namespace
 
 TEST_CASE("EGL gives a headless GL 4.5 core context", "[render]") {
-  stm::GlContext& g = gl();
+  sdm::GlContext& g = gl();
   INFO("renderer: " << g.renderer() << ", version: " << g.version() << ", platform: " << g.platform());
   CHECK(g.major_version() * 10 + g.minor_version() >= 45);
   CHECK(!g.renderer().empty());
@@ -79,12 +79,12 @@ TEST_CASE("EGL gives a headless GL 4.5 core context", "[render]") {
 TEST_CASE("Framebuffer reads back cleared colour and float values", "[render]") {
   gl().make_current();
   const int samples = GENERATE(1, 4);  // multisampled targets resolve to the same values
-  stm::Framebuffer fb(7, 5, samples, true);
+  sdm::Framebuffer fb(7, 5, samples, true);
   fb.bind();
   const float c[4] = {0.2f, 0.4f, 0.6f, 1.0f}, f[4] = {-1.5f, 2.25f, 1e6f, 0.125f};
   fb.clear(c, f);
-  const stm::Image img = fb.read_rgba8();
-  const stm::FloatImage fi = fb.read_float();
+  const sdm::Image img = fb.read_rgba8();
+  const sdm::FloatImage fi = fb.read_float();
   REQUIRE(img.width == 7);
   REQUIRE(img.height == 5);
   CHECK(int(img.at(6, 4)[0]) == 51);
@@ -96,14 +96,14 @@ TEST_CASE("Framebuffer reads back cleared colour and float values", "[render]") 
 }
 
 TEST_CASE("Unlit square facing the camera: exact colour inside, background outside, analytic extent", "[render]") {
-  stm::RenderOptions o;
+  sdm::RenderOptions o;
   o.azimuth_deg = 0;
   o.elevation_deg = 0;
   o.unlit = true;
   o.color = Eigen::Vector3f(200.f / 255, 100.f / 255, 50.f / 255);
   o.background = {10, 20, 30, 255};
   std::vector<uint8_t> mask;
-  const stm::Image img = stm::render_mesh(gl(), square(), o, &mask);
+  const sdm::Image img = sdm::render_mesh(gl(), square(), o, &mask);
   REQUIRE(img.width == 800);
   REQUIRE(img.height == 800);
   auto rgb = [&](int x, int y) { return std::array<int, 3>{img.at(x, y)[0], img.at(x, y)[1], img.at(x, y)[2]}; };
@@ -128,15 +128,15 @@ TEST_CASE("Unlit square facing the camera: exact colour inside, background outsi
 }
 
 TEST_CASE("Textured quad: each quadrant shows its texel, rows top to bottom, uv origin bottom left", "[render]") {
-  stm::Image tex(2, 2, 4);
+  sdm::Image tex(2, 2, 4);
   const uint8_t texels[4][4] = {{255, 0, 0, 255}, {0, 255, 0, 255}, {0, 0, 255, 255}, {255, 255, 0, 255}};
   for (int i = 0; i < 4; ++i) std::copy(texels[i], texels[i] + 4, tex.at(i % 2, i / 2));
-  stm::RenderOptions o;
+  sdm::RenderOptions o;
   o.azimuth_deg = 0;
   o.elevation_deg = 0;
   o.unlit = true;
   o.texture = &tex;
-  const stm::Image img = stm::render_mesh(gl(), square(), o);
+  const sdm::Image img = sdm::render_mesh(gl(), square(), o);
   const int d = int(kHalfWidthPx / 2);  // quadrant centres: uv 0.25 / 0.75, texel centres
   const int xs[2] = {400 - d, 399 + d}, ys[2] = {400 - d, 399 + d};
   for (int i = 0; i < 4; ++i) {
@@ -145,46 +145,46 @@ TEST_CASE("Textured quad: each quadrant shows its texel, rows top to bottom, uv 
     for (int k = 0; k < 3; ++k) CHECK(std::abs(int(p[k]) - int(texels[i][k])) <= 2);
   }
   // A texture needs uv.
-  stm::Mesh no_uv = square();
+  sdm::Mesh no_uv = square();
   no_uv.release_halfedge_texcoords2D();
-  CHECK_THROWS_AS(stm::render_mesh(gl(), no_uv, o), stm::InputError);
+  CHECK_THROWS_AS(sdm::render_mesh(gl(), no_uv, o), sdm::InputError);
 }
 
 TEST_CASE("Two tessellations of one textured square render the same pixels unlit", "[render]") {
-  stm::Image tex(8, 8, 4);
+  sdm::Image tex(8, 8, 4);
   for (int y = 0; y < 8; ++y)
     for (int x = 0; x < 8; ++x) {
       uint8_t* p = tex.at(x, y);
       p[0] = uint8_t(32 * x), p[1] = uint8_t(32 * y), p[2] = uint8_t((x + y) % 2 ? 255 : 0), p[3] = 255;
     }
-  stm::RenderOptions o;
+  sdm::RenderOptions o;
   o.azimuth_deg = 25;
   o.elevation_deg = 35;
   o.unlit = true;
   o.texture = &tex;
   std::vector<uint8_t> m1, m4;
-  const stm::Image a = stm::render_mesh(gl(), square(1), o, &m1);
-  const stm::Image b = stm::render_mesh(gl(), square(4), o, &m4);
-  const double p = stm::psnr(a, b, &m1);
+  const sdm::Image a = sdm::render_mesh(gl(), square(1), o, &m1);
+  const sdm::Image b = sdm::render_mesh(gl(), square(4), o, &m4);
+  const double p = sdm::psnr(a, b, &m1);
   INFO("PSNR 2 vs 32 triangles: " << p << " dB");
   CHECK(p > 45.0);  // only rasterisation rounding differs
   // A different texture on the same shape is clearly worse.
-  stm::Image shifted = tex;
+  sdm::Image shifted = tex;
   for (auto& v : shifted.pixels) v = uint8_t(255 - v);
   o.texture = &shifted;
-  const stm::Image c = stm::render_mesh(gl(), square(4), o);
-  CHECK(stm::psnr(a, c, &m1) < 15.0);
+  const sdm::Image c = sdm::render_mesh(gl(), square(4), o);
+  CHECK(sdm::psnr(a, c, &m1) < 15.0);
 }
 
 TEST_CASE("Headlight shading: centre brightness follows the cosine of the viewing angle", "[render]") {
-  stm::RenderOptions o;
+  sdm::RenderOptions o;
   o.elevation_deg = 0;
   o.color = Eigen::Vector3f(1, 1, 1);
   o.ambient = 0.25;
   o.background = {0, 0, 0, 255};
   for (double az : {0.0, 45.0, 70.0}) {
     o.azimuth_deg = az;
-    const stm::Image img = stm::render_mesh(gl(), square(), o);
+    const sdm::Image img = sdm::render_mesh(gl(), square(), o);
     // The centre pixel looks at the square's centre: Lambert factor cos(az).
     const double expected = 255.0 * (0.25 + 0.75 * std::cos(az * M_PI / 180.0));
     INFO("azimuth " << az);
@@ -193,15 +193,15 @@ TEST_CASE("Headlight shading: centre brightness follows the cosine of the viewin
 }
 
 TEST_CASE("Crease-aware normals keep a cube's faces flat", "[render]") {
-  stm::MeshSoup s;
+  sdm::MeshSoup s;
   for (int i = 0; i < 8; ++i) s.points.emplace_back(i & 1 ? 0.5 : -0.5, i & 2 ? 0.5 : -0.5, i & 4 ? 0.5 : -0.5);
   const int quads[6][4] = {{0, 2, 3, 1}, {4, 5, 7, 6}, {0, 1, 5, 4}, {2, 6, 7, 3}, {0, 4, 6, 2}, {1, 3, 7, 5}};
   for (const auto& q : quads) {
     s.triangles.push_back({q[0], q[1], q[2]});
     s.triangles.push_back({q[0], q[2], q[3]});
   }
-  const stm::Mesh cube = stm::build_mesh(s);
-  stm::RenderOptions o;
+  const sdm::Mesh cube = sdm::build_mesh(s);
+  sdm::RenderOptions o;
   o.azimuth_deg = 0;
   o.elevation_deg = 0;
   o.color = Eigen::Vector3f(1, 1, 1);
@@ -212,10 +212,10 @@ TEST_CASE("Crease-aware normals keep a cube's faces flat", "[render]") {
   const double x = 240.0 / 400.0 * (d - 0.5) * std::tan(15.0 * M_PI / 180.0);
   const double lambert = (d - 0.5) / std::hypot(x, d - 0.5);
   const double expected = 255.0 * (0.25 + 0.75 * lambert);
-  const stm::Image crease = stm::render_mesh(gl(), cube, o);
+  const sdm::Image crease = sdm::render_mesh(gl(), cube, o);
   CHECK(std::abs(crease.at(640, 400)[0] - expected) <= 2.0);
   o.crease_angle_deg = 180;  // smooth everything: the normal near the edge tilts towards the side face
-  const stm::Image smooth = stm::render_mesh(gl(), cube, o);
+  const sdm::Image smooth = sdm::render_mesh(gl(), cube, o);
   INFO("crease " << int(crease.at(640, 400)[0]) << ", smooth " << int(smooth.at(640, 400)[0]));
   CHECK(smooth.at(640, 400)[0] < expected - 20);
 }
@@ -226,7 +226,7 @@ TEST_CASE("frame_camera keeps the bounding box inside the image for any angle", 
   std::uniform_real_distribution<double> ang(-180, 180);
   for (int k = 0; k < 20; ++k) {
     for (bool ortho : {false, true}) {
-      const stm::Camera cam = stm::frame_camera(lo, hi, ang(rng), ang(rng) / 2, 640, 480, ortho);
+      const sdm::Camera cam = sdm::frame_camera(lo, hi, ang(rng), ang(rng) / 2, 640, 480, ortho);
       const Eigen::Vector4d c = cam.projection * cam.view * Eigen::Vector4d(2.5 - 1.5, 2.25, 12, 1);
       CHECK(std::abs(c.x() / c.w()) < 1e-9);  // the box centre is the image centre
       CHECK(std::abs(c.y() / c.w()) < 1e-9);
@@ -239,39 +239,39 @@ TEST_CASE("frame_camera keeps the bounding box inside the image for any angle", 
       }
     }
   }
-  CHECK_THROWS_AS(stm::frame_camera(hi, lo, 0, 0, 10, 10), stm::InputError);
-  CHECK_THROWS_AS(stm::frame_camera(lo, lo, 0, 0, 10, 10), stm::InputError);
+  CHECK_THROWS_AS(sdm::frame_camera(hi, lo, 0, 0, 10, 10), sdm::InputError);
+  CHECK_THROWS_AS(sdm::frame_camera(lo, lo, 0, 0, 10, 10), sdm::InputError);
 }
 
 TEST_CASE("PSNR: infinite for equal images, hand-computed otherwise, masked", "[render]") {
-  stm::Image a(2, 2, 4, 100), b = a;
-  CHECK(std::isinf(stm::psnr(a, a)));
+  sdm::Image a(2, 2, 4, 100), b = a;
+  CHECK(std::isinf(sdm::psnr(a, a)));
   b.at(1, 0)[1] = 110;  // one channel of one pixel off by 10
   // MSE over 4 pixels x 3 colour channels = 100 / 12.
-  CHECK(stm::psnr(a, b) == Approx(10 * std::log10(255.0 * 255.0 * 12 / 100)));
+  CHECK(sdm::psnr(a, b) == Approx(10 * std::log10(255.0 * 255.0 * 12 / 100)));
   const std::vector<uint8_t> with{0, 1, 1, 0}, without{1, 0, 0, 1}, none{0, 0, 0, 0};
-  CHECK(stm::psnr(a, b, &with) == Approx(10 * std::log10(255.0 * 255.0 * 6 / 100)));
-  CHECK(std::isinf(stm::psnr(a, b, &without)));
+  CHECK(sdm::psnr(a, b, &with) == Approx(10 * std::log10(255.0 * 255.0 * 6 / 100)));
+  CHECK(std::isinf(sdm::psnr(a, b, &without)));
   b.at(0, 1)[3] = 0;  // alpha is not colour
-  CHECK(std::isinf(stm::psnr(a, b, &without)));
-  CHECK_THROWS_AS(stm::psnr(a, b, &none), stm::InputError);
-  CHECK_THROWS_AS(stm::psnr(a, stm::Image(3, 2, 4)), stm::InputError);
-  CHECK(stm::mask_union(with, without) == std::vector<uint8_t>(4, 255));
+  CHECK(std::isinf(sdm::psnr(a, b, &without)));
+  CHECK_THROWS_AS(sdm::psnr(a, b, &none), sdm::InputError);
+  CHECK_THROWS_AS(sdm::psnr(a, sdm::Image(3, 2, 4)), sdm::InputError);
+  CHECK(sdm::mask_union(with, without) == std::vector<uint8_t>(4, 255));
 }
 
 TEST_CASE("PNG write/read round trip is exact; contact sheet places images", "[render]") {
   const fs::path dir = temp_dir("png");
   std::mt19937 rng(7);
-  stm::Image rgba(37, 23, 4), rgb(5, 3, 3);
+  sdm::Image rgba(37, 23, 4), rgb(5, 3, 3);
   for (auto& v : rgba.pixels) v = uint8_t(rng());
   for (auto& v : rgb.pixels) v = uint8_t(rng());
-  stm::write_png(rgba, (dir / "a.png").string());
-  stm::write_png(rgb, (dir / "b.png").string());
-  const stm::Image ra = stm::read_png((dir / "a.png").string());
+  sdm::write_png(rgba, (dir / "a.png").string());
+  sdm::write_png(rgb, (dir / "b.png").string());
+  const sdm::Image ra = sdm::read_png((dir / "a.png").string());
   CHECK(ra.width == 37);
   CHECK(ra.height == 23);
   CHECK(ra.pixels == rgba.pixels);
-  const stm::Image rb = stm::read_png((dir / "b.png").string());  // read back as RGBA
+  const sdm::Image rb = sdm::read_png((dir / "b.png").string());  // read back as RGBA
   REQUIRE(rb.channels == 4);
   for (int y = 0; y < 3; ++y)
     for (int x = 0; x < 5; ++x) {
@@ -280,18 +280,18 @@ TEST_CASE("PNG write/read round trip is exact; contact sheet places images", "[r
     }
   const std::string missing = (dir / "missing.png").string();
   try {
-    stm::read_png(missing);
+    sdm::read_png(missing);
     FAIL("no exception");
-  } catch (const stm::InputError& e) {
+  } catch (const sdm::InputError& e) {
     CHECK(std::string(e.what()).find(missing) != std::string::npos);
   }
   // Two images side by side, 4 px apart: the second starts at x = 37 + 4.
-  const stm::Image sheet = stm::side_by_side({rgba, rgb}, 4);
+  const sdm::Image sheet = sdm::side_by_side({rgba, rgb}, 4);
   CHECK(sheet.width == 37 + 4 + 37);
   CHECK(sheet.height == 23);
   CHECK(sheet.at(41, 2)[0] == rgb.at(0, 2)[0]);
   CHECK(sheet.at(38, 0)[0] == 255);  // gap
-  const stm::Image grid = stm::contact_sheet({rgb, rgb, rgb}, 2, 1);
+  const sdm::Image grid = sdm::contact_sheet({rgb, rgb, rgb}, 2, 1);
   CHECK(grid.width == 11);
   CHECK(grid.height == 7);
   CHECK(grid.at(0, 4)[2] == rgb.at(0, 0)[2]);  // third image starts the second row
@@ -308,7 +308,7 @@ TEST_CASE("sdm render writes a PNG of a mesh; missing input exits 2 with no outp
   }
   const std::string out = (dir / "view.png").string();
   REQUIRE(run("render " + (dir / "octa.off").string() + " -o " + out + " --width 160 --height 120") == 0);
-  const stm::Image img = stm::read_png(out);
+  const sdm::Image img = sdm::read_png(out);
   CHECK(img.width == 160);
   CHECK(img.height == 120);
   auto is_white = [&](int x, int y) { return img.at(x, y)[0] == 255 && img.at(x, y)[1] == 255 && img.at(x, y)[2] == 255; };
@@ -325,10 +325,10 @@ TEST_CASE("sdm render writes a PNG of a mesh; missing input exits 2 with no outp
   {
     // The same octahedron as a textured OBJ: the upper faces map into the texture's top row (red),
     // the lower faces into its bottom row (blue); the MTL names the texture.
-    stm::Image tex(2, 2, 4);
+    sdm::Image tex(2, 2, 4);
     const uint8_t red[4] = {255, 0, 0, 255}, blue[4] = {0, 0, 255, 255};
     for (int x = 0; x < 2; ++x) std::copy(red, red + 4, tex.at(x, 0)), std::copy(blue, blue + 4, tex.at(x, 1));
-    stm::write_png(tex, (dir / "tex.png").string());
+    sdm::write_png(tex, (dir / "tex.png").string());
     std::ofstream(dir / "octa.mtl") << "newmtl m\nmap_Kd tex.png\n";
     std::ofstream obj(dir / "octa.obj");
     obj << "mtllib octa.mtl\nv 1 0 0\nv -1 0 0\nv 0 1 0\nv 0 -1 0\nv 0 0 1\nv 0 0 -1\n"
@@ -339,7 +339,7 @@ TEST_CASE("sdm render writes a PNG of a mesh; missing input exits 2 with no outp
   const std::string textured = (dir / "textured.png").string();
   REQUIRE(run("render " + (dir / "octa.obj").string() + " -o " + textured +
               " --width 160 --height 120 --unlit --azimuth 0 --elevation 0") == 0);
-  const stm::Image t = stm::read_png(textured);
+  const sdm::Image t = sdm::read_png(textured);
   CHECK((t.at(80, 50)[0] == 255 && t.at(80, 50)[2] == 0));  // above the equator: red
   CHECK((t.at(80, 70)[0] == 0 && t.at(80, 70)[2] == 255));  // below: blue
   const std::string out2 = (dir / "none.png").string();

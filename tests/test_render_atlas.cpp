@@ -1,8 +1,8 @@
 // Atlas rendering (render_atlas): the remapped texture at every texel of a rectangle and its
 // margins is the source texture at the surface point the capsule mapping sends there, and the
 // push-pull fill leaves no empty (black) texel.
-#include "libstm/gl_context.h"
-#include "libstm/render_atlas.h"
+#include "libstm/render/gl_context.h"
+#include "libstm/render/render_atlas.h"
 #include "stm_test_scenes.h"
 
 #include <catch2/catch.hpp>
@@ -20,7 +20,7 @@ TEST_CASE("push-pull fill reproduces smooth data in holes", "[render_atlas]") {
   for (int y = 20; y < 28; ++y)
     for (int x = 30; x < 36; ++x) w[y * W + x] = 0, v[y * W + x] = -1000;
   for (int x = 0; x < W; ++x) w[x] = 0, v[x] = -1000;
-  stm::push_pull_fill(v, w, W, H, 1);
+  sdm::push_pull_fill(v, w, W, H, 1);
   for (int y = 20; y < 28; ++y)
     for (int x = 30; x < 36; ++x) CHECK(std::abs(v[y * W + x] - x) < 3.0);
   for (int x = 0; x < W; ++x) CHECK(std::abs(v[x] - x) < 3.0);
@@ -32,13 +32,13 @@ TEST_CASE("push-pull fill reproduces smooth data in holes", "[render_atlas]") {
 TEST_CASE("cylinder atlas holds the source texture at the capsule coordinates including margins", "[render_atlas]") {
   const int margin = 6;
   const stm_test::CylinderScene sc = stm_test::cylinder_scene(512, margin);
-  const stm::Image source = stm_test::procedural_image(512, 256);
-  stm::GlContext gl;
+  const sdm::Image source = stm_test::procedural_image(512, 256);
+  sdm::GlContext gl;
   std::vector<uint8_t> covered;
-  const stm::Image atlas = stm::render_atlas(gl, sc.mesh, sc.layout, source, {}, &covered);
+  const sdm::Image atlas = sdm::render_atlas(gl, sc.mesh, sc.layout, source, {}, &covered);
   REQUIRE(atlas.width == 512);
-  const stm::LayoutSegment& g = sc.layout.segments[0];
-  const stm::CapsuleFrame f = stm::capsule_frame(sc.layout, 0);
+  const sdm::LayoutSegment& g = sc.layout.segments[0];
+  const sdm::CapsuleFrame f = sdm::capsule_frame(sc.layout, 0);
   const Eigen::Vector3d axis = (f.b - f.a).normalized();
   // Texels of the cylinder part (v in [d, w - d], points of the side with y in [-0.5, 0.5]),
   // around the axis from -margin to h + margin: the periodic margins included.
@@ -46,7 +46,7 @@ TEST_CASE("cylinder atlas holds the source texture at the capsule coordinates in
   int n = 0, n_margin = 0;
   for (double u = -margin + 0.5; u < g.h + margin; u += 1)
     for (double v = std::ceil(g.d) + 0.5; v < g.w - g.d - 1; v += 1) {
-      const Eigen::Vector2d a = stm::local_to_atlas(g, u, v);
+      const Eigen::Vector2d a = sdm::local_to_atlas(g, u, v);
       const int x = int(a.x()), y = int(a.y());
       const double phi = 2 * M_PI * u / g.h, t = (v - g.d) / (g.w - 2 * g.d);
       const Eigen::Vector3d p = f.a + t * (f.b - f.a) + std::cos(phi) * f.e1 + std::sin(phi) * f.e2;
@@ -83,13 +83,13 @@ TEST_CASE("float attributes are interpolated into the atlas", "[render_atlas]") 
   std::vector<Eigen::Vector4f> values;
   for (auto f : sc.mesh.faces())
     for (auto v : sc.mesh.fv_range(f)) values.emplace_back(float(sc.mesh.point(v)[1]), 1.f, 0.f, 1.f);
-  stm::GlContext gl;
-  const stm::FloatImage img = stm::render_atlas_values(gl, sc.mesh, sc.layout, values);
-  const stm::LayoutSegment& g = sc.layout.segments[0];
+  sdm::GlContext gl;
+  const sdm::FloatImage img = sdm::render_atlas_values(gl, sc.mesh, sc.layout, values);
+  const sdm::LayoutSegment& g = sc.layout.segments[0];
   double worst = 0;
   for (double u = 0.5; u < g.h; u += 3)
     for (double v = std::ceil(g.d) + 0.5; v < g.w - g.d - 1; v += 1) {
-      const Eigen::Vector2d a = stm::local_to_atlas(g, u, v);
+      const Eigen::Vector2d a = sdm::local_to_atlas(g, u, v);
       const double y = -0.5 + (v - g.d) / (g.w - 2 * g.d);
       worst = std::max(worst, std::abs(img.at(int(a.x()), img.height - 1 - int(a.y()))[0] - y));
     }

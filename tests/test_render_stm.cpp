@@ -1,12 +1,12 @@
 // Rendering with coordinates computed in the shaders (render_stm): the STM render of Spot matches
 // the render with its own uv, the seam at phi = 0 leaves no trace, and the shaders' coordinates
 // agree with the CPU capsule mapping.
-#include "libstm/extract_skeleton.h"
-#include "libstm/gl_context.h"
-#include "libstm/render_atlas.h"
-#include "libstm/render_mesh.h"
-#include "libstm/render_stm.h"
-#include "libstm/segments.h"
+#include "libstm/skeleton/extract_skeleton.h"
+#include "libstm/render/gl_context.h"
+#include "libstm/render/render_atlas.h"
+#include "libstm/render/render_mesh.h"
+#include "libstm/render/render_stm.h"
+#include "libstm/layout/segments.h"
 #include "stm_test_scenes.h"
 #include "test_util.h"
 
@@ -21,27 +21,27 @@
 namespace {
 
 struct SpotScene {
-  stm::Mesh mesh;  // with uv
-  stm::Image texture;
-  stm::Layout layout;
-  stm::Image atlas;
+  sdm::Mesh mesh;  // with uv
+  sdm::Image texture;
+  sdm::Layout layout;
+  sdm::Image atlas;
 };
 
 // Skeleton, layout (2048 atlas) and atlas of Spot, made once for the tests below.
-const SpotScene& spot(stm::GlContext& gl) {
+const SpotScene& spot(sdm::GlContext& gl) {
   static std::unique_ptr<SpotScene> sc;
   if (!sc) {
     sc = std::make_unique<SpotScene>();
     std::string tex;
-    sc->mesh = stm::load_mesh(std::string(SDM_EXAMPLES) + "/spot/spot_triangulated.obj", &tex);
+    sc->mesh = sdm::load_mesh(std::string(SDM_EXAMPLES) + "/spot/spot_triangulated.obj", &tex);
     REQUIRE(!tex.empty());
-    sc->texture = stm::read_png(tex);
-    const stm::Skeleton sk = stm::extract_skeleton(sc->mesh);  // the skeleton a user gets
-    stm::LayoutOptions lo;
+    sc->texture = sdm::read_png(tex);
+    const sdm::Skeleton sk = sdm::extract_skeleton(sc->mesh);  // the skeleton a user gets
+    sdm::LayoutOptions lo;
     lo.size = 2048;
     lo.margin = 8;
-    sc->layout = stm::compute_layout(sc->mesh, sk, lo);
-    sc->atlas = stm::render_atlas(gl, sc->mesh, sc->layout, sc->texture);
+    sc->layout = sdm::compute_layout(sc->mesh, sk, lo);
+    sc->atlas = sdm::render_atlas(gl, sc->mesh, sc->layout, sc->texture);
   }
   return *sc;
 }
@@ -49,12 +49,12 @@ const SpotScene& spot(stm::GlContext& gl) {
 }  // namespace
 
 TEST_CASE("Spot from its STM without uv matches Spot with its own uv", "[render_stm]") {
-  stm::GlContext gl;
+  sdm::GlContext gl;
   const SpotScene& sc = spot(gl);
-  stm::Mesh bare = sc.mesh;
+  sdm::Mesh bare = sc.mesh;
   bare.release_halfedge_texcoords2D();
   REQUIRE(!bare.has_halfedge_texcoords2D());
-  stm::RenderOptions ro;
+  sdm::RenderOptions ro;
   ro.width = ro.height = 512;
   ro.unlit = true;
   ro.elevation_deg = 15;
@@ -62,30 +62,30 @@ TEST_CASE("Spot from its STM without uv matches Spot with its own uv", "[render_
     ro.azimuth_deg = 45.0 * view;
     std::vector<uint8_t> m_uv, m_stm;
     ro.texture = &sc.texture;
-    const stm::Image a = stm::render_mesh(gl, sc.mesh, ro, &m_uv);
+    const sdm::Image a = sdm::render_mesh(gl, sc.mesh, ro, &m_uv);
     ro.texture = nullptr;
-    const stm::Image b = stm::render_stm(gl, bare, sc.layout, sc.atlas, ro, &m_stm);
-    const std::vector<uint8_t> mask = stm::mask_union(m_uv, m_stm);
-    const double p = stm::psnr(a, b, &mask);
+    const sdm::Image b = sdm::render_stm(gl, bare, sc.layout, sc.atlas, ro, &m_stm);
+    const std::vector<uint8_t> mask = sdm::mask_union(m_uv, m_stm);
+    const double p = sdm::psnr(a, b, &mask);
     INFO("view " << view << " azimuth " << ro.azimuth_deg << ": PSNR " << p << " dB");
     std::printf("spot view %d: PSNR %.2f dB\n", view, p);
     CHECK(p >= 30.0);
 
     // SDM_TEST_DUMP=FOLDER keeps the pairs (own uv left, STM right) for looking at.
     if (const char* dump = std::getenv("SDM_TEST_DUMP"))
-      stm::write_png(stm::side_by_side({a, b}), std::string(dump) + "/spot_view" + std::to_string(view) + ".png");
+      sdm::write_png(sdm::side_by_side({a, b}), std::string(dump) + "/spot_view" + std::to_string(view) + ".png");
   }
 }
 
 TEST_CASE("the shaders' STM coordinates match the CPU capsule mapping", "[render_stm]") {
-  stm::GlContext gl;
+  sdm::GlContext gl;
   const SpotScene& sc = spot(gl);
-  stm::RenderOptions ro;
+  sdm::RenderOptions ro;
   ro.width = ro.height = 256;
   ro.azimuth_deg = 60;
-  stm::StmRenderProbe probe;
-  stm::render_stm(gl, sc.mesh, sc.layout, sc.atlas, ro, nullptr, &probe);
-  const std::vector<int> fs = stm::assign_faces(sc.mesh, sc.layout.skeleton);
+  sdm::StmRenderProbe probe;
+  sdm::render_stm(gl, sc.mesh, sc.layout, sc.atlas, ro, nullptr, &probe);
+  const std::vector<int> fs = sdm::assign_faces(sc.mesh, sc.layout.skeleton);
   int n = 0, near_pole = 0, other_segment = 0;
   double worst = 0;
   for (int i = 0; i < ro.width * ro.height; ++i) {
@@ -98,14 +98,14 @@ TEST_CASE("the shaders' STM coordinates match the CPU capsule mapping", "[render
     REQUIRE(face >= 0);
     REQUIRE(face < int(sc.mesh.n_faces()));
     if (fs[face] != s) ++other_segment;
-    const stm::LayoutSegment& g = sc.layout.segments[s];
-    const stm::CapsuleUV cpu = stm::capsule_uv(stm::capsule_frame(sc.layout, s), g.w, g.h, g.d, Eigen::Vector3d(p[0], p[1], p[2]));
+    const sdm::LayoutSegment& g = sc.layout.segments[s];
+    const sdm::CapsuleUV cpu = sdm::capsule_uv(sdm::capsule_frame(sc.layout, s), g.w, g.h, g.d, Eigen::Vector3d(p[0], p[1], p[2]));
     // Within a thousandth of the radius of the axis the angle is ill-conditioned in float.
     if (cpu.rho < 1e-3 * g.radius) {
       ++near_pole;
       continue;
     }
-    const Eigen::Vector2d want = stm::local_to_atlas(g, cpu.u, cpu.v);
+    const Eigen::Vector2d want = sdm::local_to_atlas(g, cpu.u, cpu.v);
     Eigen::Vector2d d = Eigen::Vector2d(c[0], c[1]) - want;
     // u = 0 and u = h are the same point: compare around the axis modulo h.
     double& du = g.rotated ? d.x() : d.y();
@@ -122,21 +122,21 @@ TEST_CASE("the shaders' STM coordinates match the CPU capsule mapping", "[render
 }
 
 TEST_CASE("the shader chooses the segments of assign_faces on a mesh wound inside out", "[render_stm]") {
-  stm::GlContext gl;
+  sdm::GlContext gl;
   const SpotScene& sc = spot(gl);
-  stm::MeshSoup soup = stm::mesh_to_soup(sc.mesh);
+  sdm::MeshSoup soup = sdm::mesh_to_soup(sc.mesh);
   soup.uv.clear();
   for (auto& t : soup.triangles) std::swap(t[1], t[2]);
-  const stm::Mesh inverted = stm::build_mesh(soup);
+  const sdm::Mesh inverted = sdm::build_mesh(soup);
   REQUIRE(inverted.n_faces() == sc.mesh.n_faces());
   // Made outward per part, the rule does not see the winding.
-  const std::vector<int> fs = stm::assign_faces(inverted, sc.layout.skeleton);
-  CHECK(fs == stm::assign_faces(sc.mesh, sc.layout.skeleton));
-  stm::RenderOptions ro;
+  const std::vector<int> fs = sdm::assign_faces(inverted, sc.layout.skeleton);
+  CHECK(fs == sdm::assign_faces(sc.mesh, sc.layout.skeleton));
+  sdm::RenderOptions ro;
   ro.width = ro.height = 256;
   ro.azimuth_deg = 240;
-  stm::StmRenderProbe probe;
-  stm::render_stm(gl, inverted, sc.layout, sc.atlas, ro, nullptr, &probe);
+  sdm::StmRenderProbe probe;
+  sdm::render_stm(gl, inverted, sc.layout, sc.atlas, ro, nullptr, &probe);
   int n = 0, other_segment = 0;
   for (int i = 0; i < ro.width * ro.height; ++i) {
     const float* c = &probe.coordinates.pixels[size_t(i) * 4];
@@ -151,19 +151,19 @@ TEST_CASE("the shader chooses the segments of assign_faces on a mesh wound insid
 
 TEST_CASE("no seam line where the STM wraps around the axis", "[render_stm]") {
   const stm_test::CylinderScene sc = stm_test::cylinder_scene(1024, 8);
-  const stm::Image source = stm_test::procedural_image(512, 256);
-  stm::GlContext gl;
-  const stm::Image atlas = stm::render_atlas(gl, sc.mesh, sc.layout, source);
-  stm::Mesh bare = sc.mesh;
+  const sdm::Image source = stm_test::procedural_image(512, 256);
+  sdm::GlContext gl;
+  const sdm::Image atlas = sdm::render_atlas(gl, sc.mesh, sc.layout, source);
+  sdm::Mesh bare = sc.mesh;
   bare.release_halfedge_texcoords2D();
   // Look at the seam (phi = 0, direction e1) from a few azimuths close to it, so that it falls both
   // between and inside the 2x2 pixel quads the derivatives come from; the probe tells which
   // neighbouring pixels lie on either side of it.
-  const stm::LayoutSegment& g = sc.layout.segments[0];
+  const sdm::LayoutSegment& g = sc.layout.segments[0];
   const Eigen::Vector3d e1 = g.e1;
   REQUIRE(std::abs(e1.y()) < 1e-9);
   for (double offset : {0.0, 1.0, 2.0, 3.0}) {
-    stm::RenderOptions ro;
+    sdm::RenderOptions ro;
     ro.width = ro.height = 256;
     ro.unlit = true;
     ro.samples = 1;
@@ -171,10 +171,10 @@ TEST_CASE("no seam line where the STM wraps around the axis", "[render_stm]") {
     ro.texture = nullptr;
     ro.azimuth_deg = std::atan2(e1.x(), e1.z()) * 180 / M_PI + offset;
     std::vector<uint8_t> mask, uv_mask;
-    stm::StmRenderProbe probe;
-    const stm::Image img = stm::render_stm(gl, bare, sc.layout, atlas, ro, &mask, &probe);
+    sdm::StmRenderProbe probe;
+    const sdm::Image img = sdm::render_stm(gl, bare, sc.layout, atlas, ro, &mask, &probe);
     ro.texture = &source;
-    const stm::Image uv_img = stm::render_mesh(gl, sc.mesh, ro, &uv_mask);
+    const sdm::Image uv_img = sdm::render_mesh(gl, sc.mesh, ro, &uv_mask);
     int x0 = ro.width, x1 = 0, y0 = ro.height, y1 = 0;
     for (int y = 0; y < ro.height; ++y)
       for (int x = 0; x < ro.width; ++x)
@@ -200,8 +200,8 @@ TEST_CASE("no seam line where the STM wraps around the axis", "[render_stm]") {
         if (std::abs(around(x + 1, y) - around(x, y)) > 0.5 * g.h) ++seam_pairs;
         (near_seam ? seam : elsewhere) = std::max(near_seam ? seam : elsewhere, j);
       }
-    const std::vector<uint8_t> both = stm::mask_union(mask, uv_mask);
-    const double p = stm::psnr(uv_img, img, &both);
+    const std::vector<uint8_t> both = sdm::mask_union(mask, uv_mask);
+    const double p = sdm::psnr(uv_img, img, &both);
     INFO("azimuth offset " << offset << ": " << seam_pairs << " pixel pairs across the seam, largest jump there " << seam
                            << ", elsewhere " << elsewhere << "; PSNR against own uv " << p << " dB");
     CHECK(seam_pairs >= (yb - ya) / 2);
@@ -214,14 +214,14 @@ TEST_CASE("no seam line where the STM wraps around the axis", "[render_stm]") {
 TEST_CASE("sdm remap and sdm render --stm --compare-uv round trip", "[render_stm]") {
   test_util::TempDir dir;
   const stm_test::CylinderScene sc = stm_test::cylinder_scene(512, 8);
-  stm::write_mesh(sc.mesh, dir / "cyl.obj", dir / "tex.png");
-  stm::write_png(stm_test::procedural_image(256, 128), dir / "tex.png");
-  stm::write_layout_json(sc.layout, dir / "layout.json");
+  sdm::write_mesh(sc.mesh, dir / "cyl.obj", dir / "tex.png");
+  sdm::write_png(stm_test::procedural_image(256, 128), dir / "tex.png");
+  sdm::write_layout_json(sc.layout, dir / "layout.json");
   auto r = test_util::run_sdm("remap " + (dir / "cyl.obj") + " -o " + (dir / "atlas.png") + " --layout " + (dir / "layout.json"));
   INFO(r.output);
   REQUIRE(r.exit_code == 0);
   REQUIRE(!std::filesystem::exists(dir / "atlas.json"));  // a given layout is not written again
-  const stm::Image atlas = stm::read_png(dir / "atlas.png");
+  const sdm::Image atlas = sdm::read_png(dir / "atlas.png");
   CHECK(atlas.width == 512);
   r = test_util::run_sdm("render " + (dir / "cyl.obj") + " -o " + (dir / "cmp.png") + " --stm " + (dir / "atlas.png") +
                          " --layout " + (dir / "layout.json") + " --compare-uv --unlit --views 4 --width 128 --height 128 --json");

@@ -1,6 +1,6 @@
 // The SDM file format: round trip, and a clear error for each kind of wrong file.
-#include "libsdm/sdm_exr.h"
-#include "libstm/errors.h"
+#include "libsdm/map/sdm_exr.h"
+#include "libstm/core/errors.h"
 #include "tests/test_util.h"
 
 #include <OpenEXR/ImfChannelList.h>
@@ -12,7 +12,7 @@
 #include <catch2/catch.hpp>
 #include <filesystem>
 
-using namespace stm;
+using namespace sdm;
 
 namespace {
 

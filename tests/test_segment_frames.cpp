@@ -1,5 +1,5 @@
-#include "libstm/segment_frames.h"
-#include "libstm/segments.h"
+#include "libstm/layout/segment_frames.h"
+#include "libstm/layout/segments.h"
 #include "synthetic_shapes.h"
 
 #include <catch2/catch.hpp>
@@ -9,15 +9,15 @@ using Eigen::Vector3d;
 
 namespace {
 
-std::vector<stm::SegmentFrame> frames_of(const synth::Shape& s) {
-  return stm::segment_frames(s.mesh, s.skeleton, stm::assign_faces(s.mesh, s.skeleton));
+std::vector<sdm::SegmentFrame> frames_of(const synth::Shape& s) {
+  return sdm::segment_frames(s.mesh, s.skeleton, sdm::assign_faces(s.mesh, s.skeleton));
 }
 
 double angle_deg(const Vector3d& a, const Vector3d& b) {
   return std::atan2(a.cross(b).norm(), a.dot(b)) * 180 / M_PI;
 }
 
-void check_orthonormal(const std::vector<stm::SegmentFrame>& f, const stm::Skeleton& sk) {
+void check_orthonormal(const std::vector<sdm::SegmentFrame>& f, const sdm::Skeleton& sk) {
   for (size_t s = 0; s < f.size(); ++s) {
     const auto& e = sk.edges[s];
     CHECK(((f[s].a == e[0] && f[s].b == e[1]) || (f[s].a == e[1] && f[s].b == e[0])));
@@ -110,7 +110,7 @@ TEST_CASE("segment_frames: a ring is carried around its cycle", "[segment_frames
 
 TEST_CASE("segment_frames: transport_direction is the minimal rotation", "[segment_frames]") {
   const Vector3d from = Vector3d(1, 0, 0), to = Vector3d(0, 1, 0);
-  CHECK(stm::transport_direction(Vector3d(0, 0, 1), from, to).isApprox(Vector3d(0, 0, 1)));
-  CHECK(stm::transport_direction(Vector3d(0, -1, 0), from, to).isApprox(Vector3d(1, 0, 0)));
-  CHECK(stm::transport_direction(Vector3d(0, 0, 1), from, -from).isApprox(Vector3d(0, 0, 1)));
+  CHECK(sdm::transport_direction(Vector3d(0, 0, 1), from, to).isApprox(Vector3d(0, 0, 1)));
+  CHECK(sdm::transport_direction(Vector3d(0, -1, 0), from, to).isApprox(Vector3d(1, 0, 0)));
+  CHECK(sdm::transport_direction(Vector3d(0, 0, 1), from, -from).isApprox(Vector3d(0, 0, 1)));
 }

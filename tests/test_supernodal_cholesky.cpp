@@ -1,9 +1,9 @@
 // The contraction's sparse Cholesky (SupernodalCholesky) against Eigen's simplicial LDL^T on the
 // matrices the contraction factorises: a mesh's Laplacian normal matrix plus a diagonal, refactorised
 // with new values on one analysis; and indefinite input refused.
-#include "libstm/mesh.h"
-#include "libstm/primitives.h"
-#include "libstm/supernodal_cholesky.h"
+#include "libstm/mesh/mesh.h"
+#include "libstm/mesh/primitives.h"
+#include "libstm/geometry/supernodal_cholesky.h"
 
 #include <catch2/catch.hpp>
 
@@ -13,7 +13,7 @@
 namespace {
 
 // W_L^2 L^T L + diag(h^2) for the uniform Laplacian L of the mesh (the contraction's system).
-Eigen::SparseMatrix<double> contraction_matrix(const stm::Mesh& m, double wl, const std::vector<double>& h) {
+Eigen::SparseMatrix<double> contraction_matrix(const sdm::Mesh& m, double wl, const std::vector<double>& h) {
   const int n = int(m.n_vertices());
   std::vector<Eigen::Triplet<double>> t;
   for (auto v : m.vertices()) {
@@ -38,11 +38,11 @@ Eigen::SparseMatrix<double> lower(const Eigen::SparseMatrix<double>& A) {
 }  // namespace
 
 TEST_CASE("supernodal Cholesky solves the contraction's systems as Eigen does, refactorised on one analysis", "[supernodal_cholesky]") {
-  const stm::Mesh m = stm::make_primitive("bottle");
+  const sdm::Mesh m = sdm::make_primitive("bottle");
   const int n = int(m.n_vertices());
   std::mt19937 rng(7);
   std::uniform_real_distribution<double> U(0.5, 3.0);
-  stm::SupernodalCholesky chol;
+  sdm::SupernodalCholesky chol;
   bool analysed = false;
   for (double wl : {1e-3, 0.1, 10.0, 1e3}) {
     std::vector<double> h(n);
@@ -64,11 +64,11 @@ TEST_CASE("supernodal Cholesky solves the contraction's systems as Eigen does, r
 }
 
 TEST_CASE("supernodal Cholesky refuses a matrix that is not positive definite", "[supernodal_cholesky]") {
-  const stm::Mesh m = stm::make_primitive("ypsilon");
+  const sdm::Mesh m = sdm::make_primitive("ypsilon");
   const int n = int(m.n_vertices());
   std::vector<double> h(n, 1.0);
   Eigen::SparseMatrix<double> A = contraction_matrix(m, 1.0, h);
-  stm::SupernodalCholesky chol;
+  sdm::SupernodalCholesky chol;
   chol.analyze(lower(A));
   REQUIRE(chol.factorize(lower(A)));
   A.coeffRef(n - 1, n - 1) = -5.0;
@@ -88,7 +88,7 @@ TEST_CASE("supernodal Cholesky on a block-diagonal matrix of two parts", "[super
   Eigen::SparseMatrix<double> A(n, n);
   A.setFromTriplets(t.begin(), t.end());
   A.makeCompressed();
-  stm::SupernodalCholesky chol;
+  sdm::SupernodalCholesky chol;
   chol.analyze(lower(A));
   REQUIRE(chol.factorize(lower(A)));
   const Eigen::MatrixX3d B = Eigen::MatrixX3d::Random(n, 3);

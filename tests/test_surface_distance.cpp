@@ -1,11 +1,11 @@
 // Surface distance: checked against shapes whose distance is known in closed form.
-#include "libsdm/surface_distance.h"
-#include "libstm/triangle_bvh.h"
+#include "libstm/mesh/surface_distance.h"
+#include "libstm/geometry/triangle_bvh.h"
 
 #include <catch2/catch.hpp>
 #include <cmath>
 
-using namespace stm;
+using namespace sdm;
 
 namespace {
 

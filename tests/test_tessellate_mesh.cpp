@@ -1,11 +1,11 @@
 // Tessellation with a rate per face: watertight and manifold whatever the mix of rates.
-#include "libsdm/tessellate_mesh.h"
-#include "libstm/mesh.h"
-#include "libstm/validate_mesh.h"
+#include "libsdm/decode/tessellate_mesh.h"
+#include "libstm/mesh/mesh.h"
+#include "libstm/mesh/validate_mesh.h"
 
 #include <catch2/catch.hpp>
 
-using namespace stm;
+using namespace sdm;
 
 namespace {
 

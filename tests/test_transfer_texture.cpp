@@ -2,18 +2,18 @@
 // shape tessellated anew gets the same picture (PSNR per view against the source), a colour band
 // painted on one branch lands on the same branch of a bent and thickened target, and a target
 // with another branching is refused with nothing written.
-#include "libsdm/decode_sdm.h"
-#include "libsdm/encode_sdm.h"
-#include "libsdm/sdm_exr.h"
-#include "libsdm/transfer_texture.h"
-#include "libstm/extract_skeleton.h"
-#include "libstm/gl_context.h"
-#include "libstm/isotropic_remesh.h"
-#include "libstm/primitives.h"
-#include "libstm/render_atlas.h"
-#include "libstm/render_mesh.h"
-#include "libstm/segments.h"
-#include "libstm/triangle_bvh.h"
+#include "libsdm/decode/decode_sdm.h"
+#include "libsdm/encode/encode_sdm.h"
+#include "libsdm/map/sdm_exr.h"
+#include "libstm/transfer/transfer_texture.h"
+#include "libstm/skeleton/extract_skeleton.h"
+#include "libstm/render/gl_context.h"
+#include "libstm/mesh/isotropic_remesh.h"
+#include "libstm/mesh/primitives.h"
+#include "libstm/render/render_atlas.h"
+#include "libstm/render/render_mesh.h"
+#include "libstm/layout/segments.h"
+#include "libstm/geometry/triangle_bvh.h"
 #include "synthetic_shapes.h"
 #include "test_util.h"
 
@@ -50,39 +50,39 @@ Eigen::Vector3d band_colour(const Eigen::Vector3d& p) {
 
 // Gives `mesh` uv (its own STM) and returns a texture in which colour(p) is painted: the atlas of
 // surface positions is rendered and every texel coloured from its position.
-stm::Image bake_texture(stm::GlContext& gl, stm::Mesh& mesh, const stm::Skeleton& sk, Eigen::Vector3d (*colour)(const Eigen::Vector3d&)) {
-  stm::LayoutOptions lo;
+sdm::Image bake_texture(sdm::GlContext& gl, sdm::Mesh& mesh, const sdm::Skeleton& sk, Eigen::Vector3d (*colour)(const Eigen::Vector3d&)) {
+  sdm::LayoutOptions lo;
   lo.size = 1024;
   lo.margin = 6;
-  const stm::Layout layout = stm::compute_layout(mesh, sk, lo);
+  const sdm::Layout layout = sdm::compute_layout(mesh, sk, lo);
   std::vector<Eigen::Vector4f> corners;
   for (auto f : mesh.faces())
     for (auto v : mesh.fv_range(f)) {
-      const Eigen::Vector3d p = stm::point(mesh, v);
+      const Eigen::Vector3d p = sdm::point(mesh, v);
       corners.emplace_back(float(p.x()), float(p.y()), float(p.z()), 1.f);
     }
-  const stm::FloatImage pos = stm::render_atlas_values(gl, mesh, layout, corners);
-  stm::Image tex(pos.width, pos.height, 4, 255);
+  const sdm::FloatImage pos = sdm::render_atlas_values(gl, mesh, layout, corners);
+  sdm::Image tex(pos.width, pos.height, 4, 255);
   for (int y = 0; y < pos.height; ++y)
     for (int x = 0; x < pos.width; ++x) {
       const float* q = pos.at(x, y);
       const Eigen::Vector3d c = colour(Eigen::Vector3d(q[0], q[1], q[2]));
       for (int k = 0; k < 3; ++k) tex.at(x, y)[k] = uint8_t(std::lround(255 * std::clamp(c[k], 0.0, 1.0)));
     }
-  mesh = stm::stm_coordinates(mesh, layout).mesh;
+  mesh = sdm::stm_coordinates(mesh, layout).mesh;
   return tex;
 }
 
 // What `sdm remesh --factor F` makes: the equilateral edge for the mesh's area and vertex count
 // times F, 8 iterations, vertices projected onto the input.
-stm::Mesh remeshed_like_cli(const stm::Mesh& mesh, double factor) {
+sdm::Mesh remeshed_like_cli(const sdm::Mesh& mesh, double factor) {
   double area = 0;
   for (auto f : mesh.faces()) area += mesh.calc_face_area(f);
   const double edge = std::sqrt(2.0 * area / (std::sqrt(3.0) * double(mesh.n_vertices()))) * factor;
-  const stm::TriangleBvh bvh(stm::vertex_matrix(mesh), stm::face_matrix(mesh));
-  stm::Mesh copy = mesh;
+  const sdm::TriangleBvh bvh(sdm::vertex_matrix(mesh), sdm::face_matrix(mesh));
+  sdm::Mesh copy = mesh;
   copy.release_halfedge_texcoords2D();
-  stm::isotropic_remesh(copy, edge, 8, [&](const Eigen::Vector3d& p) { return bvh.closest_point(p).point; });
+  sdm::isotropic_remesh(copy, edge, 8, [&](const Eigen::Vector3d& p) { return bvh.closest_point(p).point; });
   return copy;
 }
 
@@ -102,43 +102,43 @@ void check_views(const std::vector<double>& p, double min_db) {
 }
 
 // The skeleton `sdm transfer` extracts.
-stm::Skeleton extracted(const stm::Mesh& m) { return stm::extract_skeleton(m, stm::transfer_skeleton_options()); }
+sdm::Skeleton extracted(const sdm::Mesh& m) { return sdm::extract_skeleton(m, sdm::transfer_skeleton_options()); }
 
 // PSNR per view between the source (own uv) and the target (transferred uv), unlit, over the
 // pixels both cover.
-std::vector<double> compare_views(stm::GlContext& gl, const stm::Mesh& a, const stm::Image& ta, const stm::Mesh& b,
-                                  const stm::Image& tb, const std::string& dump_name) {
-  stm::RenderOptions ro;
+std::vector<double> compare_views(sdm::GlContext& gl, const sdm::Mesh& a, const sdm::Image& ta, const sdm::Mesh& b,
+                                  const sdm::Image& tb, const std::string& dump_name) {
+  sdm::RenderOptions ro;
   ro.width = ro.height = 512;
   ro.unlit = true;
   ro.elevation_deg = 15;
-  stm::bounding_box(a, ro.bbox_min, ro.bbox_max);
+  sdm::bounding_box(a, ro.bbox_min, ro.bbox_max);
   std::vector<double> out;
   for (int view = 0; view < 8; ++view) {
     ro.azimuth_deg = 45.0 * view;
     std::vector<uint8_t> ma, mb;
     ro.texture = &ta;
-    const stm::Image ia = stm::render_mesh(gl, a, ro, &ma);
+    const sdm::Image ia = sdm::render_mesh(gl, a, ro, &ma);
     ro.texture = &tb;
-    const stm::Image ib = stm::render_mesh(gl, b, ro, &mb);
+    const sdm::Image ib = sdm::render_mesh(gl, b, ro, &mb);
     for (size_t i = 0; i < ma.size(); ++i) ma[i] = ma[i] && mb[i] ? 255 : 0;
-    out.push_back(stm::psnr(ia, ib, &ma));
+    out.push_back(sdm::psnr(ia, ib, &ma));
     if (const char* dump = std::getenv("SDM_TEST_DUMP"))
-      stm::write_png(stm::side_by_side({ia, ib}), std::string(dump) + "/" + dump_name + std::to_string(view) + ".png");
+      sdm::write_png(sdm::side_by_side({ia, ib}), std::string(dump) + "/" + dump_name + std::to_string(view) + ".png");
   }
   return out;
 }
 
 // Every vertex goes to the nearer end of its nearest skeleton edge (a hand-made skeleton's vertex map).
-void assign_vertices(const stm::Mesh& mesh, stm::Skeleton& sk) {
+void assign_vertices(const sdm::Mesh& mesh, sdm::Skeleton& sk) {
   sk.vertex_node.clear();
   for (auto v : mesh.vertices()) {
-    const Eigen::Vector3d p = stm::point(mesh, v);
+    const Eigen::Vector3d p = sdm::point(mesh, v);
     double best = 1e300;
     int node = 0;
     for (const auto& e : sk.edges) {
       double t = 0;
-      const double d = stm::distance_to_segment(p, sk.nodes[e[0]], sk.nodes[e[1]], &t);
+      const double d = sdm::distance_to_segment(p, sk.nodes[e[0]], sk.nodes[e[1]], &t);
       if (d < best) best = d, node = t < 0.5 ? e[0] : e[1];
     }
     sk.vertex_node.push_back(node);
@@ -146,8 +146,8 @@ void assign_vertices(const stm::Mesh& mesh, stm::Skeleton& sk) {
 }
 
 // Every edge longer than `longer` cut into `pieces` straight pieces (the same polyline, more nodes).
-stm::Skeleton subdivided(const stm::Skeleton& sk, double longer, int pieces) {
-  stm::Skeleton out;
+sdm::Skeleton subdivided(const sdm::Skeleton& sk, double longer, int pieces) {
+  sdm::Skeleton out;
   out.nodes = sk.nodes;
   for (const auto& e : sk.edges) {
     const Eigen::Vector3d a = sk.nodes[e[0]], b = sk.nodes[e[1]];
@@ -167,8 +167,8 @@ stm::Skeleton subdivided(const stm::Skeleton& sk, double longer, int pieces) {
 }
 
 // Spot's hand-made skeleton (as in test_render_stm).
-stm::Skeleton spot_skeleton(const stm::Mesh& mesh, double cut_longer = 1e9) {
-  stm::Skeleton sk;
+sdm::Skeleton spot_skeleton(const sdm::Mesh& mesh, double cut_longer = 1e9) {
+  sdm::Skeleton sk;
   sk.nodes = {{0, 0.0, 1.0},   {0, -0.1, 0.62},    {0, -0.05, 0.1},   {0, 0.3, -0.25},  {0, 0.5, -0.42},
               {0.2, -0.35, 0.07}, {-0.2, -0.35, 0.07}, {0.2, -0.65, 0.07}, {-0.2, -0.65, 0.07},
               {0.17, -0.35, 0.66}, {-0.17, -0.35, 0.66}, {0.17, -0.65, 0.66}, {-0.17, -0.65, 0.66},
@@ -184,10 +184,10 @@ using synth::bend_ypsilon_arm;
 
 // The ypsilon's ideal skeleton (junction at the origin, arms along the primitive's capsule axes),
 // arm k cut into per_arm[k] edges, every node moved by `move`.
-stm::Skeleton ypsilon_skeleton(const stm::Mesh& mesh, std::array<int, 3> per_arm,
+sdm::Skeleton ypsilon_skeleton(const sdm::Mesh& mesh, std::array<int, 3> per_arm,
                                const std::function<Eigen::Vector3d(const Eigen::Vector3d&)>& move = nullptr) {
   const Eigen::Vector3d ends[3] = {{0, -1.1, 0}, {-0.78, 0.78, 0}, {0.78, 0.78, 0}};
-  stm::Skeleton sk;
+  sdm::Skeleton sk;
   sk.nodes.push_back(Eigen::Vector3d::Zero());
   for (int k = 0; k < 3; ++k) {
     int prev = 0;
@@ -208,13 +208,13 @@ stm::Skeleton ypsilon_skeleton(const stm::Mesh& mesh, std::array<int, 3> per_arm
 // compare 8 views.
 // With carry false the given target skeleton is used as it is (what the resampling tests need);
 // with carry true the transfer may replace it by the source's carried over, as `sdm transfer` does.
-std::vector<double> transfer_round(stm::GlContext& gl, stm::Mesh a, const stm::Skeleton& sa, const stm::Mesh& b, const stm::Skeleton& sb,
-                                  stm::TextureTransfer* out = nullptr, bool carry = false, const std::string& dump_name = "ypsilon_transfer_view") {
-  const stm::Image tex = bake_texture(gl, a, sa, smooth_colour);
-  stm::TransferOptions to;
+std::vector<double> transfer_round(sdm::GlContext& gl, sdm::Mesh a, const sdm::Skeleton& sa, const sdm::Mesh& b, const sdm::Skeleton& sb,
+                                  sdm::TextureTransfer* out = nullptr, bool carry = false, const std::string& dump_name = "ypsilon_transfer_view") {
+  const sdm::Image tex = bake_texture(gl, a, sa, smooth_colour);
+  sdm::TransferOptions to;
   to.size = 1024;
   to.carry_same_shape = carry;
-  stm::TextureTransfer r = stm::transfer_texture(gl, a, tex, sa, b, sb, to);
+  sdm::TextureTransfer r = sdm::transfer_texture(gl, a, tex, sa, b, sb, to);
   const std::vector<double> p = compare_views(gl, a, tex, r.target, r.atlas, dump_name);
   if (out) *out = std::move(r);
   return p;
@@ -224,12 +224,12 @@ std::vector<double> transfer_round(stm::GlContext& gl, stm::Mesh a, const stm::S
 // does. The target is recognised as the source's shape and takes the source's skeleton carried
 // over (its own extraction puts the junction elsewhere: 26-33 dB before, docs/BENCHMARKS.md).
 TEST_CASE("transfer onto a new tessellation of the ypsilon with extracted skeletons reproduces the source", "[transfer_texture]") {
-  stm::GlContext gl;
-  const stm::Mesh a = stm::make_primitive("ypsilon", 2000);
-  const stm::Mesh b = remeshed(a, 0.75);
+  sdm::GlContext gl;
+  const sdm::Mesh a = sdm::make_primitive("ypsilon", 2000);
+  const sdm::Mesh b = remeshed(a, 0.75);
   REQUIRE(b.n_vertices() != a.n_vertices());
-  const stm::Skeleton sa = extracted(a), sb = extracted(b);
-  stm::TextureTransfer r;
+  const sdm::Skeleton sa = extracted(a), sb = extracted(b);
+  sdm::TextureTransfer r;
   const std::vector<double> p = transfer_round(gl, a, sa, b, sb, &r, true);
   CHECK(r.carried);
   CHECK(r.registration.rms < 0.002);
@@ -249,21 +249,21 @@ TEST_CASE("transfer onto a new tessellation of the ypsilon with extracted skelet
 // A copy turned, scaled and moved (and tessellated anew) is the same shape: registered from the
 // principal axes, it takes the source's skeleton, and turned back it looks like the source.
 TEST_CASE("transfer onto a turned, scaled and retessellated ypsilon carries the skeleton", "[transfer_texture]") {
-  stm::GlContext gl;
-  stm::Mesh a = stm::make_primitive("ypsilon", 2000);
-  stm::Similarity T;
+  sdm::GlContext gl;
+  sdm::Mesh a = sdm::make_primitive("ypsilon", 2000);
+  sdm::Similarity T;
   T.scale = 2.5;
   T.rotation = Eigen::AngleAxisd(100 * M_PI / 180, Eigen::Vector3d(1, 2, 3).normalized()).toRotationMatrix();
   T.translation = {3, -1, 2};
-  const stm::Mesh b = synth::moved(remeshed(a, 0.8), [&](const Eigen::Vector3d& p) { return T(p); });
-  const stm::Skeleton sa = extracted(a), sb = extracted(b);
-  const stm::Image tex = bake_texture(gl, a, sa, smooth_colour);
-  stm::TransferOptions to;
+  const sdm::Mesh b = synth::moved(remeshed(a, 0.8), [&](const Eigen::Vector3d& p) { return T(p); });
+  const sdm::Skeleton sa = extracted(a), sb = extracted(b);
+  const sdm::Image tex = bake_texture(gl, a, sa, smooth_colour);
+  sdm::TransferOptions to;
   to.size = 1024;
-  const stm::TextureTransfer r = stm::transfer_texture(gl, a, tex, sa, b, sb, to);
+  const sdm::TextureTransfer r = sdm::transfer_texture(gl, a, tex, sa, b, sb, to);
   CHECK(r.carried);
   CHECK(std::abs(r.registration.transform.scale / T.scale - 1) < 0.005);
-  const stm::Mesh back = synth::moved(r.target, [&](const Eigen::Vector3d& p) { return T.inverse()(p); });
+  const sdm::Mesh back = synth::moved(r.target, [&](const Eigen::Vector3d& p) { return T.inverse()(p); });
   const std::vector<double> p = compare_views(gl, a, tex, back, r.atlas, "ypsilon_turned_view");
   WARN("ypsilon onto a turned copy: registered to " << 100 * r.registration.rms << " % (RMS), PSNR per view" << views_text(p));
   check_views(p, 28.0);
@@ -273,11 +273,11 @@ TEST_CASE("transfer onto a turned, scaled and retessellated ypsilon carries the 
 // polyhedron's corners, so moved as a whole the two lie 0.5 % of the diagonal apart, hardly more
 // than bent (0.4 %); it is still the same shape and takes the source's skeleton carried over.
 TEST_CASE("transfer onto the remesh of a coarse genus-2 mesh carries the skeleton", "[transfer_texture]") {
-  stm::GlContext gl;
-  const stm::Mesh a = stm::load_mesh(std::string(SDM_TEST_DATA) + "/double-torus-example.off");
-  const stm::Mesh b = remeshed_like_cli(a, 1.0);
+  sdm::GlContext gl;
+  const sdm::Mesh a = sdm::load_mesh(std::string(SDM_TEST_DATA) + "/double-torus-example.off");
+  const sdm::Mesh b = remeshed_like_cli(a, 1.0);
   REQUIRE(b.n_vertices() != a.n_vertices());
-  stm::TextureTransfer r;
+  sdm::TextureTransfer r;
   const std::vector<double> p = transfer_round(gl, a, extracted(a), b, extracted(b), &r, true, "double_torus_view");
   CHECK(r.carried);
   CHECK(r.skeletons.b.cycles() == 2);
@@ -291,11 +291,11 @@ TEST_CASE("transfer onto the remesh of a coarse genus-2 mesh carries the skeleto
 
 // The resampling itself, with hand-made skeletons of other node counts on each arm.
 TEST_CASE("transfer between hand-made ypsilon skeletons with other node counts shares one graph", "[transfer_texture]") {
-  stm::GlContext gl;
-  const stm::Mesh a = stm::make_primitive("ypsilon", 2000);
-  const stm::Mesh b = remeshed(a, 0.75);
-  const stm::Skeleton sa = ypsilon_skeleton(a, {2, 2, 2}), sb = ypsilon_skeleton(b, {3, 1, 4});
-  stm::TextureTransfer r;
+  sdm::GlContext gl;
+  const sdm::Mesh a = sdm::make_primitive("ypsilon", 2000);
+  const sdm::Mesh b = remeshed(a, 0.75);
+  const sdm::Skeleton sa = ypsilon_skeleton(a, {2, 2, 2}), sb = ypsilon_skeleton(b, {3, 1, 4});
+  sdm::TextureTransfer r;
   const std::vector<double> p = transfer_round(gl, a, sa, b, sb, &r);
   // Both skeletons share one graph with every chain at the larger count (or more, by the split rule).
   CHECK(r.skeletons.a.edges == r.skeletons.b.edges);
@@ -310,8 +310,8 @@ TEST_CASE("transfer between hand-made ypsilon skeletons with other node counts s
 }
 
 // A ring skeleton around z (radius 1, in the plane z = 0) with n nodes, the first at angle `start`.
-stm::Skeleton ring_skeleton(const stm::Mesh& mesh, int n, double start) {
-  stm::Skeleton sk;
+sdm::Skeleton ring_skeleton(const sdm::Mesh& mesh, int n, double start) {
+  sdm::Skeleton sk;
   for (int i = 0; i < n; ++i) {
     const double t = start + 2 * M_PI * i / n;
     sk.nodes.emplace_back(std::cos(t), std::sin(t), 0);
@@ -322,31 +322,31 @@ stm::Skeleton ring_skeleton(const stm::Mesh& mesh, int n, double start) {
 }
 
 TEST_CASE("transfer onto a new tessellation of the donut lines up the rings", "[transfer_texture]") {
-  stm::GlContext gl;
-  const stm::Mesh a = stm::make_primitive("donut");
-  const stm::Mesh b = remeshed(a, 0.8);
+  sdm::GlContext gl;
+  const sdm::Mesh a = sdm::make_primitive("donut");
+  const sdm::Mesh b = remeshed(a, 0.8);
   // Pure cycles: the rings' first nodes (their key nodes) lie at other angles.
-  const stm::Skeleton sa = ring_skeleton(a, 8, 0.0), sb = ring_skeleton(b, 11, 2.0);
+  const sdm::Skeleton sa = ring_skeleton(a, 8, 0.0), sb = ring_skeleton(b, 11, 2.0);
   const std::vector<double> p = transfer_round(gl, a, sa, b, sb);
   check_views(p, 28.0);
 }
 
 TEST_CASE("transfer onto a new tessellation of Spot with hand-made skeletons reproduces its texture", "[transfer_texture]") {
-  stm::GlContext gl;
+  sdm::GlContext gl;
   std::string tex_path;
-  const stm::Mesh a = stm::load_mesh(std::string(SDM_EXAMPLES) + "/spot/spot_triangulated.obj", &tex_path);
+  const sdm::Mesh a = sdm::load_mesh(std::string(SDM_EXAMPLES) + "/spot/spot_triangulated.obj", &tex_path);
   REQUIRE(!tex_path.empty());
-  const stm::Image tex = stm::read_png(tex_path);
-  const stm::Skeleton sa = spot_skeleton(a);
-  const stm::Mesh b = remeshed(a, 0.9);
+  const sdm::Image tex = sdm::read_png(tex_path);
+  const sdm::Skeleton sa = spot_skeleton(a);
+  const sdm::Mesh b = remeshed(a, 0.9);
   REQUIRE(b.n_vertices() != a.n_vertices());
   // The target's skeleton has the same branching with other node counts: the long edges cut in three.
-  const stm::Skeleton sb = spot_skeleton(b, 0.3);
+  const sdm::Skeleton sb = spot_skeleton(b, 0.3);
   REQUIRE(sb.nodes.size() > sa.nodes.size());
-  stm::TransferOptions to;
+  sdm::TransferOptions to;
   to.size = 2048;
   to.carry_same_shape = false;  // the hand-made target skeleton as it is
-  const stm::TextureTransfer r = stm::transfer_texture(gl, a, tex, sa, b, sb, to);
+  const sdm::TextureTransfer r = sdm::transfer_texture(gl, a, tex, sa, b, sb, to);
   CHECK(!r.carried);
   CHECK(r.skeletons.a.edges == r.skeletons.b.edges);
   CHECK(r.skeletons.a.edges.size() >= sb.edges.size());
@@ -358,17 +358,17 @@ TEST_CASE("transfer onto a new tessellation of Spot with hand-made skeletons rep
 // extraction depends on the tessellation (10 ends here, 8 on the remesh, which cannot be matched):
 // the target is recognised as Spot's shape and takes Spot's skeleton carried over.
 TEST_CASE("transfer onto a new tessellation of Spot with extracted skeletons reproduces its texture", "[transfer_texture]") {
-  stm::GlContext gl;
+  sdm::GlContext gl;
   std::string tex_path;
-  const stm::Mesh a = stm::load_mesh(std::string(SDM_EXAMPLES) + "/spot/spot_triangulated.obj", &tex_path);
+  const sdm::Mesh a = sdm::load_mesh(std::string(SDM_EXAMPLES) + "/spot/spot_triangulated.obj", &tex_path);
   REQUIRE(!tex_path.empty());
-  const stm::Image tex = stm::read_png(tex_path);
-  const stm::Mesh b = remeshed_like_cli(a, 1.2);
+  const sdm::Image tex = sdm::read_png(tex_path);
+  const sdm::Mesh b = remeshed_like_cli(a, 1.2);
   REQUIRE(b.n_vertices() != a.n_vertices());
-  const stm::Skeleton sa = extracted(a), sb = extracted(b);
-  stm::TransferOptions to;
+  const sdm::Skeleton sa = extracted(a), sb = extracted(b);
+  sdm::TransferOptions to;
   to.size = 2048;
-  const stm::TextureTransfer r = stm::transfer_texture(gl, a, tex, sa, b, sb, to);
+  const sdm::TextureTransfer r = sdm::transfer_texture(gl, a, tex, sa, b, sb, to);
   CHECK(r.carried);
   CHECK(r.registration.rms < 0.002);
   CHECK(r.skeletons.a.edges == r.skeletons.b.edges);
@@ -382,35 +382,35 @@ TEST_CASE("transfer onto a new tessellation of Spot with extracted skeletons rep
 
 // The band test with hand-made skeletons (the ideal ones, bent with the target) or extracted ones.
 void check_band(bool extracted) {
-  stm::GlContext gl;
-  stm::Mesh a = stm::make_primitive("ypsilon", 2000);
-  const stm::Skeleton sa = extracted ? stm::extract_skeleton(a, stm::transfer_skeleton_options()) : ypsilon_skeleton(a, {2, 2, 2});
-  const stm::Image tex = bake_texture(gl, a, sa, band_colour);
+  sdm::GlContext gl;
+  sdm::Mesh a = sdm::make_primitive("ypsilon", 2000);
+  const sdm::Skeleton sa = extracted ? sdm::extract_skeleton(a, sdm::transfer_skeleton_options()) : ypsilon_skeleton(a, {2, 2, 2});
+  const sdm::Image tex = bake_texture(gl, a, sa, band_colour);
   // Target: the right arm bent 50 degrees out of the plane and 40 % thicker, then tessellated anew. Faces of
   // the bent copy are labelled "arm" when their undeformed centroid lies past 0.3 along the arm;
   // the remeshed target's faces take the label of the nearest face of the bent copy.
   auto bend = [](const Eigen::Vector3d& p) { return bend_ypsilon_arm(p, 50, 0.4); };
-  stm::Mesh bent = stm::make_primitive("ypsilon", 2000);
+  sdm::Mesh bent = sdm::make_primitive("ypsilon", 2000);
   for (auto v : bent.vertices()) {
-    const Eigen::Vector3d q = bend(stm::point(bent, v));
-    bent.set_point(v, stm::Mesh::Point(q.x(), q.y(), q.z()));
+    const Eigen::Vector3d q = bend(sdm::point(bent, v));
+    bent.set_point(v, sdm::Mesh::Point(q.x(), q.y(), q.z()));
   }
   std::vector<char> bent_arm(bent.n_faces(), 0);
   for (auto f : a.faces()) {
     Eigen::Vector3d c = Eigen::Vector3d::Zero();
-    for (auto v : a.fv_range(f)) c += stm::point(a, v) / 3;
+    for (auto v : a.fv_range(f)) c += sdm::point(a, v) / 3;
     bent_arm[f.idx()] = c.dot(kArm) > 0.3 && (c - c.dot(kArm) * kArm).norm() < 0.5;
   }
-  const stm::TriangleBvh bvh(stm::vertex_matrix(bent), stm::face_matrix(bent));
-  stm::Mesh b = bent;
-  stm::isotropic_remesh(b, 0.8 * mean_edge(bent), 4, [&](const Eigen::Vector3d& p) { return bvh.closest_point(p).point; });
+  const sdm::TriangleBvh bvh(sdm::vertex_matrix(bent), sdm::face_matrix(bent));
+  sdm::Mesh b = bent;
+  sdm::isotropic_remesh(b, 0.8 * mean_edge(bent), 4, [&](const Eigen::Vector3d& p) { return bvh.closest_point(p).point; });
   // Hand-made: the ideal skeleton bent the same way, with more nodes on the bent arm.
-  const stm::Skeleton sb = extracted ? stm::extract_skeleton(b, stm::transfer_skeleton_options()) : ypsilon_skeleton(b, {2, 3, 5}, bend);
-  if (!extracted) REQUIRE(stm::branching_difference(sa, sb).empty());
-  stm::TransferOptions to;
+  const sdm::Skeleton sb = extracted ? sdm::extract_skeleton(b, sdm::transfer_skeleton_options()) : ypsilon_skeleton(b, {2, 3, 5}, bend);
+  if (!extracted) REQUIRE(sdm::branching_difference(sa, sb).empty());
+  sdm::TransferOptions to;
   to.size = 1024;
   to.carry_same_shape = extracted;  // hand-made skeletons as they are; extracted ones as `sdm transfer` takes them
-  const stm::TextureTransfer r = stm::transfer_texture(gl, a, tex, sa, b, sb, to);
+  const sdm::TextureTransfer r = sdm::transfer_texture(gl, a, tex, sa, b, sb, to);
   if (extracted) {
     CHECK(r.fitted);
     WARN("bent target: registered to " << 100 * r.registration.rms << " % (RMS), bent to " << 100 * r.fit_rms << " % (RMS), "
@@ -418,23 +418,23 @@ void check_band(bool extracted) {
   }
 
   // Label texture: white on the left half, black on the right; arm faces sample the white half.
-  stm::Image label(64, 64, 4, 255);
+  sdm::Image label(64, 64, 4, 255);
   for (int y = 0; y < 64; ++y)
     for (int x = 32; x < 64; ++x)
       for (int k = 0; k < 3; ++k) label.at(x, y)[k] = 0;
-  stm::Mesh labelled = b;
+  sdm::Mesh labelled = b;
   labelled.request_halfedge_texcoords2D();
   int arm_faces = 0;
   for (auto f : labelled.faces()) {
     Eigen::Vector3d c = Eigen::Vector3d::Zero();
-    for (auto v : labelled.fv_range(f)) c += stm::point(labelled, v) / 3;
+    for (auto v : labelled.fv_range(f)) c += sdm::point(labelled, v) / 3;
     const bool arm = bent_arm[bvh.closest_point(c).face];
     arm_faces += arm;
-    for (auto h : labelled.fh_range(f)) labelled.set_texcoord2D(h, stm::Mesh::TexCoord2D(arm ? 0.25 : 0.75, 0.5));
+    for (auto h : labelled.fh_range(f)) labelled.set_texcoord2D(h, sdm::Mesh::TexCoord2D(arm ? 0.25 : 0.75, 0.5));
   }
   REQUIRE(arm_faces > 0);
 
-  stm::RenderOptions ro;
+  sdm::RenderOptions ro;
   ro.width = ro.height = 512;
   ro.unlit = true;
   ro.samples = 1;
@@ -445,9 +445,9 @@ void check_band(bool extracted) {
     ro.azimuth_deg = az;
     ro.elevation_deg = el;
     ro.texture = &r.atlas;
-    const stm::Image img = stm::render_mesh(gl, r.target, ro);
+    const sdm::Image img = sdm::render_mesh(gl, r.target, ro);
     ro.texture = &label;
-    const stm::Image lab = stm::render_mesh(gl, labelled, ro);
+    const sdm::Image lab = sdm::render_mesh(gl, labelled, ro);
     long band = 0, on_arm = 0;
     for (int y = 0; y < img.height; ++y)
       for (int x = 0; x < img.width; ++x) {
@@ -459,7 +459,7 @@ void check_band(bool extracted) {
     // The source's band from the same camera: the target's is as wide along the arm and about 1.4
     // times as thick, so it covers somewhat more pixels, never several times more or less.
     ro.texture = &tex;
-    const stm::Image src = stm::render_mesh(gl, a, ro);
+    const sdm::Image src = sdm::render_mesh(gl, a, ro);
     long band_source = 0;
     for (int y = 0; y < src.height; ++y)
       for (int x = 0; x < src.width; ++x) band_source += src.at(x, y)[0] > 200 && src.at(x, y)[1] < 50 && src.at(x, y)[2] < 50;
@@ -469,7 +469,7 @@ void check_band(bool extracted) {
     CHECK(band > 0.9 * band_source);
     CHECK(band < 2.0 * band_source);
     if (const char* dump = std::getenv("SDM_TEST_DUMP"))
-      stm::write_png(stm::side_by_side({src, img, lab}), std::string(dump) + "/band_az" + std::to_string(int(az)) + "_el" +
+      sdm::write_png(sdm::side_by_side({src, img, lab}), std::string(dump) + "/band_az" + std::to_string(int(az)) + "_el" +
                                                            std::to_string(int(el)) + ".png");
   }
 }
@@ -488,12 +488,12 @@ TEST_CASE("with extracted skeletons a band lands on the same branch of a bent an
 namespace {
 
 // Writes the ypsilon with a baked smooth texture as OBJ + MTL + PNG into `dir`; returns the OBJ path.
-std::string write_textured_ypsilon(stm::GlContext& gl, const test_util::TempDir& dir, stm::Mesh* mesh = nullptr,
-                                   stm::Image* texture = nullptr) {
-  stm::Mesh a = stm::make_primitive("ypsilon", 1200);
-  const stm::Image tex = bake_texture(gl, a, ypsilon_skeleton(a, {2, 2, 2}), smooth_colour);
-  stm::write_png(tex, dir / "source.png");
-  stm::write_mesh(a, dir / "source.obj", dir / "source.png");
+std::string write_textured_ypsilon(sdm::GlContext& gl, const test_util::TempDir& dir, sdm::Mesh* mesh = nullptr,
+                                   sdm::Image* texture = nullptr) {
+  sdm::Mesh a = sdm::make_primitive("ypsilon", 1200);
+  const sdm::Image tex = bake_texture(gl, a, ypsilon_skeleton(a, {2, 2, 2}), smooth_colour);
+  sdm::write_png(tex, dir / "source.png");
+  sdm::write_mesh(a, dir / "source.obj", dir / "source.png");
   if (mesh) *mesh = a;
   if (texture) *texture = tex;
   return dir / "source.obj";
@@ -502,18 +502,18 @@ std::string write_textured_ypsilon(stm::GlContext& gl, const test_util::TempDir&
 }  // namespace
 
 TEST_CASE("sdm transfer writes the target with uv and its atlas and preview", "[transfer_texture]") {
-  stm::GlContext gl;
+  sdm::GlContext gl;
   test_util::TempDir dir;
-  stm::Mesh a;
-  stm::Image tex;
+  sdm::Mesh a;
+  sdm::Image tex;
   const std::string src = write_textured_ypsilon(gl, dir, &a, &tex);
-  const stm::Mesh b = remeshed(a, 0.8);
-  stm::write_mesh(b, dir / "target.obj");
+  const sdm::Mesh b = remeshed(a, 0.8);
+  sdm::write_mesh(b, dir / "target.obj");
   // Skeletons given as files (used as they are), or extracted by the command (the target then takes
   // the source's, carried over, since it is the same shape).
   const bool given = GENERATE(true, false);
-  stm::write_skeleton_json(ypsilon_skeleton(a, {2, 2, 2}), dir / "source.json");
-  stm::write_skeleton_json(ypsilon_skeleton(b, {1, 3, 2}), dir / "target.json");
+  sdm::write_skeleton_json(ypsilon_skeleton(a, {2, 2, 2}), dir / "source.json");
+  sdm::write_skeleton_json(ypsilon_skeleton(b, {1, 3, 2}), dir / "target.json");
   const std::string skeletons = given ? " --source-skeleton " + (dir / "source.json") + " --target-skeleton " + (dir / "target.json") : "";
   const auto res = test_util::run_sdm("transfer --source " + src + " --target " + (dir / "target.obj") + " -o " + (dir / "out.obj") +
                                       skeletons + " --size 1024 --json");
@@ -529,34 +529,34 @@ TEST_CASE("sdm transfer writes the target with uv and its atlas and preview", "[
   CHECK(std::filesystem::exists(dir / "out_preview.png"));
   CHECK(std::filesystem::exists(dir / "out.mtl"));
   std::string atlas_path;
-  const stm::Mesh out = stm::load_mesh(dir / "out.obj", &atlas_path);
+  const sdm::Mesh out = sdm::load_mesh(dir / "out.obj", &atlas_path);
   REQUIRE(out.has_halfedge_texcoords2D());
   REQUIRE(std::filesystem::equivalent(atlas_path, dir / "out_atlas.png"));
-  const stm::Image atlas = stm::read_png(atlas_path);
+  const sdm::Image atlas = sdm::read_png(atlas_path);
   // The written target, with the written atlas, looks like the source.
-  stm::RenderOptions ro;
+  sdm::RenderOptions ro;
   ro.width = ro.height = 512;
   ro.unlit = true;
-  stm::bounding_box(a, ro.bbox_min, ro.bbox_max);
+  sdm::bounding_box(a, ro.bbox_min, ro.bbox_max);
   for (double az : {0.0, 135.0}) {
     ro.azimuth_deg = az;
     std::vector<uint8_t> ma, mb;
     ro.texture = &tex;
-    const stm::Image ia = stm::render_mesh(gl, a, ro, &ma);
+    const sdm::Image ia = sdm::render_mesh(gl, a, ro, &ma);
     ro.texture = &atlas;
-    const stm::Image ib = stm::render_mesh(gl, out, ro, &mb);
+    const sdm::Image ib = sdm::render_mesh(gl, out, ro, &mb);
     for (size_t i = 0; i < ma.size(); ++i) ma[i] = ma[i] && mb[i] ? 255 : 0;
-    const double p = stm::psnr(ia, ib, &ma);
+    const double p = sdm::psnr(ia, ib, &ma);
     INFO("azimuth " << az << ": PSNR " << p);
     CHECK(p >= 28.0);
   }
 }
 
 TEST_CASE("sdm transfer refuses a target with another branching and writes nothing", "[transfer_texture]") {
-  stm::GlContext gl;
+  sdm::GlContext gl;
   test_util::TempDir dir;
   const std::string src = write_textured_ypsilon(gl, dir);
-  stm::write_mesh(stm::make_primitive("crossed-cylinders", 1200), dir / "target.obj");
+  sdm::write_mesh(sdm::make_primitive("crossed-cylinders", 1200), dir / "target.obj");
   const auto before = std::distance(std::filesystem::directory_iterator(dir.path), std::filesystem::directory_iterator());
   const auto res = test_util::run_sdm("transfer --source " + src + " --target " + (dir / "target.obj") + " -o " + (dir / "out.obj"));
   INFO(res.output);
@@ -570,19 +570,19 @@ TEST_CASE("sdm transfer refuses a target with another branching and writes nothi
 }
 
 TEST_CASE("an SDM decodes around a target skeleton with the same branching and other node counts", "[transfer_texture]") {
-  const stm::Mesh y = stm::make_primitive("ypsilon");
+  const sdm::Mesh y = sdm::make_primitive("ypsilon");
   // The ideal skeleton lies in the plane z = 0, so turning it about z turns every frame with it
   // (decode carries e1 by the minimal rotation between old and new axes).
-  stm::LayoutOptions lo;
+  sdm::LayoutOptions lo;
   lo.size = 256;
   lo.split_ratio = 0;
-  const stm::Layout layout = stm::compute_layout(y, ypsilon_skeleton(y, {2, 2, 2}), lo);
-  const stm::SdmImage im = stm::encode_sdm(y, layout);
-  const stm::Skeleton& graph = layout.skeleton;
+  const sdm::Layout layout = sdm::compute_layout(y, ypsilon_skeleton(y, {2, 2, 2}), lo);
+  const sdm::SdmImage im = sdm::encode_sdm(y, layout);
+  const sdm::Skeleton& graph = layout.skeleton;
   // Target: the map's skeleton turned 30 degrees about z, every edge cut at its middle, nodes listed
   // in reverse order; the same polylines, so the resampled nodes are the turned originals.
   const Eigen::Matrix3d R = Eigen::AngleAxisd(30 * M_PI / 180, Eigen::Vector3d::UnitZ()).toRotationMatrix();
-  stm::Skeleton target;
+  sdm::Skeleton target;
   const int n = int(graph.nodes.size());
   for (int i = n - 1; i >= 0; --i) target.nodes.push_back(R * graph.nodes[i]);
   for (const auto& e : graph.edges) {
@@ -591,35 +591,35 @@ TEST_CASE("an SDM decodes around a target skeleton with the same branching and o
     target.edges.push_back({n - 1 - e[0], mid});
     target.edges.push_back({mid, n - 1 - e[1]});
   }
-  stm::SkeletonMatch m;
-  const stm::Skeleton moved = stm::skeleton_onto_graph(graph, target, {}, &m);
+  sdm::SkeletonMatch m;
+  const sdm::Skeleton moved = sdm::skeleton_onto_graph(graph, target, {}, &m);
   REQUIRE(moved.edges == graph.edges);
   double node_error = 0;
   for (int i = 0; i < n; ++i) node_error = std::max(node_error, (moved.nodes[i] - R * graph.nodes[i]).norm());
   CHECK(node_error < 1e-9);
-  stm::DecodeOptions d;
+  sdm::DecodeOptions d;
   d.level = 2;
-  const stm::Mesh plain = stm::decode_sdm(im, d);
+  const sdm::Mesh plain = sdm::decode_sdm(im, d);
   d.skeleton = moved;
-  const stm::Mesh turned = stm::decode_sdm(im, d);
+  const sdm::Mesh turned = sdm::decode_sdm(im, d);
   REQUIRE(turned.n_vertices() == plain.n_vertices());
   double err = 0;
-  for (auto v : plain.vertices()) err = std::max(err, (stm::point(turned, v) - R * stm::point(plain, v)).norm());
+  for (auto v : plain.vertices()) err = std::max(err, (sdm::point(turned, v) - R * sdm::point(plain, v)).norm());
   INFO("largest distance to the turned decode " << err);
-  CHECK(err < 1e-6 * stm::bounding_box_diagonal(plain));
+  CHECK(err < 1e-6 * sdm::bounding_box_diagonal(plain));
 
   // The command line does the same from files; another branching is refused.
   test_util::TempDir dir;
-  stm::write_sdm_exr(im, dir / "map.exr");
-  stm::write_skeleton_json(target, dir / "target.json");
+  sdm::write_sdm_exr(im, dir / "map.exr");
+  sdm::write_skeleton_json(target, dir / "target.json");
   auto res = test_util::run_sdm("transfer --sdm " + (dir / "map.exr") + " --target-skeleton " + (dir / "target.json") + " --lod 2 -o " +
                                 (dir / "out.obj"));
   INFO(res.output);
   REQUIRE(res.exit_code == 0);
-  CHECK(stm::load_mesh(dir / "out.obj").n_vertices() == plain.n_vertices());
+  CHECK(sdm::load_mesh(dir / "out.obj").n_vertices() == plain.n_vertices());
   target.nodes.push_back(Eigen::Vector3d(5, 5, 5));
   target.edges.push_back({n, int(target.nodes.size()) - 1});  // a middle node becomes a junction
-  stm::write_skeleton_json(target, dir / "other.json");
+  sdm::write_skeleton_json(target, dir / "other.json");
   res = test_util::run_sdm("transfer --sdm " + (dir / "map.exr") + " --target-skeleton " + (dir / "other.json") + " -o " + (dir / "other.obj"));
   CHECK(res.exit_code == 2);
   CHECK(res.output.find("branchings differ") != std::string::npos);

@@ -1,14 +1,14 @@
 // Validation: every class of broken input is built here, reported with its count, refused with
 // exit code 2 when the pipeline cannot take it, and nothing is written.
-#include "libstm/mesh.h"
-#include "libstm/validate_mesh.h"
+#include "libstm/mesh/mesh.h"
+#include "libstm/mesh/validate_mesh.h"
 #include "tests/test_util.h"
 
 #include <catch2/catch.hpp>
 #include <filesystem>
 #include <sstream>
 
-using namespace stm;
+using namespace sdm;
 namespace fs = std::filesystem;
 
 namespace {

@@ -1,0 +1,117 @@
+#include "libsdm/decode/decode_sdm.h"
+
+#include "libsdm/encode/base_mesh.h"
+#include "libsdm/encode/encode_sdm.h"
+#include "libsdm/decode/tessellate_mesh.h"
+#include "libstm/geometry/capsule_ray.h"
+#include "libstm/core/errors.h"
+#include "libstm/layout/layout.h"
+#include "libstm/layout/segment_frames.h"
+
+namespace sdm {
+namespace {
+
+// Moves every segment's frame onto new node positions: the axis follows the nodes and e1 turns
+// with it by the minimal rotation, so the displacement keeps its place around the axis.
+void move_skeleton(Layout& layout, const Skeleton& moved) {
+  const Skeleton& old = layout.skeleton;
+  if (moved.nodes.size() != old.nodes.size() || moved.edges.size() != old.edges.size())
+    throw InputError("the skeleton has " + std::to_string(moved.nodes.size()) + " nodes and " +
+                     std::to_string(moved.edges.size()) + " edges, the SDM's has " + std::to_string(old.nodes.size()) +
+                     " and " + std::to_string(old.edges.size()) + ": decode needs the same graph with moved nodes");
+  for (size_t e = 0; e < old.edges.size(); ++e) {
+    auto a = std::minmax(old.edges[e][0], old.edges[e][1]);
+    auto b = std::minmax(moved.edges[e][0], moved.edges[e][1]);
+    if (a != b)
+      throw InputError("skeleton edge " + std::to_string(e) + " joins other nodes than in the SDM: decode needs the same graph");
+  }
+  for (auto& seg : layout.segments) {
+    const Eigen::Vector3d from = (old.nodes[seg.b] - old.nodes[seg.a]).normalized();
+    const Eigen::Vector3d to = (moved.nodes[seg.b] - moved.nodes[seg.a]).normalized();
+    seg.e1 = transport_direction(seg.e1, from, to);
+    seg.axis = to;
+    seg.e2 = to.cross(seg.e1).normalized();
+  }
+  layout.skeleton.nodes = moved.nodes;
+}
+
+}  // namespace
+
+Mesh decode_sdm(const SdmImage& image, const DecodeOptions& options, std::vector<int>* vertex_segment) {
+  Layout layout = layout_from_json(image.layout);
+  if (!image.layout.contains("base_mesh"))
+    throw InputError("the SDM header has no base mesh: it was written by an older 'sdm encode'; encode it again");
+  const BaseMesh base = base_mesh_from_json(image.layout.at("base_mesh"), int(layout.segments.size()));
+  if (layout.size != image.width || layout.size != image.height)
+    throw InputError("the SDM image is " + std::to_string(image.width) + "x" + std::to_string(image.height) +
+                     " but its layout is for a " + std::to_string(layout.size) + " atlas");
+  if (options.skeleton) move_skeleton(layout, *options.skeleton);
+
+  auto check_level = [](int level) {
+    if (level < 0 || level > 8) throw InputError("level of detail " + std::to_string(level) + " is out of range 0..8");
+  };
+  check_level(options.level);
+  std::vector<int> level(layout.segments.size(), options.level);
+  for (const auto& [s, l] : options.segment_level) {
+    if (s < 0 || s >= int(layout.segments.size()))
+      throw InputError("--lod-segment names segment " + std::to_string(s) + " but the SDM has " +
+                       std::to_string(layout.segments.size()) + " segments (0.." + std::to_string(layout.segments.size() - 1) + ")");
+    check_level(l);
+    level[s] = l;
+  }
+  std::vector<int> rate(base.triangles.rows());
+  for (int f = 0; f < base.triangles.rows(); ++f) rate[f] = 1 << level[base.face_segment[f]];
+  const Tessellation tess = tessellate_mesh(base.triangles, rate);
+
+  std::vector<CapsuleFrame> frames;
+  for (size_t s = 0; s < layout.segments.size(); ++s) frames.push_back(capsule_frame(layout, int(s)));
+  // Corners on a reference capsule of the segment's radius: interpolating there, then mapping back
+  // with capsule_uv, handles the phi = 0 seam and the poles, where (u, v) themselves jump.
+  std::vector<std::array<Eigen::Vector3d, 3>> reference(base.triangles.rows());
+  for (int f = 0; f < base.triangles.rows(); ++f) {
+    const LayoutSegment& seg = layout.segments[base.face_segment[f]];
+    for (int c = 0; c < 3; ++c) {
+      const auto& uv = base.corner_uv[f][c];
+      const CapsuleRay ray = capsule_ray(frames[base.face_segment[f]], seg.w, seg.h, seg.d, uv.x(), uv.y());
+      reference[f][c] = ray.origin + seg.radius * ray.direction;
+    }
+  }
+  // Where a base face's corners land: their (u, v) are exact, so these are reliable.
+  auto place = [&](int s, const Eigen::Vector3d& q) {
+    const LayoutSegment& seg = layout.segments[s];
+    const CapsuleUV uv = capsule_uv(frames[s], seg.w, seg.h, seg.d, q);
+    const CapsuleRay ray = capsule_ray(frames[s], seg.w, seg.h, seg.d, uv.u, uv.v);
+    return Eigen::Vector3d(ray.origin + sample_displacement(image, seg, uv.u, uv.v) * ray.direction);
+  };
+  std::vector<std::array<Eigen::Vector3d, 3>> corner(base.triangles.rows());
+  std::vector<double> reach(base.triangles.rows());
+  for (int f = 0; f < base.triangles.rows(); ++f) {
+    for (int c = 0; c < 3; ++c) corner[f][c] = place(base.face_segment[f], reference[f][c]);
+    double longest = 0;
+    for (int c = 0; c < 3; ++c) longest = std::max(longest, (corner[f][c] - corner[f][(c + 1) % 3]).norm());
+    reach[f] = 0.5 * longest;
+  }
+  Mesh out;
+  std::vector<Mesh::VertexHandle> vh(tess.point_face.size());
+  if (vertex_segment) vertex_segment->resize(tess.point_face.size());
+  for (size_t i = 0; i < tess.point_face.size(); ++i) {
+    const int f = tess.point_face[i];
+    const int s = base.face_segment[f];
+    const Eigen::Vector3d& b = tess.point_bary[i];
+    const Eigen::Vector3d q = b[0] * reference[f][0] + b[1] * reference[f][1] + b[2] * reference[f][2];
+    Eigen::Vector3d p = place(s, q);
+    // Safeguard: near junctions a texel's ray can leave the segment's region and meet a far
+    // surface; a point displaced farther from its decoded base triangle than half the triangle's
+    // longest edge comes from such a ray and is pulled back to that distance.
+    const Eigen::Vector3d flat = b[0] * corner[f][0] + b[1] * corner[f][1] + b[2] * corner[f][2];
+    const double off = (p - flat).norm();
+    if (off > reach[f]) p = flat + (p - flat) * (reach[f] / off);
+    vh[i] = out.add_vertex(Mesh::Point(p.x(), p.y(), p.z()));
+    if (vertex_segment) (*vertex_segment)[i] = s;
+  }
+  for (int t = 0; t < tess.triangles.rows(); ++t)
+    out.add_face(vh[tess.triangles(t, 0)], vh[tess.triangles(t, 1)], vh[tess.triangles(t, 2)]);
+  return out;
+}
+
+}  // namespace sdm

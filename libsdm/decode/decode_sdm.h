@@ -1,0 +1,26 @@
+#pragma once
+// Skeleton displacement map decoding (paper 5, DESIGN 4.8): the base mesh in the SDM header is
+// tessellated with OpenSubdiv's Bfr patterns at a rate of 2^level per face (the level of its
+// segment), each new point is placed on its capsule ray at the displacement read from the map, and
+// the result is one closed mesh whatever the mix of levels (tessellate_mesh.h).
+#include "libsdm/map/sdm_exr.h"
+#include "libstm/mesh/mesh.h"
+#include "libstm/skeleton/skeleton.h"
+
+#include <map>
+#include <optional>
+
+namespace sdm {
+
+struct DecodeOptions {
+  int level = 3;                       // level of detail: each base edge is cut into 2^level pieces
+  std::map<int, int> segment_level;    // per-segment overrides
+  std::optional<Skeleton> skeleton;    // decode around these node positions (same graph) instead
+};
+
+// Throws InputError when the header lacks a layout or base mesh, a level is out of range (0..8),
+// a segment id is unknown, or the skeleton's graph differs from the encoded one.
+// vertex_segment, when given, receives the segment each output vertex was placed by.
+Mesh decode_sdm(const SdmImage& image, const DecodeOptions& options = {}, std::vector<int>* vertex_segment = nullptr);
+
+}  // namespace sdm

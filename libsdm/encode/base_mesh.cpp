@@ -1,0 +1,256 @@
+#include "libsdm/encode/base_mesh.h"
+
+#include "libstm/core/errors.h"
+#include "libstm/geometry/capsule_ray.h"
+#include "libstm/layout/segments.h"
+#include "libstm/geometry/triangle_bvh.h"
+
+#include <OpenMesh/Tools/Decimater/DecimaterT.hh>
+#include <OpenMesh/Tools/Decimater/ModNormalFlippingT.hh>
+#include <OpenMesh/Tools/Decimater/ModQuadricT.hh>
+
+#include <set>
+
+namespace sdm {
+namespace {
+
+// Keeps every base face within reach of one segment: a collapse may only join vertices whose
+// skeleton nodes are the same or neighbours. Quadric decimation alone runs slivers the length of a
+// straight tube (a cylinder is flat along its axis), across many short segments, and a face its
+// segment's capsule cannot reach is decoded as spikes.
+template <class MeshT>
+class ModSkeletonNodesT : public OpenMesh::Decimater::ModBaseT<MeshT> {
+ public:
+  DECIMATING_MODULE(ModSkeletonNodesT, MeshT, SkeletonNodes);
+  explicit ModSkeletonNodesT(MeshT& mesh) : Base(mesh, true) {}
+  // node: skeleton node of each vertex of the mesh (by index); adjacent: the skeleton's edges,
+  // both directions.
+  void set_nodes(std::vector<int> node, std::set<std::pair<int, int>> adjacent) {
+    node_ = std::move(node);
+    adjacent_ = std::move(adjacent);
+  }
+  float collapse_priority(const CollapseInfo& ci) override {
+    const int keep = node_[ci.v1.idx()];
+    for (auto x : this->mesh().vv_range(ci.v0)) {
+      const int other = node_[x.idx()];
+      if (other != keep && !adjacent_.count({keep, other})) return float(Base::ILLEGAL_COLLAPSE);
+    }
+    return float(Base::LEGAL_COLLAPSE);
+  }
+
+ private:
+  std::vector<int> node_;
+  std::set<std::pair<int, int>> adjacent_;
+};
+
+// Whether segment s can carry base face f alone along its rays. The decoder places a point of f on
+// the ray of s through it, at the depth the map stores for that ray: a ray holds one depth, so f
+// fails when it is turned away from the rays (its reference triangle is flipped or edge-on), or
+// when the rays through it also cross another face of s at another depth (the surface folds back
+// over f as seen from the axis: f is the farther sheet, or, with `both`, either sheet).
+class SegmentCheck {
+ public:
+  SegmentCheck(const Eigen::MatrixX3d& P, const Eigen::MatrixX3i& T, const std::vector<int>& orient, const Layout& layout)
+      : P_(P), T_(T), orient_(orient), layout_(layout) {}
+
+  void set_faces(int s, const std::vector<int>& faces) {
+    bvh_.resize(layout_.segments.size());
+    bvh_[s] = TriangleBvh(P_, T_, faces);
+  }
+
+  bool fits(int f, int s, bool both) const {
+    const LayoutSegment& seg = layout_.segments[s];
+    const CapsuleFrame frame = capsule_frame(layout_, s);
+    Eigen::Vector3d c[3];
+    double longest = 0;
+    for (int k = 0; k < 3; ++k) c[k] = P_.row(T_(f, k)).transpose();
+    for (int k = 0; k < 3; ++k) longest = std::max(longest, (c[k] - c[(k + 1) % 3]).norm());
+    // Orientation on the reference capsule, seen along the ray through the centroid.
+    const Eigen::Vector3d centroid = (c[0] + c[1] + c[2]) / 3;
+    Eigen::Vector3d r[3];
+    for (int k = 0; k < 3; ++k) {
+      const CapsuleUV uv = capsule_uv(frame, seg.w, seg.h, seg.d, c[k]);
+      const CapsuleRay ray = capsule_ray(frame, seg.w, seg.h, seg.d, uv.u, uv.v);
+      r[k] = ray.origin + seg.radius * ray.direction;
+    }
+    const CapsuleUV cu = capsule_uv(frame, seg.w, seg.h, seg.d, centroid);
+    const CapsuleRay cray = capsule_ray(frame, seg.w, seg.h, seg.d, cu.u, cu.v);
+    const Eigen::Vector3d n = (r[1] - r[0]).cross(r[2] - r[0]);
+    if (!(orient_[f] * n.dot(cray.direction) > kMinCosine * n.norm())) return false;
+    // A face wrapped far around the axis (one the axis runs through or next to) has a reference
+    // triangle cutting through the capsule's inside: its rays fan out over the whole face.
+    if (distance_to_segment((r[0] + r[1] + r[2]) / 3, frame.a, frame.b) < kMinDepth * seg.radius) return false;
+    if (bvh_[s].empty()) return true;
+    // Other crossings of s along the rays through points of f: centroid, corners, edge midpoints,
+    // and corners pushed a little outwards, because the decoder's bilinear lookups at f's border
+    // read texels just outside f.
+    const double tol = 0.25 * longest;
+    for (int k = 0; k < 10; ++k) {
+      const Eigen::Vector3d q = k == 9 ? centroid
+                                : k < 3 ? c[k]
+                                : k < 6 ? Eigen::Vector3d(0.5 * (c[k - 3] + c[(k - 2) % 3]))
+                                        : Eigen::Vector3d(c[k - 6] + 0.15 * (c[k - 6] - centroid));
+      const CapsuleUV uv = capsule_uv(frame, seg.w, seg.h, seg.d, q);
+      const CapsuleRay ray = capsule_ray(frame, seg.w, seg.h, seg.d, uv.u, uv.v);
+      const double tq = (q - ray.origin).dot(ray.direction);
+      double t_min = 0;
+      for (int n_hit = 0; n_hit < 32; ++n_hit) {
+        const auto hit = bvh_[s].first_hit(ray.origin, ray.direction, t_min);
+        if (hit.face < 0) break;
+        t_min = hit.t + 1e-9 * (1 + hit.t);
+        if (hit.face == f || std::abs(hit.t - tq) <= tol) continue;
+        if (hit.t < tq || both) return false;
+      }
+    }
+    return true;
+  }
+
+ private:
+  static constexpr double kMinCosine = 0.1;
+  static constexpr double kMinDepth = 0.5;
+  const Eigen::MatrixX3d& P_;
+  const Eigen::MatrixX3i& T_;
+  const std::vector<int>& orient_;
+  const Layout& layout_;
+  std::vector<TriangleBvh> bvh_;
+};
+
+// Moves base faces that their segment cannot carry (SegmentCheck) to the nearest segment that can,
+// without conflicting with that segment's faces. Faces no segment can carry stay.
+void reassign_folded_faces(const Mesh& m, const Eigen::MatrixX3d& P, const Layout& layout, std::vector<int>& face_segment) {
+  const Eigen::MatrixX3i T = face_matrix(m);
+  const std::vector<int> orient = face_orientation(m);
+  const int S = int(layout.segments.size());
+  SegmentCheck check(P, T, orient, layout);
+  for (int round = 0; round < 3; ++round) {
+    std::vector<std::vector<int>> faces_of(S);
+    for (int f = 0; f < T.rows(); ++f) faces_of[face_segment[f]].push_back(f);
+    for (int s = 0; s < S; ++s) check.set_faces(s, faces_of[s]);
+    bool moved = false;
+    for (int f = 0; f < T.rows(); ++f) {
+      if (check.fits(f, face_segment[f], false)) continue;
+      const Eigen::Vector3d centroid = (P.row(T(f, 0)) + P.row(T(f, 1)) + P.row(T(f, 2))).transpose() / 3;
+      std::vector<std::pair<double, int>> near;
+      for (int s = 0; s < S; ++s) {
+        if (s == face_segment[f]) continue;
+        const LayoutSegment& seg = layout.segments[s];
+        near.push_back({distance_to_segment(centroid, layout.skeleton.nodes[seg.a], layout.skeleton.nodes[seg.b]), s});
+      }
+      std::sort(near.begin(), near.end());
+      for (const auto& [dist, s] : near)
+        if (check.fits(f, s, true)) {
+          face_segment[f] = s;
+          moved = true;
+          break;
+        }
+    }
+    if (!moved) break;
+  }
+}
+
+}  // namespace
+
+BaseMesh make_base_mesh(const Mesh& mesh, const Layout& layout, int target_vertices) {
+  const int nv = int(mesh.n_vertices());
+  if (target_vertices <= 0) target_vertices = std::clamp(nv / 4, std::min(nv, 400), 4000);
+  Mesh m = mesh;
+  OpenMesh::VPropHandleT<int> original;
+  m.add_property(original);
+  for (auto v : m.vertices()) m.property(original, v) = v.idx();
+  if (target_vertices < nv) {
+    m.request_face_normals();
+    m.update_face_normals();
+    OpenMesh::Decimater::DecimaterT<Mesh> decimater(m);
+    OpenMesh::Decimater::ModQuadricT<Mesh>::Handle quadric;
+    OpenMesh::Decimater::ModNormalFlippingT<Mesh>::Handle flipping;
+    typename ModSkeletonNodesT<Mesh>::Handle nodes;
+    decimater.add(quadric);
+    decimater.add(flipping);
+    decimater.add(nodes);
+    {
+      std::vector<int> node(m.n_vertices());
+      for (auto v : m.vertices()) node[v.idx()] = layout.skeleton.vertex_node[m.property(original, v)];
+      std::set<std::pair<int, int>> adjacent;
+      for (const auto& e : layout.skeleton.edges) adjacent.insert({e[0], e[1]}), adjacent.insert({e[1], e[0]});
+      decimater.module(nodes).set_nodes(std::move(node), std::move(adjacent));
+    }
+    decimater.module(quadric).unset_max_err();
+    decimater.module(flipping).set_max_normal_deviation(60.0);
+    decimater.initialize();
+    decimater.decimate_to(size_t(target_vertices));
+    m.garbage_collection();
+  }
+  // Segments of the base faces: the skeleton's map restricted to the surviving vertices.
+  Skeleton sk = layout.skeleton;
+  sk.vertex_node.resize(m.n_vertices());
+  for (auto v : m.vertices()) sk.vertex_node[v.idx()] = layout.skeleton.vertex_node[m.property(original, v)];
+  BaseMesh base;
+  base.face_segment = assign_faces(m, sk);
+  Eigen::MatrixX3d P(m.n_vertices(), 3);
+  for (auto v : m.vertices()) P.row(v.idx()) = point(mesh, mesh.vertex_handle(m.property(original, v))).transpose();
+  reassign_folded_faces(m, P, layout, base.face_segment);
+  base.triangles = face_matrix(m);
+  base.corner_uv.resize(m.n_faces());
+  base.corner_position.resize(m.n_faces());
+  for (auto f : m.faces()) {
+    const int s = base.face_segment[f.idx()];
+    const LayoutSegment& seg = layout.segments[s];
+    const CapsuleFrame frame = capsule_frame(layout, s);
+    int c = 0;
+    for (auto v : m.fv_range(f)) {
+      const Eigen::Vector3d p = point(mesh, mesh.vertex_handle(m.property(original, v)));
+      const CapsuleUV uv = capsule_uv(frame, seg.w, seg.h, seg.d, p);
+      base.corner_position[f.idx()][c] = p;
+      base.corner_uv[f.idx()][c++] = {uv.u, uv.v};
+    }
+  }
+  return base;
+}
+
+nlohmann::json base_mesh_to_json(const BaseMesh& base) {
+  nlohmann::json j;
+  std::vector<int> tris;
+  std::vector<double> uv;
+  for (int f = 0; f < base.triangles.rows(); ++f)
+    for (int c = 0; c < 3; ++c) {
+      tris.push_back(base.triangles(f, c));
+      uv.push_back(base.corner_uv[f][c].x());
+      uv.push_back(base.corner_uv[f][c].y());
+    }
+  j["triangles"] = tris;
+  j["face_segment"] = base.face_segment;
+  j["corner_uv"] = uv;
+  return j;
+}
+
+BaseMesh base_mesh_from_json(const nlohmann::json& j, int segments) {
+  BaseMesh base;
+  std::vector<int> tris;
+  std::vector<double> uv;
+  try {
+    tris = j.at("triangles").get<std::vector<int>>();
+    base.face_segment = j.at("face_segment").get<std::vector<int>>();
+    uv = j.at("corner_uv").get<std::vector<double>>();
+  } catch (const nlohmann::json::exception& e) {
+    throw InputError(std::string("invalid base mesh in the SDM header: ") + e.what());
+  }
+  const size_t nf = base.face_segment.size();
+  if (tris.size() != 3 * nf || uv.size() != 6 * nf || nf == 0)
+    throw InputError("invalid base mesh in the SDM header: " + std::to_string(nf) + " faces but " +
+                     std::to_string(tris.size()) + " corner indices and " + std::to_string(uv.size()) + " uv values");
+  base.triangles.resize(Eigen::Index(nf), 3);
+  base.corner_uv.resize(nf);
+  for (size_t f = 0; f < nf; ++f) {
+    if (base.face_segment[f] < 0 || base.face_segment[f] >= segments)
+      throw InputError("invalid base mesh in the SDM header: face " + std::to_string(f) + " names segment " +
+                       std::to_string(base.face_segment[f]) + " of " + std::to_string(segments));
+    for (int c = 0; c < 3; ++c) {
+      if (tris[3 * f + c] < 0) throw InputError("invalid base mesh in the SDM header: negative vertex index");
+      base.triangles(Eigen::Index(f), c) = tris[3 * f + c];
+      base.corner_uv[f][c] = {uv[6 * f + 2 * c], uv[6 * f + 2 * c + 1]};
+    }
+  }
+  return base;
+}
+
+}  // namespace sdm

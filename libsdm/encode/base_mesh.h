@@ -1,0 +1,38 @@
+#pragma once
+// The control mesh an SDM is rebuilt from: a coarse copy of the input's topology whose corners are
+// stored only as capsule coordinates (segment, u, v), never as positions. Positions come from the
+// skeleton and the displacement map at decode time, so a moved skeleton moves the surface.
+//
+// Why not one capsule control mesh per segment (DESIGN 4.8 first draft): segment regions meet
+// along irregular curves around branch nodes, and independent capsule patches cannot be stitched
+// into one closed manifold there. A decimated copy of the input is closed and manifold by
+// construction, and its faces carry their segment, so levels of detail stay per segment.
+#include "libstm/layout/layout.h"
+
+#include <array>
+#include <nlohmann/json.hpp>
+
+namespace sdm {
+
+struct BaseMesh {
+  Eigen::MatrixX3i triangles;                           // closed, consistently oriented
+  std::vector<int> face_segment;                        // segment of each face
+  std::vector<std::array<Eigen::Vector2d, 3>> corner_uv;  // (u, v) of each corner in its face's segment
+  // Position of each corner in the input mesh: known to the encoder only (not stored in the file;
+  // empty after base_mesh_from_json).
+  std::vector<std::array<Eigen::Vector3d, 3>> corner_position;
+};
+
+// Decimates `mesh` (quadric error, halfedge collapses that keep topology and original vertex
+// positions) to about `target_vertices`, assigns faces to segments (segments.h) and maps each
+// corner into its face's capsule. A map texel holds one depth per ray, so a face its segment cannot
+// carry alone (turned away from the segment's rays, wrapped around its axis, or folded over by
+// another sheet of the same segment's faces along those rays) moves to the nearest segment that
+// can. target_vertices <= 0 picks a size from the mesh.
+BaseMesh make_base_mesh(const Mesh& mesh, const Layout& layout, int target_vertices = 0);
+
+nlohmann::json base_mesh_to_json(const BaseMesh& base);
+// Throws InputError naming what is wrong (sizes, indices, segments out of range).
+BaseMesh base_mesh_from_json(const nlohmann::json& j, int segments);
+
+}  // namespace sdm

@@ -1,0 +1,42 @@
+#pragma once
+// Skeleton displacement map encoding (paper 5, DESIGN 4.8): for every texel of every segment's
+// rectangle, a distance along the texel's capsule ray (capsule_ray.h) to the surface (D, model
+// units) and whether that crossing lies on the segment's own faces (A). The layout and the base
+// mesh (base_mesh.h) travel in the header, so the file alone rebuilds the surface.
+//
+// D is not simply the first crossing: the decoder places each point of a base face on the ray
+// through the same point of the face's reference triangle (the face drawn on the segment's
+// capsule), so each texel is encoded for the base face its ray passes through (or the nearest one,
+// for texels between and around them): D is the crossing nearest the point of that flat base face,
+// or, when no crossing is within half the face's longest edge (a ray grazing a saddle), that
+// point's foot on the ray. Near junctions the first crossing is often another sheet of the surface.
+#include "libsdm/map/sdm_exr.h"
+#include "libstm/layout/layout.h"
+
+#include <functional>
+
+namespace sdm {
+
+struct EncodeOptions {
+  int base_vertices = 0;  // size of the base mesh (0: chosen from the mesh)
+  std::function<void(const std::string&)> progress;
+};
+
+struct EncodeStats {
+  long texels = 0;      // texels inside the segments' rectangles
+  long own_hits = 0;    // A = 1: D is a crossing with the segment's own faces
+  long other_hits = 0;  // A = 0, D is a crossing with another segment's faces
+  long filled = 0;      // A = 0, D is the foot of the base face's point (no crossing near it)
+  int base_faces = 0;
+};
+
+// Texels outside every rectangle get D = 0, A = 0. The layout must have been computed for `mesh`.
+SdmImage encode_sdm(const Mesh& mesh, const Layout& layout, const EncodeOptions& options = {}, EncodeStats* stats = nullptr);
+
+// The (u, v) of the centre of a segment's texel (ix, iy are atlas texel indices inside the
+// rectangle), and the D lookup used by the decoder: bilinear between texel centres, periodic
+// around the axis, clamped along it. Shared so encoder, decoder and tests agree on texel centres.
+Eigen::Vector2d texel_local_uv(const LayoutSegment& seg, int ix, int iy);
+double sample_displacement(const SdmImage& image, const LayoutSegment& seg, double u, double v);
+
+}  // namespace sdm

@@ -1,0 +1,106 @@
+#include "libsdm/map/sdm_exr.h"
+
+#include "libstm/core/atomic_file.h"
+#include "libstm/core/errors.h"
+
+#include <OpenEXR/ImfChannelList.h>
+#include <OpenEXR/ImfFrameBuffer.h>
+#include <OpenEXR/ImfHeader.h>
+#include <OpenEXR/ImfInputFile.h>
+#include <OpenEXR/ImfIntAttribute.h>
+#include <OpenEXR/ImfOutputFile.h>
+#include <OpenEXR/ImfStringAttribute.h>
+#include <OpenEXR/ImfTestFile.h>
+
+#include <filesystem>
+
+namespace sdm {
+namespace {
+
+const char* kLayoutAttribute = "sdm_layout";
+const char* kVersionAttribute = "sdm_format_version";
+
+void check_size(const SdmImage& im) {
+  const size_t n = size_t(im.width) * size_t(im.height);
+  if (im.width <= 0 || im.height <= 0 || im.D.size() != n || im.A.size() != n)
+    throw std::invalid_argument("write_sdm_exr: channel sizes do not match the image size");
+  const bool vec = !im.X.empty();
+  if (vec && (im.X.size() != n || im.Y.size() != n || im.Z.size() != n))
+    throw std::invalid_argument("write_sdm_exr: vector channels do not match the image size");
+}
+
+}  // namespace
+
+void write_sdm_exr(const SdmImage& im, const std::string& path) {
+  check_size(im);
+  write_atomically(path, [&](const std::string& tmp) {
+    Imf::Header header(im.width, im.height);
+    header.compression() = Imf::ZIP_COMPRESSION;
+    header.insert(kLayoutAttribute, Imf::StringAttribute(im.layout.dump()));
+    header.insert(kVersionAttribute, Imf::IntAttribute(kSdmFormatVersion));
+    std::vector<std::pair<const char*, const std::vector<float>*>> channels = {{"D", &im.D}, {"A", &im.A}};
+    if (!im.X.empty()) channels.insert(channels.end(), {{"X", &im.X}, {"Y", &im.Y}, {"Z", &im.Z}});
+    Imf::FrameBuffer fb;
+    for (const auto& [name, data] : channels) {
+      header.channels().insert(name, Imf::Channel(Imf::FLOAT));
+      fb.insert(name, Imf::Slice(Imf::FLOAT, (char*)data->data(), sizeof(float), sizeof(float) * im.width));
+    }
+    try {
+      Imf::OutputFile file(tmp.c_str(), header);
+      file.setFrameBuffer(fb);
+      file.writePixels(im.height);
+    } catch (const std::exception& e) {
+      throw std::runtime_error("cannot write " + path + ": " + e.what());
+    }
+  });
+}
+
+SdmImage read_sdm_exr(const std::string& path) {
+  if (!std::filesystem::exists(path)) throw InputError("cannot read SDM " + path + ": no such file");
+  if (!Imf::isOpenExrFile(path.c_str()))
+    throw InputError("cannot read SDM " + path + ": not an OpenEXR file (write one with 'sdm encode')");
+  SdmImage im;
+  try {
+    Imf::InputFile file(path.c_str());
+    const Imf::Header& h = file.header();
+    const auto* version = h.findTypedAttribute<Imf::IntAttribute>(kVersionAttribute);
+    const auto* layout = h.findTypedAttribute<Imf::StringAttribute>(kLayoutAttribute);
+    if (!layout || !version)
+      throw InputError("SDM " + path + " is an OpenEXR image without the sdm layout header (attribute '" +
+                       std::string(kLayoutAttribute) + "'): it was not written by 'sdm encode'");
+    if (version->value() != kSdmFormatVersion)
+      throw InputError("SDM " + path + " has format version " + std::to_string(version->value()) +
+                       ", this sdm reads version " + std::to_string(kSdmFormatVersion) + ": re-encode it with this sdm");
+    im.layout = nlohmann::json::parse(layout->value(), nullptr, false);
+    if (im.layout.is_discarded() || !im.layout.is_object())
+      throw InputError("SDM " + path + " has an invalid layout header: not a JSON object");
+    const Imath::Box2i dw = h.dataWindow();
+    im.width = dw.max.x - dw.min.x + 1;
+    im.height = dw.max.y - dw.min.y + 1;
+    const size_t n = size_t(im.width) * size_t(im.height);
+    for (const char* c : {"D", "A"})
+      if (!h.channels().findChannel(c))
+        throw InputError("SDM " + path + " lacks channel '" + std::string(c) + "' (it needs D and A)");
+    const bool vec = h.channels().findChannel("X") && h.channels().findChannel("Y") && h.channels().findChannel("Z");
+    Imf::FrameBuffer fb;
+    auto slice = [&](const char* name, std::vector<float>& data) {
+      data.assign(n, 0.0f);
+      char* base = (char*)(data.data() - dw.min.x - size_t(dw.min.y) * im.width);
+      fb.insert(name, Imf::Slice(Imf::FLOAT, base, sizeof(float), sizeof(float) * im.width));
+    };
+    slice("D", im.D);
+    slice("A", im.A);
+    if (vec) slice("X", im.X), slice("Y", im.Y), slice("Z", im.Z);
+    file.setFrameBuffer(fb);
+    if (!file.isComplete())
+      throw InputError("SDM " + path + " is truncated: some pixel data is missing (copy the file again)");
+    file.readPixels(dw.min.y, dw.max.y);
+  } catch (const InputError&) {
+    throw;
+  } catch (const std::exception& e) {
+    throw InputError("cannot read SDM " + path + ": " + e.what() + " (the file is damaged or truncated)");
+  }
+  return im;
+}
+
+}  // namespace sdm

@@ -1,0 +1,107 @@
+#include "libstm/core/image.h"
+
+#include "libstm/core/atomic_file.h"
+#include "libstm/core/errors.h"
+
+#include <stb_image.h>
+#include <stb_image_write.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+
+namespace sdm {
+
+Image read_png(const std::string& path) {
+  int w = 0, h = 0, n = 0;
+  // Forcing 4 channels gives every caller the same RGBA8 layout whatever the file stores.
+  stbi_uc* data = stbi_load(path.c_str(), &w, &h, &n, 4);
+  if (!data) {
+    const char* why = stbi_failure_reason();
+    throw InputError("cannot read image '" + path + "': " + (why ? why : "unknown error") +
+                     " (expected a readable PNG file)");
+  }
+  Image img(w, h, 4);
+  std::copy(data, data + size_t(w) * h * 4, img.pixels.begin());
+  stbi_image_free(data);
+  return img;
+}
+
+void write_png(const Image& image, const std::string& path) {
+  if (image.width <= 0 || image.height <= 0 || image.channels < 1 || image.channels > 4 ||
+      image.pixels.size() != size_t(image.width) * image.height * image.channels)
+    throw std::runtime_error("write_png: inconsistent image for '" + path + "'");
+  write_atomically(path, [&](const std::string& tmp) {
+    if (!stbi_write_png(tmp.c_str(), image.width, image.height, image.channels, image.pixels.data(),
+                        image.width * image.channels))
+      throw std::runtime_error("cannot write PNG '" + path + "'");
+  });
+}
+
+double psnr(const Image& a, const Image& b, const std::vector<uint8_t>* mask) {
+  if (a.width != b.width || a.height != b.height || a.channels != b.channels)
+    throw InputError("psnr: images differ in size or channels (" + std::to_string(a.width) + "x" +
+                     std::to_string(a.height) + "x" + std::to_string(a.channels) + " vs " + std::to_string(b.width) +
+                     "x" + std::to_string(b.height) + "x" + std::to_string(b.channels) + ")");
+  const size_t n = size_t(a.width) * a.height;
+  if (mask && mask->size() != n) throw InputError("psnr: mask size does not match the images");
+  const int c = std::min(a.channels, 3);
+  double sum = 0;
+  size_t count = 0;
+  for (size_t i = 0; i < n; ++i) {
+    if (mask && !(*mask)[i]) continue;
+    ++count;
+    for (int k = 0; k < c; ++k) {
+      const double d = double(a.pixels[i * a.channels + k]) - double(b.pixels[i * b.channels + k]);
+      sum += d * d;
+    }
+  }
+  if (count == 0) throw InputError("psnr: the mask selects no pixel");
+  if (sum == 0) return std::numeric_limits<double>::infinity();
+  const double mse = sum / double(count * c);
+  return 10.0 * std::log10(255.0 * 255.0 / mse);
+}
+
+std::vector<uint8_t> mask_union(const std::vector<uint8_t>& a, const std::vector<uint8_t>& b) {
+  if (a.size() != b.size()) throw InputError("mask_union: masks differ in size");
+  std::vector<uint8_t> u(a.size());
+  for (size_t i = 0; i < a.size(); ++i) u[i] = (a[i] || b[i]) ? 255 : 0;
+  return u;
+}
+
+Image contact_sheet(const std::vector<Image>& images, int columns, int gap, const uint8_t background[4]) {
+  static const uint8_t white[4] = {255, 255, 255, 255};
+  if (!background) background = white;
+  if (images.empty()) return Image();
+  columns = std::max(1, std::min(columns, int(images.size())));
+  const int rows = (int(images.size()) + columns - 1) / columns;
+  int cw = 0, ch = 0;
+  for (const auto& im : images) cw = std::max(cw, im.width), ch = std::max(ch, im.height);
+  gap = std::max(0, gap);
+  Image out(columns * cw + (columns - 1) * gap, rows * ch + (rows - 1) * gap, 4);
+  for (size_t i = 0; i < out.pixels.size(); i += 4) std::copy(background, background + 4, &out.pixels[i]);
+  for (size_t i = 0; i < images.size(); ++i) {
+    const Image& im = images[i];
+    const int x0 = int(i) % columns * (cw + gap), y0 = int(i) / columns * (ch + gap);
+    for (int y = 0; y < im.height; ++y)
+      for (int x = 0; x < im.width; ++x) {
+        const uint8_t* s = im.at(x, y);
+        uint8_t* d = out.at(x0 + x, y0 + y);
+        // Grey, grey+alpha, RGB and RGBA all become RGBA.
+        if (im.channels >= 3) {
+          d[0] = s[0], d[1] = s[1], d[2] = s[2];
+        } else {
+          d[0] = d[1] = d[2] = s[0];
+        }
+        d[3] = (im.channels == 4) ? s[3] : (im.channels == 2 ? s[1] : 255);
+      }
+  }
+  return out;
+}
+
+Image side_by_side(const std::vector<Image>& images, int gap, const uint8_t background[4]) {
+  return contact_sheet(images, int(std::max<size_t>(1, images.size())), gap, background);
+}
+
+}  // namespace sdm

@@ -1,0 +1,254 @@
+#include "libstm/geometry/triangle_bvh.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+
+namespace sdm {
+namespace {
+
+double box_distance2(const Eigen::Vector3d& p, const Eigen::Vector3d& lo, const Eigen::Vector3d& hi) {
+  Eigen::Vector3d d = (lo - p).cwiseMax(p - hi).cwiseMax(0.0);
+  return d.squaredNorm();
+}
+
+// Slab test; returns the entry parameter or INFINITY when the ray misses the box within range.
+double ray_box(const Eigen::Vector3d& o, const Eigen::Vector3d& inv, const Eigen::Vector3d& lo, const Eigen::Vector3d& hi,
+               double t_min, double t_max) {
+  for (int k = 0; k < 3; ++k) {
+    double t0 = (lo[k] - o[k]) * inv[k], t1 = (hi[k] - o[k]) * inv[k];
+    if (t0 > t1) std::swap(t0, t1);
+    if (std::isnan(t0)) t0 = -INFINITY;  // 0 * inf when the origin lies on a slab plane
+    if (std::isnan(t1)) t1 = INFINITY;
+    t_min = std::max(t_min, t0);
+    t_max = std::min(t_max, t1);
+    if (t_min > t_max) return INFINITY;
+  }
+  return t_min;
+}
+
+// Moller-Trumbore, without culling.
+bool ray_triangle(const Eigen::Vector3d& o, const Eigen::Vector3d& d, const Eigen::Vector3d& a, const Eigen::Vector3d& b,
+                  const Eigen::Vector3d& c, double& t, double& u, double& v) {
+  const Eigen::Vector3d e1 = b - a, e2 = c - a;
+  const Eigen::Vector3d pv = d.cross(e2);
+  const double det = e1.dot(pv);
+  if (std::abs(det) < 1e-300) return false;
+  const double inv = 1.0 / det;
+  const Eigen::Vector3d tv = o - a;
+  u = tv.dot(pv) * inv;
+  if (u < 0 || u > 1) return false;
+  const Eigen::Vector3d qv = tv.cross(e1);
+  v = d.dot(qv) * inv;
+  if (v < 0 || u + v > 1) return false;
+  t = e2.dot(qv) * inv;
+  return true;
+}
+
+}  // namespace
+
+Eigen::Vector3d closest_point_on_triangle(const Eigen::Vector3d& p, const Eigen::Vector3d& a, const Eigen::Vector3d& b,
+                                          const Eigen::Vector3d& c) {
+  // Voronoi-region walk (Ericson, Real-Time Collision Detection, 5.1.5).
+  const Eigen::Vector3d ab = b - a, ac = c - a, ap = p - a;
+  const double d1 = ab.dot(ap), d2 = ac.dot(ap);
+  if (d1 <= 0 && d2 <= 0) return a;
+  const Eigen::Vector3d bp = p - b;
+  const double d3 = ab.dot(bp), d4 = ac.dot(bp);
+  if (d3 >= 0 && d4 <= d3) return b;
+  const double vc = d1 * d4 - d3 * d2;
+  if (vc <= 0 && d1 >= 0 && d3 <= 0) return a + ab * (d1 / (d1 - d3));
+  const Eigen::Vector3d cp = p - c;
+  const double d5 = ab.dot(cp), d6 = ac.dot(cp);
+  if (d6 >= 0 && d5 <= d6) return c;
+  const double vb = d5 * d2 - d1 * d6;
+  if (vb <= 0 && d2 >= 0 && d6 <= 0) return a + ac * (d2 / (d2 - d6));
+  const double va = d3 * d6 - d5 * d4;
+  if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0) return b + (c - b) * ((d4 - d3) / ((d4 - d3) + (d5 - d6)));
+  const double denom = 1.0 / (va + vb + vc);
+  return a + ab * (vb * denom) + ac * (vc * denom);
+}
+
+TriangleBvh::TriangleBvh(const Eigen::MatrixX3d& V, const Eigen::MatrixX3i& F, const std::vector<int>& faces,
+                         int leaf_size)
+    : leaf_size_(std::max(leaf_size, 1)) {
+  auto add = [&](int f) {
+    const Eigen::Vector3d a = V.row(F(f, 0)), b = V.row(F(f, 1)), c = V.row(F(f, 2));
+    Eigen::Vector3d n = (b - a).cross(c - a);
+    const double len = n.norm();
+    n = len > 0 && std::isfinite(len) ? Eigen::Vector3d(n / len) : Eigen::Vector3d::Zero();
+    tris_.push_back({a, n, b, c, f});
+  };
+  if (faces.empty()) {
+    for (int f = 0; f < F.rows(); ++f) add(f);
+  } else {
+    for (int f : faces) add(f);
+  }
+  if (!tris_.empty()) {
+    nodes_.reserve(2 * tris_.size() / leaf_size_ + 2);
+    build(0, int(tris_.size()));
+  }
+}
+
+int TriangleBvh::build(int begin, int end) {
+  Node node;
+  node.lo.setConstant(INFINITY);
+  node.hi.setConstant(-INFINITY);
+  Eigen::Vector3d clo = node.lo, chi = node.hi;
+  for (int i = begin; i < end; ++i) {
+    const Tri& t = tris_[i];
+    node.lo = node.lo.cwiseMin(t.a).cwiseMin(t.b).cwiseMin(t.c);
+    node.hi = node.hi.cwiseMax(t.a).cwiseMax(t.b).cwiseMax(t.c);
+    const Eigen::Vector3d ctr = (t.a + t.b + t.c) / 3.0;
+    clo = clo.cwiseMin(ctr);
+    chi = chi.cwiseMax(ctr);
+  }
+  Eigen::Vector3d normal = Eigen::Vector3d::Zero();
+  for (int i = begin; i < end; ++i) normal += (tris_[i].b - tris_[i].a).cross(tris_[i].c - tris_[i].a);
+  const double len = normal.norm();
+  if (len > 0 && std::isfinite(len)) {
+    node.axis = normal / len;
+    node.slab_lo = INFINITY, node.slab_hi = -INFINITY;
+    for (int i = begin; i < end; ++i)
+      for (const Eigen::Vector3d* v : {&tris_[i].a, &tris_[i].b, &tris_[i].c}) {
+        const double h = node.axis.dot(*v);
+        node.slab_lo = std::min(node.slab_lo, h), node.slab_hi = std::max(node.slab_hi, h);
+      }
+    // Widened past the rounding of the dot products, so that the bound never exceeds a
+    // distance the exact triangle test would find.
+    const double pad = 1e-12 * (node.lo.cwiseAbs().maxCoeff() + node.hi.cwiseAbs().maxCoeff());
+    node.slab_lo -= pad, node.slab_hi += pad;
+  }
+  const int index = int(nodes_.size());
+  nodes_.push_back(node);
+  if (end - begin <= leaf_size_) {
+    nodes_[index].begin = begin;
+    nodes_[index].end = end;
+    return index;
+  }
+  int axis;
+  (chi - clo).maxCoeff(&axis);
+  const int mid = (begin + end) / 2;
+  std::nth_element(tris_.begin() + begin, tris_.begin() + mid, tris_.begin() + end, [axis](const Tri& x, const Tri& y) {
+    const double cx = x.a[axis] + x.b[axis] + x.c[axis], cy = y.a[axis] + y.b[axis] + y.c[axis];
+    return cx < cy || (cx == cy && x.face < y.face);
+  });
+  const int l = build(begin, mid);
+  const int r = build(mid, end);
+  nodes_[index].left = l;
+  nodes_[index].right = r;
+  return index;
+}
+
+double TriangleBvh::node_distance2(const Eigen::Vector3d& p, const Node& n) {
+  const double h = n.axis.dot(p);
+  const double slab = std::max(std::max(n.slab_lo - h, h - n.slab_hi), 0.0);
+  return std::max(box_distance2(p, n.lo, n.hi), slab * slab);
+}
+
+TriangleBvh::Closest TriangleBvh::closest_point(const Eigen::Vector3d& p, double max_distance) const {
+  Closest best;
+  if (nodes_.empty()) return best;
+  double best2 = max_distance * max_distance;
+  // Entries carry their box distance, computed when the parent was opened, so that a node is
+  // measured once; it is compared with the best found so far again when popped.
+  struct Item {
+    double d2;
+    int node;
+  };
+  Item stack[128];
+  int sp = 0;
+  stack[sp++] = {node_distance2(p, nodes_[0]), 0};
+  while (sp) {
+    const Item item = stack[--sp];
+    if (item.d2 >= best2) continue;
+    const Node& n = nodes_[item.node];
+    if (n.left < 0) {
+      for (int i = n.begin; i < n.end; ++i) {
+        const Tri& t = tris_[i];
+        // The plane bound skips most triangles tangent to a query ball (the medial poles'
+        // queries); the margin leaves near-ties to the exact distance, so results do not change.
+        const Eigen::Vector3d pa = p - t.a;
+        const double h = t.normal.dot(pa);
+        if (h * h > best2 * (1 + 1e-9) + 1e-20 * pa.squaredNorm()) continue;
+        const Eigen::Vector3d q = closest_point_on_triangle(p, t.a, t.b, t.c);
+        const double d2 = (q - p).squaredNorm();
+        if (d2 < best2) {
+          best2 = d2;
+          best.face = t.face;
+          best.point = q;
+        }
+      }
+      continue;
+    }
+    // Visit the nearer child first so that pruning bites early.
+    const double dl = node_distance2(p, nodes_[n.left]);
+    const double dr = node_distance2(p, nodes_[n.right]);
+    if (dl < dr) {
+      if (dr < best2) stack[sp++] = {dr, n.right};
+      stack[sp++] = {dl, n.left};
+    } else {
+      if (dl < best2) stack[sp++] = {dl, n.left};
+      if (dr < best2) stack[sp++] = {dr, n.right};
+    }
+  }
+  if (best.face >= 0) best.distance = std::sqrt(best2);
+  return best;
+}
+
+TriangleBvh::Hit TriangleBvh::first_hit(const Eigen::Vector3d& o, const Eigen::Vector3d& d, double t_min,
+                                        double t_max) const {
+  Hit best;
+  best.t = t_max;
+  if (nodes_.empty()) return Hit{};
+  const Eigen::Vector3d inv = d.cwiseInverse();
+  int stack[128];
+  int sp = 0;
+  stack[sp++] = 0;
+  while (sp) {
+    const Node& n = nodes_[stack[--sp]];
+    if (ray_box(o, inv, n.lo, n.hi, t_min, best.t) == INFINITY) continue;
+    if (n.left < 0) {
+      for (int i = n.begin; i < n.end; ++i) {
+        const Tri& tr = tris_[i];
+        double t, u, v;
+        if (ray_triangle(o, d, tr.a, tr.b, tr.c, t, u, v) && t > t_min && t < best.t) {
+          best.t = t;
+          best.face = tr.face;
+          best.u = u;
+          best.v = v;
+        }
+      }
+      continue;
+    }
+    stack[sp++] = n.left;
+    stack[sp++] = n.right;
+  }
+  if (best.face < 0) best.t = INFINITY;
+  return best;
+}
+
+int TriangleBvh::count_hits(const Eigen::Vector3d& o, const Eigen::Vector3d& d) const {
+  if (nodes_.empty()) return 0;
+  const Eigen::Vector3d inv = d.cwiseInverse();
+  int hits = 0;
+  int stack[128];
+  int sp = 0;
+  stack[sp++] = 0;
+  while (sp) {
+    const Node& n = nodes_[stack[--sp]];
+    if (ray_box(o, inv, n.lo, n.hi, 0, INFINITY) == INFINITY) continue;
+    if (n.left < 0) {
+      for (int i = n.begin; i < n.end; ++i) {
+        double t, u, v;
+        if (ray_triangle(o, d, tris_[i].a, tris_[i].b, tris_[i].c, t, u, v) && t > 0) ++hits;
+      }
+      continue;
+    }
+    stack[sp++] = n.left;
+    stack[sp++] = n.right;
+  }
+  return hits;
+}
+
+}  // namespace sdm

@@ -1,0 +1,72 @@
+#pragma once
+// A bounding-volume hierarchy over triangles, for closest-point queries (surface distance) and
+// ray casts (displacement encoding, inside tests). Built once, queried many times; read-only
+// queries are safe from several threads.
+#include <Eigen/Dense>
+#include <vector>
+
+namespace sdm {
+
+class TriangleBvh {
+ public:
+  TriangleBvh() = default;
+  // V: points, F: triangles (indices into V). Only the triangles listed in `faces` are used
+  // when it is given (e.g. one segment's faces); hits report indices into F. Leaves hold up to
+  // leaf_size triangles: closest-point queries with wide balls (the medial poles) run about 10 %
+  // faster with 8, where the triangles' plane bound is cheaper than opening more boxes.
+  TriangleBvh(const Eigen::MatrixX3d& V, const Eigen::MatrixX3i& F, const std::vector<int>& faces = {},
+              int leaf_size = 4);
+
+  struct Closest {
+    double distance = INFINITY;
+    int face = -1;
+    Eigen::Vector3d point = Eigen::Vector3d::Zero();
+  };
+  // Nearest surface point to p; with max_distance, only points closer than that are looked for
+  // (face == -1 when there is none), which prunes most of the tree for small balls.
+  Closest closest_point(const Eigen::Vector3d& p, double max_distance = INFINITY) const;
+
+  struct Hit {
+    double t = INFINITY;  // ray parameter: origin + t * direction
+    int face = -1;
+    double u = 0, v = 0;  // barycentric coordinates of the hit on the face
+  };
+  // Nearest hit with t in (t_min, t_max); face == -1 when nothing is hit.
+  Hit first_hit(const Eigen::Vector3d& origin, const Eigen::Vector3d& direction, double t_min = 0,
+                double t_max = INFINITY) const;
+  // Number of crossings of the ray with the surface (for parity inside tests).
+  int count_hits(const Eigen::Vector3d& origin, const Eigen::Vector3d& direction) const;
+
+  bool empty() const { return tris_.empty(); }
+
+ private:
+  struct Node {
+    Eigen::Vector3d lo, hi;
+    // A slab along the node's mean normal that holds its triangles: near the leaves a patch of
+    // surface is nearly flat, so a ball tangent to it (the medial poles' queries) overlaps the
+    // box but not the slab.
+    Eigen::Vector3d axis = Eigen::Vector3d::Zero();
+    double slab_lo = 0, slab_hi = 0;
+    int left = -1, right = -1;  // children, or -1 for a leaf
+    int begin = 0, end = 0;     // leaf range in tris_
+  };
+  // Lower bound of the squared distance from p to the node's triangles.
+  static double node_distance2(const Eigen::Vector3d& p, const Node& n);
+  struct Tri {
+    // Unit normal (zero when degenerate): the distance to the plane bounds the distance to the
+    // triangle from below and costs one dot product, against the Voronoi walk's dozen. Beside
+    // a, so that the bound reads one cache line.
+    Eigen::Vector3d a, normal, b, c;
+    int face;
+  };
+  int build(int begin, int end);
+  int leaf_size_ = 4;
+  std::vector<Node> nodes_;
+  std::vector<Tri> tris_;
+};
+
+// Closest point on triangle (a, b, c) to p.
+Eigen::Vector3d closest_point_on_triangle(const Eigen::Vector3d& p, const Eigen::Vector3d& a, const Eigen::Vector3d& b,
+                                          const Eigen::Vector3d& c);
+
+}  // namespace sdm

@@ -1,0 +1,104 @@
+#pragma once
+// The skeleton texture map layout (the STM, DESIGN 3 and 4.3-4.7): one capsule and one atlas
+// rectangle per skeleton segment. A layout file alone (it holds the skeleton) defines the STM
+// coordinates of every point of the mesh it was made for.
+#include "libstm/geometry/capsule_uv.h"
+#include "libstm/mesh/mesh.h"
+#include "libstm/skeleton/skeleton.h"
+
+#include <array>
+#include <functional>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+namespace sdm {
+
+// Rectangle conventions (texels; atlas origin at the lower left, like OBJ/GL texture coordinates):
+// the inner rectangle is [x, x + extent_x] x [y, y + extent_y] with its margin around it. Local
+// capsule coordinates (u around the axis in [0, h), v along it in [0, w], capsule_uv.h) land at
+//   not rotated: atlas = (x + v, y + u)    (w along atlas x, h along atlas y)
+//   rotated:     atlas = (x + u, y + v)
+// and STM coordinates are atlas / size.
+struct LayoutSegment {
+  int edge = -1;                       // skeleton edge index (segment i is edge i)
+  int a = -1, b = -1;                  // end nodes, oriented (segment_frames.h)
+  Eigen::Vector3d axis, e1, e2;        // frame
+  double radius = 0, cap = 0, length = 0, area = 0;  // model units: r, d = pi r / 2, L, surface
+  double weight = 1;                   // priority weight: scales the rectangle
+  int x = 0, y = 0, w = 0, h = 0;      // inner rectangle: w texels along the axis, h around it
+  bool rotated = false;
+  double d = 0;                        // cap length in texels
+  std::vector<int> neighbours_a, neighbours_b;  // segments sharing node a, node b
+};
+
+struct Layout {
+  int size = 0;        // the atlas is size x size texels
+  int margin = 0;      // texels around every rectangle
+  double scale = 0;    // texels per model unit (before weights)
+  double coverage = 0, coverage_inner = 0;  // pack_rectangles.h
+  Skeleton skeleton;
+  std::vector<LayoutSegment> segments;
+};
+
+struct LayoutOptions {
+  int size = 1024;
+  int margin = 4;
+  std::vector<double> weights;  // per edge of the input skeleton (its pieces share it), empty: all 1
+  // Edges longer than split_ratio times their radius are cut into pieces first
+  // (split_segments.h); 0 keeps the skeleton's edges as they are.
+  double split_ratio = 2.0;
+  // Rectangles grow into leftover space up to this ratio between their two growth factors
+  // (pack_rectangles.h); 1 keeps the uniform texel density exactly.
+  double max_anisotropy = 1.25;
+  std::function<void(const std::string&)> progress;
+};
+
+// Long edges cut (options.split_ratio; the layout keeps the cut skeleton), then segments, face
+// assignment, frames, rectangle sizes (w = L + 2d, h = 2 pi r, times the weight)
+// and packing. Throws InputError for a skeleton that does not fit the mesh, bad weights, or an
+// atlas too small for the rectangles.
+Layout compute_layout(const Mesh& mesh, const Skeleton& skeleton, const LayoutOptions& options = {});
+
+// The capsule frame of segment s, and its local -> atlas texel map.
+CapsuleFrame capsule_frame(const Layout& layout, int s);
+Eigen::Vector2d local_to_atlas(const LayoutSegment& seg, double u, double v);
+
+// JSON: {"format": "sdm-layout", "version": 1, "size", "margin", "scale", "coverage",
+// "coverage_inner", "skeleton": {...}, "segments": [{"edge", "a", "b", "axis", "e1", "e2",
+// "radius", "cap", "length", "area", "weight", "rect": [x, y, w, h], "rotated", "d",
+// "neighbours_a", "neighbours_b"}]}. Reading throws InputError naming what is wrong.
+nlohmann::json layout_to_json(const Layout& layout);
+Layout layout_from_json(const nlohmann::json& j);
+void write_layout_json(const Layout& layout, const std::string& path);
+Layout read_layout_json(const std::string& path);
+
+// One triangle as drawn into the atlas: texel coordinates of its corners, unwrapped across the
+// phi = 0 seam so that it spans less than half its rectangle around the axis (when it can: a
+// triangle around a pole keeps its corners' angles). A seam triangle (reaching past either end
+// of its rectangle's u range) comes twice: copy 0 as in stm_coordinates, copy 1 shifted by h the
+// other way, so both sides of the seam are filled once each copy is clipped to the rectangle.
+struct AtlasTriangle {
+  int face = -1, segment = -1, copy = 0;
+  std::array<Eigen::Vector2d, 3> atlas;   // texels
+  std::array<Eigen::Vector2d, 3> local;   // (u, v) in the segment's rectangle, unwrapped
+};
+std::vector<AtlasTriangle> atlas_triangles(const Mesh& mesh, const Layout& layout, const std::vector<int>& face_segment);
+
+struct StmCoordinates {
+  Mesh mesh;                      // copy of the input with per-halfedge STM texcoords in [0, 1]
+  std::vector<int> face_segment;  // assign_faces(mesh, layout.skeleton), or the one given
+  int seam_faces = 0;             // faces unwrapped across phi = 0
+  double coverage = 0;            // layout.coverage
+  double stretch = 0;             // l2_stretch of the result
+};
+// `face_segment`, when not empty, is used instead of assign_faces (a transfer target takes the
+// source's assignment through its correspondence, so both sides of a segment border agree).
+StmCoordinates stm_coordinates(const Mesh& mesh, const Layout& layout, const std::vector<int>& face_segment = {});
+
+// Area-weighted L2 stretch (Sander et al. 2001) of a mesh with per-halfedge texcoords, over the
+// given faces (all when empty), after scaling the texture domain so that the faces' parameter area
+// equals their surface area: sqrt(sum A_f (|dp/ds|^2 + |dp/dt|^2)/2 / sum A_f); 1 is ideal.
+double l2_stretch(const Mesh& mesh, const std::vector<int>& faces = {});
+
+}  // namespace sdm

@@ -1,0 +1,46 @@
+#pragma once
+// Segments of a skeleton (DESIGN 4.3): segment i is skeleton edge i, a -> b, with its capsule.
+// Every face of the mesh belongs to exactly one segment.
+#include "libstm/mesh/mesh.h"
+#include "libstm/skeleton/skeleton.h"
+
+#include <vector>
+
+namespace sdm {
+
+// face -> segment (skeleton edge index). Candidates are the segments incident to the nodes of the
+// face's vertices (all segments when there are none). The paper (4) takes the one whose axis is
+// most perpendicular to the face normal; here each candidate maps the face with its capsule map,
+// the face's mean distance to the segment as radius, and the L2 stretch of that triangle map
+// decides: candidates with stretch < 2 that do not fold the face win, and among them the one whose
+// radial direction best matches the outward normal (cosine averaged over the corners and the
+// centroid); otherwise the lowest stretch; folded ones last. On a tube that is the paper's rule
+// restricted to the segment the face lies over; at junctions it refuses segments that would map
+// the face edge-on or folded over. Ties go to the segment nearer the centroid, then to the lower
+// index, so the result is deterministic. Normals are made outward per connected part
+// (face_orientation). Throws InputError when the skeleton has no edge, vertex_node does not match
+// the mesh, or a face has no segment in reach.
+// The per-candidate rule is mirrored by the geometry shader of render_stm (shaders/stm.geom.glsl).
+std::vector<int> assign_faces(const Mesh& mesh, const Skeleton& skeleton);
+
+// face -> +1, or -1 when the face's connected part (through shared edges) is wound inside out
+// (negative signed volume): the factor that makes the face's normal outward in assign_faces.
+std::vector<int> face_orientation(const Mesh& mesh);
+
+struct SegmentGeometry {
+  double radius = 0;  // area-weighted mean distance of the segment's surface to its axis segment
+  double cap = 0;     // cap length d: a quarter of the cap's circumference, pi r / 2
+  double length = 0;  // |b - a|
+  double area = 0;    // surface area of the segment's faces
+};
+
+// Per segment geometry from the faces assigned to it. A segment with no face gets the radius of
+// its neighbours' mean (or a tenth of its length when isolated), so that it still has a rectangle.
+std::vector<SegmentGeometry> segment_geometry(const Mesh& mesh, const Skeleton& skeleton,
+                                              const std::vector<int>& face_segment);
+
+// Distance of p to the segment [a, b]; t receives the unclamped axial parameter.
+double distance_to_segment(const Eigen::Vector3d& p, const Eigen::Vector3d& a, const Eigen::Vector3d& b,
+                           double* t = nullptr);
+
+}  // namespace sdm

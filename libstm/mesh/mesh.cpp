@@ -1,0 +1,419 @@
+#include "libstm/mesh/mesh.h"
+
+#include "libstm/core/atomic_file.h"
+#include "libstm/core/errors.h"
+#include "libstm/mesh/validate_mesh.h"
+
+#include <OpenMesh/Core/IO/MeshIO.hh>
+#include <OpenMesh/Core/IO/importer/BaseImporter.hh>
+#include <OpenMesh/Core/Utils/Endian.hh>
+
+#include <algorithm>
+#include <cstdlib>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <iomanip>
+#include <map>
+#include <sstream>
+
+namespace fs = std::filesystem;
+
+namespace sdm {
+namespace {
+
+using OpenMesh::Vec2f;
+using OpenMesh::Vec3d;
+using OpenMesh::Vec3f;
+using OpenMesh::Vec3uc;
+using OpenMesh::Vec4f;
+using OpenMesh::Vec4uc;
+using VH = OpenMesh::VertexHandle;
+using FH = OpenMesh::FaceHandle;
+using HH = OpenMesh::HalfedgeHandle;
+
+// Receives what OpenMesh's readers parse, without building topology: polygons, corners' uv and
+// material textures are kept as they are in the file so that validation sees the raw input.
+class SoupImporter : public OpenMesh::IO::BaseImporter {
+ public:
+  std::vector<Eigen::Vector3d> points;
+  std::vector<std::vector<int>> polygons;
+  std::vector<std::vector<Eigen::Vector2d>> polygon_uv;  // per polygon corner, may be empty
+  std::map<int, std::string> textures;
+  std::map<int, int> texture_use;  // texture id -> faces using it
+
+  VH add_vertex(const Vec3f& p) override { return add_vertex(Vec3d(p[0], p[1], p[2])); }
+  VH add_vertex(const Vec3d& p) override {
+    points.emplace_back(p[0], p[1], p[2]);
+    return VH(int(points.size()) - 1);
+  }
+  VH add_vertex() override { return add_vertex(Vec3d(0, 0, 0)); }
+  HH add_edge(VH, VH) override { return HH(); }
+  FH add_face(const VHandles& idx) override {
+    std::vector<int> poly;
+    poly.reserve(idx.size());
+    for (auto v : idx) poly.push_back(v.idx());
+    polygons.push_back(std::move(poly));
+    polygon_uv.emplace_back();
+    return FH(int(polygons.size()) - 1);
+  }
+  FH add_face(HH) override { return FH(); }
+  void add_face_texcoords(FH f, VH, const std::vector<Vec2f>& tc) override {
+    if (!f.is_valid() || size_t(f.idx()) >= polygons.size()) return;
+    auto& uv = polygon_uv[f.idx()];
+    uv.clear();
+    for (const auto& t : tc) uv.emplace_back(t[0], t[1]);
+  }
+  void add_face_texcoords(FH f, VH v, const std::vector<Vec3f>& tc) override {
+    if (tc.empty()) return;  // the OBJ reader calls both overloads; one of them is empty
+    std::vector<Vec2f> t2;
+    for (const auto& t : tc) t2.emplace_back(t[0], t[1]);
+    add_face_texcoords(f, v, t2);
+  }
+  void set_face_texindex(FH, int id) override { texture_use[id]++; }
+  void set_point(VH v, const Vec3f& p) override {
+    if (v.is_valid() && size_t(v.idx()) < points.size()) points[v.idx()] = {p[0], p[1], p[2]};
+  }
+  void set_halfedge(VH, HH) override {}
+  void set_normal(VH, const Vec3f&) override {}
+  void set_normal(VH, const Vec3d&) override {}
+  void set_color(VH, const Vec3uc&) override {}
+  void set_color(VH, const Vec4uc&) override {}
+  void set_color(VH, const Vec3f&) override {}
+  void set_color(VH, const Vec4f&) override {}
+  void set_texcoord(VH, const Vec2f&) override {}
+  void set_status(VH, const OpenMesh::Attributes::StatusInfo&) override {}
+  void set_next(HH, HH) override {}
+  void set_face(HH, FH) override {}
+  void request_face_texcoords2D() override {}
+  void set_texcoord(HH, const Vec2f&) override {}
+  void set_texcoord(VH, const Vec3f&) override {}
+  void set_texcoord(HH, const Vec3f&) override {}
+  void set_status(HH, const OpenMesh::Attributes::StatusInfo&) override {}
+  void set_color(OpenMesh::EdgeHandle, const Vec3uc&) override {}
+  void set_color(OpenMesh::EdgeHandle, const Vec4uc&) override {}
+  void set_color(OpenMesh::EdgeHandle, const Vec3f&) override {}
+  void set_color(OpenMesh::EdgeHandle, const Vec4f&) override {}
+  void set_status(OpenMesh::EdgeHandle, const OpenMesh::Attributes::StatusInfo&) override {}
+  void set_normal(FH, const Vec3f&) override {}
+  void set_normal(FH, const Vec3d&) override {}
+  void set_color(FH, const Vec3uc&) override {}
+  void set_color(FH, const Vec4uc&) override {}
+  void set_color(FH, const Vec3f&) override {}
+  void set_color(FH, const Vec4f&) override {}
+  void set_status(FH, const OpenMesh::Attributes::StatusInfo&) override {}
+  void add_texture_information(int id, std::string name) override { textures[id] = name; }
+  size_t n_vertices() const override { return points.size(); }
+  size_t n_faces() const override { return polygons.size(); }
+  size_t n_edges() const override { return 0; }
+};
+
+std::string lower_extension(const std::string& path) {
+  std::string ext = fs::path(path).extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
+  return ext;
+}
+
+// Parses up to three numbers with strtod, which, unlike OpenMesh's stream-based readers,
+// understands "nan" and "inf" instead of dropping the line.
+int parse_xyz(const char* s, double xyz[3]) {
+  int n = 0;
+  while (n < 3) {
+    char* end = nullptr;
+    double x = std::strtod(s, &end);
+    if (end == s) break;
+    xyz[n++] = x;
+    s = end;
+  }
+  return n;
+}
+
+// Text formats are scanned for vertex coordinates here, in double precision: OpenMesh's OBJ and
+// OFF readers parse single precision and drop or zero coordinates written as nan/inf, which would
+// turn a NaN vertex into a misleading topology error. Throws InputError for non-finite values;
+// replaces OpenMesh's points when the count agrees (faces, uv and materials still come from it).
+void scan_text_points(const std::string& path, const std::string& ext, std::vector<Eigen::Vector3d>& pts) {
+  std::ifstream in(path);
+  if (!in) return;
+  std::vector<Eigen::Vector3d> out;
+  std::vector<long> line_of;
+  std::string line;
+  long lineno = 0;
+  auto take = [&](const char* s) {
+    double xyz[3];
+    if (parse_xyz(s, xyz) < 3) return false;
+    out.emplace_back(xyz[0], xyz[1], xyz[2]);
+    line_of.push_back(lineno);
+    return true;
+  };
+  if (ext == ".obj") {
+    while (std::getline(in, line)) {
+      ++lineno;
+      if (line.size() < 2 || line[0] != 'v' || (line[1] != ' ' && line[1] != '\t')) continue;
+      if (!take(line.c_str() + 2)) return;
+    }
+  } else if (ext == ".off" || ext == ".ply") {
+    auto next_data_line = [&](std::string& l) {
+      while (std::getline(in, l)) {
+        ++lineno;
+        auto p = l.find('#');
+        if (ext == ".off" && p != std::string::npos) l.resize(p);
+        if (l.find_first_not_of(" \t\r") != std::string::npos) return true;
+      }
+      return false;
+    };
+    long nv = -1;
+    if (!next_data_line(line)) return;
+    if (ext == ".off") {
+      std::istringstream hs(line);
+      std::string magic;
+      hs >> magic;
+      if (magic != "OFF") return;  // COFF, NOFF, binary OFF: keep OpenMesh's values
+      if (!(hs >> nv)) {
+        if (!next_data_line(line)) return;
+        std::istringstream cs(line);
+        if (!(cs >> nv)) return;
+      }
+    } else {
+      // ASCII PLY whose vertex element starts with x, y, z; anything else keeps OpenMesh's values.
+      bool ascii = false, in_vertex = false;
+      int prop = 0;
+      bool xyz_first = false;
+      do {
+        std::istringstream hs(line);
+        std::string w, a, b;
+        hs >> w;
+        if (w == "format") hs >> a, ascii = a == "ascii";
+        if (w == "element") {
+          hs >> a >> nv;
+          in_vertex = a == "vertex";
+          if (!in_vertex && prop == 0) return;  // vertex element must come first
+        }
+        if (w == "property" && in_vertex) {
+          hs >> a >> b;
+          if (prop < 3 && b != std::string(1, char('x' + prop))) return;
+          if (++prop == 3) xyz_first = true;
+        }
+        if (w == "end_header") break;
+      } while (next_data_line(line));
+      if (!ascii || !xyz_first) return;
+    }
+    for (long i = 0; i < nv; ++i) {
+      if (!next_data_line(line) || !take(line.c_str())) return;
+    }
+  } else {
+    return;
+  }
+  long bad = 0;
+  long first = -1;
+  for (size_t i = 0; i < out.size(); ++i)
+    if (!out[i].allFinite() && !bad++) first = long(i);
+  if (bad)
+    throw InputError("mesh " + path + " has " + std::to_string(bad) + " vertices with NaN or infinite coordinates, e.g. vertex " +
+                     std::to_string(first) + " on line " + std::to_string(line_of[first]) +
+                     ". Fix: remove or repair those vertices in the modelling tool");
+  if (out.size() != pts.size()) return;
+  for (size_t i = 0; i < out.size(); ++i)
+    if ((out[i] - pts[i]).norm() > 1e-5 * (1.0 + pts[i].norm())) return;  // not the same vertex order
+  pts.swap(out);
+}
+
+}  // namespace
+
+MeshSoup read_mesh_soup(const std::string& path) {
+  std::error_code ec;
+  if (!fs::exists(path, ec)) throw InputError("cannot read mesh " + path + ": no such file");
+  if (fs::is_directory(path, ec)) throw InputError("cannot read mesh " + path + ": it is a folder");
+  if (fs::file_size(path, ec) == 0) throw InputError("cannot read mesh " + path + ": the file is empty");
+  const std::string ext = lower_extension(path);
+  if (ext != ".obj" && ext != ".off" && ext != ".ply" && ext != ".stl")
+    throw InputError("cannot read mesh " + path + ": unknown format '" + ext +
+                     "' (supported: .obj, .off, .ply, .stl)");
+
+  SoupImporter importer;
+  OpenMesh::IO::Options opt = OpenMesh::IO::Options::FaceTexCoord;
+  // OpenMesh reports parse problems on its own streams; the validation report replaces them.
+  omerr().disable();
+  omlog().disable();
+  omout().disable();
+  bool ok = OpenMesh::IO::IOManager().read(path, importer, opt);
+  if (!ok && ext != ".stl") scan_text_points(path, ext, importer.points);  // a NaN may be why
+  if (!ok) throw InputError("cannot read mesh " + path + ": the " + ext.substr(1) + " reader could not parse it");
+  if (importer.points.empty())
+    throw InputError("mesh " + path + " has no vertices: the file is empty or not a " + ext.substr(1) + " mesh");
+
+  scan_text_points(path, ext, importer.points);
+
+  MeshSoup soup;
+  soup.points = std::move(importer.points);
+  bool any_uv = false;
+  for (size_t f = 0; f < importer.polygons.size(); ++f)
+    if (importer.polygon_uv[f].size() == importer.polygons[f].size()) any_uv = true;
+  for (size_t f = 0; f < importer.polygons.size(); ++f) {
+    const auto& poly = importer.polygons[f];
+    const auto& puv = importer.polygon_uv[f];
+    const bool has = puv.size() == poly.size();
+    if (poly.size() < 3) continue;
+    if (poly.size() > 3) soup.polygons_triangulated++;
+    for (size_t k = 1; k + 1 < poly.size(); ++k) {
+      soup.triangles.push_back({poly[0], poly[k], poly[k + 1]});
+      if (any_uv) {
+        for (size_t c : {size_t(0), k, k + 1})
+          soup.uv.push_back(has ? puv[c] : Eigen::Vector2d(0, 0));
+      }
+    }
+  }
+  if (!importer.textures.empty()) {
+    int best = importer.textures.begin()->first;
+    for (const auto& [id, n] : importer.texture_use)
+      if (importer.textures.count(id) && n > importer.texture_use[best]) best = id;
+    fs::path tex(importer.textures[best]);
+    if (tex.is_relative()) tex = fs::absolute(fs::path(path).parent_path() / tex);
+    soup.texture = tex.lexically_normal().string();
+  }
+  return soup;
+}
+
+Mesh build_mesh(const MeshSoup& soup) {
+  Mesh mesh;
+  std::vector<int> used(soup.points.size(), -1);
+  for (const auto& t : soup.triangles)
+    for (int v : t) used[v] = 0;
+  std::vector<Mesh::VertexHandle> vh(soup.points.size());
+  for (size_t i = 0; i < soup.points.size(); ++i) {
+    if (used[i] < 0) continue;  // isolated vertices are dropped; validation reports them
+    const auto& p = soup.points[i];
+    vh[i] = mesh.add_vertex(Mesh::Point(p.x(), p.y(), p.z()));
+  }
+  const bool has_uv = soup.uv.size() == 3 * soup.triangles.size() && !soup.triangles.empty();
+  if (has_uv) mesh.request_halfedge_texcoords2D();
+  for (size_t f = 0; f < soup.triangles.size(); ++f) {
+    const auto& t = soup.triangles[f];
+    auto fh = mesh.add_face(vh[t[0]], vh[t[1]], vh[t[2]]);
+    if (!fh.is_valid())
+      throw InputError("face " + std::to_string(f) + " cannot be added to a manifold mesh (validate the mesh first)");
+    if (has_uv) {
+      for (auto h : mesh.fh_range(fh)) {
+        const auto to = mesh.to_vertex_handle(h);
+        for (int c = 0; c < 3; ++c)
+          if (vh[t[c]] == to) {
+            const auto& uv = soup.uv[3 * f + c];
+            mesh.set_texcoord2D(h, Mesh::TexCoord2D(uv.x(), uv.y()));
+          }
+      }
+    }
+  }
+  return mesh;
+}
+
+MeshSoup mesh_to_soup(const Mesh& mesh) {
+  MeshSoup soup;
+  soup.points.reserve(mesh.n_vertices());
+  for (auto v : mesh.vertices()) soup.points.push_back(point(mesh, v));
+  for (auto f : mesh.faces()) {
+    std::array<int, 3> t{};
+    int c = 0;
+    for (auto v : mesh.fv_range(f)) t[c++] = v.idx();
+    soup.triangles.push_back(t);
+  }
+  return soup;
+}
+
+Mesh load_mesh(const std::string& path, std::string* texture) {
+  MeshSoup soup = read_mesh_soup(path);
+  MeshReport report = validate_mesh(soup);
+  if (!report.usable()) throw InputError(report.refusal(path));
+  orient_outward(soup, report);
+  if (texture) *texture = soup.texture;
+  return build_mesh(soup);
+}
+
+namespace {
+
+void write_obj(const Mesh& mesh, const std::string& tmp, const std::string& final_path, const std::string& texture) {
+  const bool uv = mesh.has_halfedge_texcoords2D();
+  std::ofstream out(tmp);
+  out << std::setprecision(17);
+  out << "# written by sdm\n";
+  const fs::path fp(final_path);
+  const std::string mtl_name = fp.stem().string() + ".mtl";
+  if (uv && !texture.empty()) out << "mtllib " << mtl_name << "\nusemtl sdm_texture\n";
+  for (auto v : mesh.vertices()) {
+    const auto& p = mesh.point(v);
+    out << "v " << p[0] << ' ' << p[1] << ' ' << p[2] << '\n';
+  }
+  if (uv) {
+    for (auto f : mesh.faces())
+      for (auto h : mesh.fh_range(f)) {
+        const auto& t = mesh.texcoord2D(h);
+        out << "vt " << t[0] << ' ' << t[1] << '\n';
+      }
+  }
+  int k = 1;
+  for (auto f : mesh.faces()) {
+    out << 'f';
+    for (auto h : mesh.fh_range(f)) {
+      out << ' ' << mesh.to_vertex_handle(h).idx() + 1;
+      if (uv) out << '/' << k++;
+    }
+    out << '\n';
+  }
+  out.close();
+  if (!out) throw std::runtime_error("cannot write " + final_path);
+  if (uv && !texture.empty()) {
+    fs::path tex(texture);
+    std::string rel = tex.is_absolute() ? fs::relative(tex, fs::absolute(fp).parent_path()).string() : tex.string();
+    write_text_file((fp.parent_path() / mtl_name).string(),
+                    "# written by sdm\nnewmtl sdm_texture\nKa 1 1 1\nKd 1 1 1\nKs 0 0 0\nillum 1\nmap_Kd " + rel + "\n");
+  }
+}
+
+}  // namespace
+
+void write_mesh(const Mesh& mesh, const std::string& path, const std::string& texture) {
+  const std::string ext = lower_extension(path);
+  if (ext != ".obj" && ext != ".ply" && ext != ".off" && ext != ".stl")
+    throw InputError("cannot write " + path + ": unknown format '" + ext + "' (use .obj, .ply, .off or .stl)");
+  write_atomically(path, [&](const std::string& tmp) {
+    if (ext == ".obj") {
+      // OpenMesh's OBJ writer names no texture map in its material, so OBJ is written here.
+      write_obj(mesh, tmp, path, texture);
+      return;
+    }
+    OpenMesh::IO::Options opt = ext == ".ply" || ext == ".stl" ? OpenMesh::IO::Options::Binary : OpenMesh::IO::Options::Default;
+    omerr().disable();
+    if (!OpenMesh::IO::write_mesh(mesh, tmp, opt, 17)) throw std::runtime_error("cannot write " + path);
+  });
+}
+
+Eigen::MatrixX3d vertex_matrix(const Mesh& mesh) {
+  Eigen::MatrixX3d V(mesh.n_vertices(), 3);
+  for (auto v : mesh.vertices()) V.row(v.idx()) = point(mesh, v).transpose();
+  return V;
+}
+
+Eigen::MatrixX3i face_matrix(const Mesh& mesh) {
+  Eigen::MatrixX3i F(mesh.n_faces(), 3);
+  for (auto f : mesh.faces()) {
+    int c = 0;
+    for (auto v : mesh.fv_range(f)) F(f.idx(), c++) = v.idx();
+  }
+  return F;
+}
+
+void bounding_box(const Mesh& mesh, Eigen::Vector3d& lo, Eigen::Vector3d& hi) {
+  lo.setConstant(std::numeric_limits<double>::infinity());
+  hi.setConstant(-std::numeric_limits<double>::infinity());
+  for (auto v : mesh.vertices()) {
+    lo = lo.cwiseMin(point(mesh, v));
+    hi = hi.cwiseMax(point(mesh, v));
+  }
+}
+
+double bounding_box_diagonal(const Mesh& mesh) {
+  Eigen::Vector3d lo, hi;
+  bounding_box(mesh, lo, hi);
+  return mesh.n_vertices() ? (hi - lo).norm() : 0.0;
+}
+
+}  // namespace sdm

@@ -1,0 +1,64 @@
+#pragma once
+// The one mesh type of the project: an OpenMesh triangle mesh with double-precision points,
+// optional per-halfedge texture coordinates, and the texture image its material names.
+#include <OpenMesh/Core/Mesh/TriMesh_ArrayKernelT.hh>
+#include <Eigen/Dense>
+#include <array>
+#include <string>
+#include <vector>
+
+namespace sdm {
+
+struct MeshTraits : OpenMesh::DefaultTraits {
+  using Point = OpenMesh::Vec3d;
+  using Normal = OpenMesh::Vec3d;
+  using TexCoord2D = OpenMesh::Vec2d;
+  VertexAttributes(OpenMesh::Attributes::Status);
+  FaceAttributes(OpenMesh::Attributes::Status);
+  EdgeAttributes(OpenMesh::Attributes::Status);
+  HalfedgeAttributes(OpenMesh::Attributes::PrevHalfedge | OpenMesh::Attributes::Status);
+};
+using Mesh = OpenMesh::TriMesh_ArrayKernelT<MeshTraits>;
+
+// A mesh as it came from a file: the triangle list before any topology is built, so that
+// broken input (non-manifold, duplicated faces) can be counted and reported instead of being
+// silently dropped by the halfedge structure.
+struct MeshSoup {
+  std::vector<Eigen::Vector3d> points;
+  std::vector<std::array<int, 3>> triangles;     // polygons are fan-triangulated on read
+  std::vector<Eigen::Vector2d> uv;                // per triangle corner (3 per triangle), or empty
+  std::string texture;                            // absolute path of the material's map_Kd, or empty
+  int polygons_triangulated = 0;                  // input faces with more than three corners
+};
+
+// Reads OBJ (with uv and the MTL's map_Kd), OFF, PLY or STL through OpenMesh's readers.
+// Throws InputError when the file is missing, empty, unreadable or of an unknown format.
+MeshSoup read_mesh_soup(const std::string& path);
+
+// Builds the halfedge mesh from a soup that passed validation (see validate_mesh.h).
+// Texture coordinates, when present, are stored per halfedge.
+Mesh build_mesh(const MeshSoup& soup);
+
+// The triangle list of a built mesh, e.g. to validate a mesh the pipeline produced.
+MeshSoup mesh_to_soup(const Mesh& mesh);
+
+// Reads, validates and builds: the entry point every command uses. Throws InputError with the
+// validation report when the mesh cannot go through the pipeline (open, non-manifold, NaN, empty).
+// `texture` receives the material's texture path when there is one.
+Mesh load_mesh(const std::string& path, std::string* texture = nullptr);
+
+// Writes OBJ (with uv and an MTL naming `texture` when the mesh has uv), PLY, OFF or STL, chosen by
+// extension. Written to a temporary name and renamed, so a failure leaves nothing behind.
+void write_mesh(const Mesh& mesh, const std::string& path, const std::string& texture = "");
+
+// Helpers used throughout the pipeline.
+inline Eigen::Vector3d point(const Mesh& m, Mesh::VertexHandle v) {
+  const auto& p = m.point(v);
+  return {p[0], p[1], p[2]};
+}
+Eigen::MatrixX3d vertex_matrix(const Mesh& mesh);          // V x 3
+Eigen::MatrixX3i face_matrix(const Mesh& mesh);            // F x 3
+double bounding_box_diagonal(const Mesh& mesh);
+void bounding_box(const Mesh& mesh, Eigen::Vector3d& lo, Eigen::Vector3d& hi);
+
+}  // namespace sdm

@@ -1,0 +1,58 @@
+#include "libstm/mesh/surface_distance.h"
+
+#include "libstm/geometry/triangle_bvh.h"
+
+#include <algorithm>
+#include <random>
+
+namespace sdm {
+
+Eigen::MatrixX3d sample_surface(const Mesh& mesh, int count, unsigned seed) {
+  const Eigen::MatrixX3d V = vertex_matrix(mesh);
+  const Eigen::MatrixX3i F = face_matrix(mesh);
+  std::vector<double> cumulative(F.rows());
+  double total = 0;
+  for (int f = 0; f < F.rows(); ++f) {
+    const Eigen::Vector3d a = V.row(F(f, 0)), b = V.row(F(f, 1)), c = V.row(F(f, 2));
+    total += 0.5 * (b - a).cross(c - a).norm();
+    cumulative[f] = total;
+  }
+  Eigen::MatrixX3d P(count, 3);
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<double> uni(0.0, 1.0);
+  for (int i = 0; i < count; ++i) {
+    const double x = uni(rng) * total;
+    const int f = int(std::min<ptrdiff_t>(std::lower_bound(cumulative.begin(), cumulative.end(), x) - cumulative.begin(), F.rows() - 1));
+    double r1 = uni(rng), r2 = uni(rng);
+    if (r1 + r2 > 1) r1 = 1 - r1, r2 = 1 - r2;
+    const Eigen::Vector3d a = V.row(F(f, 0)), b = V.row(F(f, 1)), c = V.row(F(f, 2));
+    P.row(i) = (a + r1 * (b - a) + r2 * (c - a)).transpose();
+  }
+  return P;
+}
+
+SurfaceDistance surface_distance(const Mesh& a, const Mesh& b, int samples) {
+  SurfaceDistance d;
+  d.samples_per_surface = samples;
+  d.diagonal = bounding_box_diagonal(a);
+  const TriangleBvh bvh_a(vertex_matrix(a), face_matrix(a));
+  const TriangleBvh bvh_b(vertex_matrix(b), face_matrix(b));
+  const Eigen::MatrixX3d pa = sample_surface(a, samples, 1);
+  const Eigen::MatrixX3d pb = sample_surface(b, samples, 2);
+  double sum2 = 0, sum = 0;
+  auto measure = [&](const Eigen::MatrixX3d& P, const TriangleBvh& other) {
+    for (int i = 0; i < P.rows(); ++i) {
+      const double dist = other.closest_point(P.row(i).transpose()).distance;
+      d.hausdorff = std::max(d.hausdorff, dist);
+      sum2 += dist * dist;
+      sum += dist;
+    }
+  };
+  measure(pa, bvh_b);
+  measure(pb, bvh_a);
+  d.rms = std::sqrt(sum2 / (2.0 * samples));
+  d.mean = sum / (2.0 * samples);
+  return d;
+}
+
+}  // namespace sdm

@@ -1,0 +1,301 @@
+#include "libstm/mesh/validate_mesh.h"
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <numeric>
+#include <sstream>
+#include <unordered_map>
+
+namespace sdm {
+namespace {
+
+struct UnionFind {
+  std::vector<int> p;
+  explicit UnionFind(size_t n) : p(n) { std::iota(p.begin(), p.end(), 0); }
+  int find(int x) {
+    while (p[x] != x) x = p[x] = p[p[x]];
+    return x;
+  }
+  void unite(int a, int b) { p[find(a)] = find(b); }
+};
+
+uint64_t edge_key(int a, int b) {
+  if (a > b) std::swap(a, b);
+  return (uint64_t(uint32_t(a)) << 32) | uint32_t(b);
+}
+
+void add(MeshReport& r, const std::string& kind, long count, const std::string& example, bool fatal,
+         const std::string& fix) {
+  if (count > 0) r.findings.push_back({kind, count, example, fatal, fix});
+}
+
+}  // namespace
+
+bool MeshReport::usable() const {
+  return std::none_of(findings.begin(), findings.end(), [](const Finding& f) { return f.fatal; });
+}
+
+std::string MeshReport::refusal(const std::string& path) const {
+  std::ostringstream s;
+  s << "mesh " << path << " cannot go through the pipeline (it needs a closed 2-manifold triangle mesh):";
+  for (const auto& f : findings)
+    if (f.fatal) s << "\n  - " << f.count << " " << f.kind << ", e.g. " << f.example << ". Fix: " << f.fix;
+  return s.str();
+}
+
+nlohmann::json MeshReport::to_json() const {
+  nlohmann::json j;
+  j["vertices"] = vertices;
+  j["faces"] = faces;
+  j["edges"] = edges;
+  j["parts"] = parts;
+  j["genus_per_part"] = genus_per_part;
+  j["faces_per_part"] = faces_per_part;
+  j["boundary_loops"] = boundary_loops;
+  j["bbox_min"] = {bbox_min.x(), bbox_min.y(), bbox_min.z()};
+  j["bbox_max"] = {bbox_max.x(), bbox_max.y(), bbox_max.z()};
+  j["usable"] = usable();
+  j["findings"] = nlohmann::json::array();
+  for (const auto& f : findings)
+    j["findings"].push_back({{"kind", f.kind}, {"count", f.count}, {"example", f.example}, {"fatal", f.fatal}, {"fix", f.fix}});
+  return j;
+}
+
+MeshReport validate_mesh(const MeshSoup& soup) {
+  MeshReport r;
+  const long nv = long(soup.points.size());
+  r.vertices = nv;
+  r.faces = long(soup.triangles.size());
+
+  if (soup.triangles.empty()) {
+    add(r, "empty mesh (no faces)", 1, std::to_string(nv) + " vertices but no face", true,
+        "export the surface as triangles or polygons, not as points or lines");
+    return r;
+  }
+
+  // Coordinates.
+  long bad_coord = 0;
+  long first_bad = -1;
+  r.bbox_min.setConstant(INFINITY);
+  r.bbox_max.setConstant(-INFINITY);
+  for (long i = 0; i < nv; ++i) {
+    if (!soup.points[i].allFinite()) {
+      if (first_bad < 0) first_bad = i;
+      ++bad_coord;
+    } else {
+      r.bbox_min = r.bbox_min.cwiseMin(soup.points[i]);
+      r.bbox_max = r.bbox_max.cwiseMax(soup.points[i]);
+    }
+  }
+  add(r, "vertices with NaN or infinite coordinates", bad_coord, "vertex " + std::to_string(first_bad), true,
+      "remove or repair those vertices in the modelling tool");
+  const double diag = (r.bbox_max - r.bbox_min).norm();
+
+  // Faces that cannot exist in a manifold mesh.
+  long invalid = 0;
+  std::string invalid_example;
+  std::vector<char> face_ok(soup.triangles.size(), 1);
+  for (size_t f = 0; f < soup.triangles.size(); ++f) {
+    const auto& t = soup.triangles[f];
+    bool bad = false;
+    for (int v : t)
+      if (v < 0 || v >= nv) bad = true;
+    if (!bad && (t[0] == t[1] || t[1] == t[2] || t[0] == t[2])) bad = true;
+    if (bad) {
+      face_ok[f] = 0;
+      if (!invalid++) invalid_example = "face " + std::to_string(f);
+    }
+  }
+  add(r, "invalid faces (a repeated or out-of-range vertex index)", invalid, invalid_example, true,
+      "remove those faces or merge the duplicated vertices");
+
+  // Duplicated faces: the same three vertices, in either orientation.
+  std::map<std::array<int, 3>, int> seen;
+  long dup = 0;
+  std::string dup_example;
+  for (size_t f = 0; f < soup.triangles.size(); ++f) {
+    if (!face_ok[f]) continue;
+    auto k = soup.triangles[f];
+    std::sort(k.begin(), k.end());
+    auto [it, inserted] = seen.emplace(k, int(f));
+    if (!inserted) {
+      if (!dup++) dup_example = "faces " + std::to_string(it->second) + " and " + std::to_string(f);
+    }
+  }
+  add(r, "duplicated faces", dup, dup_example, true, "delete the duplicates (e.g. 'merge by distance' then 'delete duplicate faces')");
+
+  // Edge use.
+  std::unordered_map<uint64_t, std::vector<int>> edge_faces;  // undirected edge -> faces
+  std::unordered_map<uint64_t, int> directed;                 // directed edge -> uses
+  edge_faces.reserve(soup.triangles.size() * 2);
+  for (size_t f = 0; f < soup.triangles.size(); ++f) {
+    if (!face_ok[f]) continue;
+    const auto& t = soup.triangles[f];
+    for (int c = 0; c < 3; ++c) {
+      int a = t[c], b = t[(c + 1) % 3];
+      edge_faces[edge_key(a, b)].push_back(int(f));
+      directed[(uint64_t(uint32_t(a)) << 32) | uint32_t(b)]++;
+    }
+  }
+  r.edges = long(edge_faces.size());
+  long boundary = 0, nonmanifold = 0, flipped = 0;
+  std::string boundary_example, nm_example, flip_example;
+  std::unordered_map<int, std::vector<int>> boundary_adj;
+  for (const auto& [k, fs] : edge_faces) {
+    int a = int(k >> 32), b = int(k & 0xffffffffu);
+    std::string e = "edge (" + std::to_string(a) + ", " + std::to_string(b) + ")";
+    if (fs.size() == 1) {
+      if (!boundary++) boundary_example = e + " of face " + std::to_string(fs[0]);
+      boundary_adj[a].push_back(b);
+      boundary_adj[b].push_back(a);
+    } else if (fs.size() > 2) {
+      if (!nonmanifold++) nm_example = e + " shared by " + std::to_string(fs.size()) + " faces";
+    } else {
+      auto ab = directed.find((uint64_t(uint32_t(a)) << 32) | uint32_t(b));
+      if (ab != directed.end() && ab->second != 1) {
+        if (!flipped++) flip_example = "faces " + std::to_string(fs[0]) + " and " + std::to_string(fs[1]) + " across " + e;
+      }
+    }
+  }
+  // Boundary loops: components of the boundary-edge graph.
+  {
+    std::unordered_map<int, char> visited;
+    for (const auto& [v, nb] : boundary_adj) {
+      if (visited[v]) continue;
+      ++r.boundary_loops;
+      std::vector<int> stack{v};
+      visited[v] = 1;
+      while (!stack.empty()) {
+        int x = stack.back();
+        stack.pop_back();
+        for (int y : boundary_adj[x])
+          if (!visited[y]) visited[y] = 1, stack.push_back(y);
+      }
+    }
+  }
+  add(r, "boundary edges (the mesh is open)", boundary,
+      boundary_example + "; " + std::to_string(r.boundary_loops) + " boundary loop(s)", true,
+      "close the holes (e.g. 'fill holes' in MeshLab or Blender) so the surface bounds a volume");
+  add(r, "non-manifold edges", nonmanifold, nm_example, true,
+      "split the mesh where more than two faces meet at an edge, or remove the extra faces");
+  add(r, "edges between inconsistently oriented faces", flipped, flip_example, true,
+      "recompute consistent normals (e.g. 'recalculate outside' in Blender)");
+
+  // Non-manifold vertices: incident faces must form a single fan (connected through edges at the vertex).
+  long nm_vertices = 0;
+  std::string nmv_example;
+  {
+    std::vector<std::vector<int>> vf(nv);
+    for (size_t f = 0; f < soup.triangles.size(); ++f)
+      if (face_ok[f])
+        for (int v : soup.triangles[f]) vf[v].push_back(int(f));
+    for (long v = 0; v < nv; ++v) {
+      const auto& fs = vf[v];
+      if (fs.size() < 2) continue;
+      // Faces around v are connected when they share an edge that contains v.
+      std::unordered_map<int, std::vector<int>> by_other;  // other vertex -> faces
+      for (size_t i = 0; i < fs.size(); ++i)
+        for (int w : soup.triangles[fs[i]])
+          if (w != v) by_other[w].push_back(int(i));
+      UnionFind uf(fs.size());
+      for (const auto& [w, list] : by_other)
+        for (size_t i = 1; i < list.size(); ++i) uf.unite(list[0], list[i]);
+      int roots = 0;
+      for (size_t i = 0; i < fs.size(); ++i)
+        if (uf.find(int(i)) == int(i)) ++roots;
+      if (roots > 1) {
+        if (!nm_vertices++) nmv_example = "vertex " + std::to_string(v) + " where " + std::to_string(roots) + " fans of faces meet";
+      }
+    }
+  }
+  add(r, "non-manifold vertices", nm_vertices, nmv_example, true,
+      "split the vertex so that each fan of faces gets its own copy (e.g. 'split non-manifold vertices' in MeshLab)");
+
+  // Degenerate faces: harmless for I/O, reported because they make the Laplacian ill-conditioned.
+  long degenerate = 0;
+  std::string deg_example;
+  const double area_eps = 1e-14 * diag * diag;
+  for (size_t f = 0; f < soup.triangles.size(); ++f) {
+    if (!face_ok[f] || bad_coord) continue;
+    const auto& t = soup.triangles[f];
+    double a = 0.5 * (soup.points[t[1]] - soup.points[t[0]]).cross(soup.points[t[2]] - soup.points[t[0]]).norm();
+    if (a <= area_eps) {
+      if (!degenerate++) deg_example = "face " + std::to_string(f);
+    }
+  }
+  add(r, "degenerate (zero-area) faces", degenerate, deg_example, false,
+      "they are tolerated; remove them for better skeletons (e.g. 'remove zero-area faces' in MeshLab)");
+
+  // Isolated vertices.
+  std::vector<char> used(nv, 0);
+  for (size_t f = 0; f < soup.triangles.size(); ++f)
+    if (face_ok[f])
+      for (int v : soup.triangles[f]) used[v] = 1;
+  long isolated = 0;
+  std::string iso_example;
+  for (long v = 0; v < nv; ++v)
+    if (!used[v] && !isolated++) iso_example = "vertex " + std::to_string(v);
+  add(r, "isolated vertices (in no face)", isolated, iso_example, false, "they are ignored; delete loose vertices to silence this");
+
+  // Parts and genus: Euler characteristic per edge-connected component.
+  UnionFind uf(soup.triangles.size());
+  for (const auto& [k, fs] : edge_faces)
+    for (size_t i = 1; i < fs.size(); ++i) uf.unite(fs[0], fs[i]);
+  std::map<int, int> part_of_root;
+  r.face_part.assign(soup.triangles.size(), -1);
+  for (size_t f = 0; f < soup.triangles.size(); ++f) {
+    if (!face_ok[f]) continue;
+    int root = uf.find(int(f));
+    auto it = part_of_root.emplace(root, int(part_of_root.size())).first;
+    r.face_part[f] = it->second;
+  }
+  r.parts = int(part_of_root.size());
+  std::vector<long> pv(r.parts, 0), pe(r.parts, 0), pf(r.parts, 0), pb(r.parts, 0);
+  std::vector<int> vpart(nv, -1);
+  for (size_t f = 0; f < soup.triangles.size(); ++f) {
+    if (r.face_part[f] < 0) continue;
+    pf[r.face_part[f]]++;
+    for (int v : soup.triangles[f]) vpart[v] = r.face_part[f];
+  }
+  for (long v = 0; v < nv; ++v)
+    if (vpart[v] >= 0) pv[vpart[v]]++;
+  for (const auto& [k, fs] : edge_faces) {
+    pe[r.face_part[fs[0]]]++;
+    if (fs.size() == 1) pb[r.face_part[fs[0]]]++;
+  }
+  for (int p = 0; p < r.parts; ++p) {
+    long chi = pv[p] - pe[p] + pf[p];
+    // Boundary loops of this part are not separated here; genus is reported for closed parts.
+    r.genus_per_part.push_back(pb[p] == 0 ? int((2 - chi) / 2) : -1);
+    r.faces_per_part.push_back(int(pf[p]));
+  }
+  if (r.parts > 1)
+    add(r, "connected parts", r.parts, "each part gets its own skeleton", false, "nothing to fix: several parts are supported");
+  if (soup.polygons_triangulated)
+    add(r, "polygons fan-triangulated on read", soup.polygons_triangulated, "faces with more than three corners", false,
+        "nothing to fix; triangulate in the modelling tool for control over the diagonals");
+  return r;
+}
+
+void orient_outward(MeshSoup& soup, MeshReport& report) {
+  std::vector<double> volume(report.parts, 0.0);
+  for (size_t f = 0; f < soup.triangles.size(); ++f) {
+    const auto& t = soup.triangles[f];
+    volume[report.face_part[f]] += soup.points[t[0]].dot(soup.points[t[1]].cross(soup.points[t[2]])) / 6.0;
+  }
+  long flipped = 0;
+  int example = -1;
+  for (size_t f = 0; f < soup.triangles.size(); ++f) {
+    if (volume[report.face_part[f]] >= 0) continue;
+    std::swap(soup.triangles[f][1], soup.triangles[f][2]);
+    if (!soup.uv.empty()) std::swap(soup.uv[3 * f + 1], soup.uv[3 * f + 2]);
+    if (example < 0) example = report.face_part[f];
+    ++flipped;
+  }
+  if (flipped)
+    report.findings.push_back({"faces flipped to point outwards", flipped, "part " + std::to_string(example) + " was inside out",
+                               false, "nothing to fix; the input's normals pointed inwards"});
+}
+
+}  // namespace sdm

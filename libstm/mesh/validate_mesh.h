@@ -1,0 +1,46 @@
+#pragma once
+// Validation shared by every command: what is wrong with an input mesh, how often, one example
+// of each problem, and whether the pipeline can take it. Works on the raw soup, before topology
+// is built, so that problems the halfedge structure cannot even represent are counted too.
+#include "libstm/mesh/mesh.h"
+
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+namespace sdm {
+
+struct Finding {
+  std::string kind;     // short identifier, e.g. "non_manifold_edges"
+  long count = 0;
+  std::string example;  // one offending element, e.g. "edge (12, 40) used by 3 faces"
+  bool fatal = false;   // the pipeline refuses the mesh
+  std::string fix;      // how to fix it
+};
+
+struct MeshReport {
+  long vertices = 0, faces = 0;        // as read (faces after fan-triangulation)
+  long edges = 0;
+  int parts = 0;                       // edge-connected components of faces
+  std::vector<int> genus_per_part;     // only meaningful for closed manifold parts
+  std::vector<int> faces_per_part;
+  int boundary_loops = 0;
+  Eigen::Vector3d bbox_min = Eigen::Vector3d::Zero(), bbox_max = Eigen::Vector3d::Zero();
+  std::vector<int> face_part;          // part of each triangle
+  std::vector<Finding> findings;
+
+  bool usable() const;                          // no fatal finding
+  std::string refusal(const std::string& path) const;  // the message for a refused input
+  nlohmann::json to_json() const;
+};
+
+// Counts: NaN/Inf coordinates, invalid faces (repeated or out-of-range vertex), duplicated faces,
+// boundary edges and loops, non-manifold edges and vertices, inconsistent orientation, degenerate
+// (zero-area) faces, isolated vertices; connected parts and genus per part.
+MeshReport validate_mesh(const MeshSoup& soup);
+
+// Flips every closed part whose signed volume is negative, so that all normals point outwards.
+// Adds an informational finding when it does. Requires a usable report of the same soup.
+void orient_outward(MeshSoup& soup, MeshReport& report);
+
+}  // namespace sdm

@@ -1,0 +1,72 @@
+#pragma once
+// Offscreen rendering of a mesh to an image, headless through GlContext: the picture a user looks
+// at, and the measurement tool for texture quality (PSNR between two renders from one camera).
+#include "libstm/render/gl_context.h"
+#include "libstm/core/image.h"
+#include "libstm/mesh/mesh.h"
+
+#include <Eigen/Dense>
+#include <array>
+#include <cstdint>
+#include <functional>
+#include <vector>
+
+namespace sdm {
+
+// A camera in world (mesh) coordinates: view maps world to eye space (camera looks down -z),
+// projection maps eye space to clip space (OpenGL conventions, column vectors).
+struct Camera {
+  Eigen::Matrix4d view = Eigen::Matrix4d::Identity();
+  Eigen::Matrix4d projection = Eigen::Matrix4d::Identity();
+  Eigen::Vector3d eye = Eigen::Vector3d::Zero();     // camera position (perspective)
+  Eigen::Vector3d center = Eigen::Vector3d::Zero();  // point looked at: the box centre
+  bool orthographic = false;
+};
+
+// Frames the box [lo, hi] for a width x height image. The camera looks at the box centre from
+// direction (cos(el) sin(az), sin(el), cos(el) cos(az)): +y is up, azimuth 0 / elevation 0 looks
+// along -z, positive azimuth moves the camera towards +x. The box's bounding sphere (radius half
+// the diagonal) exactly fits the smaller image dimension: perspective with a 30 degree field of
+// view on that dimension, or orthographic. The framing depends only on the box, the angles and
+// the image size, so two meshes with the same box get the same camera.
+// Throws InputError when the box is empty or degenerate to a point.
+Camera frame_camera(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi, double azimuth_deg, double elevation_deg,
+                    int width, int height, bool orthographic = false);
+
+struct RenderOptions {
+  int width = 800, height = 800;
+  double azimuth_deg = 30, elevation_deg = 20;
+  bool orthographic = false;  // default: perspective, 30 degree field of view
+  // Unlit draws the surface colour as it is (texture colour, or `color`): two tessellations of one
+  // textured shape then give the same pixels, so PSNR measures only the texture mapping.
+  // Lit: headlight Lambert (two-sided) plus `ambient`.
+  bool unlit = false;
+  double ambient = 0.25;
+  // Normals: area-weighted average of the faces around a vertex that bend less than
+  // crease_angle_deg from the corner's face (sharp edges stay sharp); flat_shading uses face normals.
+  double crease_angle_deg = 60;
+  bool flat_shading = false;
+  // When set, the mesh must have per-halfedge uv (mesh.has_halfedge_texcoords2D()); uv (0,0) is the
+  // image's bottom-left corner, as in OBJ. Sampled bilinearly with mipmaps, repeating.
+  const Image* texture = nullptr;
+  Eigen::Vector3f color = Eigen::Vector3f(0.78f, 0.78f, 0.80f);  // surface colour without texture, RGB in [0,1]
+  std::array<uint8_t, 4> background = {255, 255, 255, 255};
+  // Framing box; when bbox_min > bbox_max in any coordinate (the default), the mesh's own box.
+  Eigen::Vector3d bbox_min = Eigen::Vector3d::Constant(1.0), bbox_max = Eigen::Vector3d::Constant(-1.0);
+  int samples = 4;  // multisampling (1 = off); edges only, interiors are identical either way
+  // Drawn after the mesh, with the context current, the target bound and depth testing on: for
+  // overlays (skeleton lines...) that share the mesh's camera and depth buffer.
+  std::function<void(const Camera&)> overlay;
+};
+
+// Renders `mesh` with `options` in the context `gl` (made current here). The result is an opaque
+// RGBA image (object composited over the background); `mask`, when given, receives width*height
+// bytes, 255 where the object covers at least half of the pixel, 0 elsewhere (for psnr()).
+// Throws InputError for an empty mesh, a texture without uv, or an invalid image size.
+Image render_mesh(GlContext& gl, const Mesh& mesh, const RenderOptions& options, std::vector<uint8_t>* mask = nullptr);
+
+// Renders are read back premultiplied over transparent black (alpha = coverage): this puts them
+// over `background` and, when `mask` is given, marks the pixels at least half covered (255).
+void composite_over_background(Image& img, const std::array<uint8_t, 4>& background, std::vector<uint8_t>* mask);
+
+}  // namespace sdm

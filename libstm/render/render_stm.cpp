@@ -1,0 +1,198 @@
+#include "libstm/render/render_stm.h"
+
+#include "libstm/core/errors.h"
+#include "libstm/layout/segments.h"
+
+#define GL_GLEXT_PROTOTYPES 1
+#include <GL/glcorearb.h>
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+namespace sdm {
+
+Image render_stm(GlContext& gl, const Mesh& mesh, const Layout& L, const Image& atlas, const RenderOptions& opt,
+                 std::vector<uint8_t>* mask, StmRenderProbe* probe) {
+  if (mesh.n_faces() == 0) throw InputError("cannot render a mesh with no faces");
+  if (opt.width <= 0 || opt.height <= 0 || opt.width > 16384 || opt.height > 16384)
+    throw InputError("image size " + std::to_string(opt.width) + "x" + std::to_string(opt.height) + " is outside 1..16384");
+  if (L.skeleton.vertex_node.size() != mesh.n_vertices())
+    throw InputError("the layout's skeleton maps " + std::to_string(L.skeleton.vertex_node.size()) + " vertices but the mesh has " +
+                     std::to_string(mesh.n_vertices()) + " (layout of another mesh?)");
+  if (L.segments.empty()) throw InputError("the layout has no segment");
+  if (atlas.width != L.size || atlas.height != L.size || atlas.pixels.size() != size_t(atlas.width) * atlas.height * atlas.channels)
+    throw InputError("the atlas is " + std::to_string(atlas.width) + "x" + std::to_string(atlas.height) + " but the layout needs " +
+                     std::to_string(L.size) + "x" + std::to_string(L.size));
+  for (int n : L.skeleton.vertex_node)
+    if (n < 0 || n >= int(L.skeleton.nodes.size())) throw InputError("the layout's skeleton maps a vertex to node " + std::to_string(n));
+
+  Eigen::Vector3d lo = opt.bbox_min, hi = opt.bbox_max;
+  if (!(lo.array() <= hi.array()).all()) bounding_box(mesh, lo, hi);
+  const Camera cam = frame_camera(lo, hi, opt.azimuth_deg, opt.elevation_deg, opt.width, opt.height, opt.orthographic);
+  const Eigen::Vector3d& o = cam.center;
+
+  // Vertices shared by their faces: no uv, so nothing is split at the seam.
+  std::vector<Eigen::Vector3d> normal(mesh.n_vertices(), Eigen::Vector3d::Zero());
+  std::vector<GLuint> index;
+  index.reserve(mesh.n_faces() * 3);
+  for (auto f : mesh.faces()) {
+    Eigen::Vector3d p[3];
+    int k = 0;
+    for (auto v : mesh.fv_range(f)) {
+      p[k++] = point(mesh, v);
+      index.push_back(GLuint(v.idx()));
+    }
+    const Eigen::Vector3d n = (p[1] - p[0]).cross(p[2] - p[0]);  // area weighted
+    for (int j = 0; j < 3; ++j) normal[index[index.size() - 3 + j]] += n;
+  }
+  std::vector<float> verts;
+  verts.reserve(mesh.n_vertices() * 6);
+  for (auto v : mesh.vertices()) {
+    const Eigen::Vector3d p = point(mesh, v) - o;
+    const Eigen::Vector3d n = normal[v.idx()].norm() > 0 ? normal[v.idx()].normalized() : Eigen::Vector3d(0, 0, 1);
+    verts.insert(verts.end(), {float(p.x()), float(p.y()), float(p.z()), float(n.x()), float(n.y()), float(n.z())});
+  }
+  // Per vertex: its skeleton node and the orientation of its part, which assign_faces' rule needs
+  // (a vertex's faces all lie in one part: parts are connected through shared edges, and OpenMesh
+  // cannot hold a vertex shared by two fans). A mesh from load_mesh is outward already, but a
+  // library caller may pass one wound inside out.
+  const std::vector<int> face_orient = face_orientation(mesh);
+  std::vector<int> vertex_orient(mesh.n_vertices(), 1);
+  for (auto f : mesh.faces())
+    for (auto v : mesh.fv_range(f)) vertex_orient[v.idx()] = face_orient[f.idx()];
+  std::vector<int> nodes;  // (node, orientation) per vertex
+  nodes.reserve(2 * mesh.n_vertices());
+  for (size_t v = 0; v < mesh.n_vertices(); ++v) nodes.insert(nodes.end(), {L.skeleton.vertex_node[v], vertex_orient[v]});
+  // Segments: 6 RGBA32F texels each: a, b (relative to the framing centre), e1, e2, rect, (d, rotated).
+  std::vector<float> seg;
+  for (size_t s = 0; s < L.segments.size(); ++s) {
+    const LayoutSegment& g = L.segments[s];
+    const Eigen::Vector3d a = L.skeleton.nodes[g.a] - o, b = L.skeleton.nodes[g.b] - o;
+    seg.insert(seg.end(), {float(a.x()), float(a.y()), float(a.z()), 0.f, float(b.x()), float(b.y()), float(b.z()), 0.f,
+                           float(g.e1.x()), float(g.e1.y()), float(g.e1.z()), 0.f, float(g.e2.x()), float(g.e2.y()),
+                           float(g.e2.z()), 0.f, float(g.x), float(g.y), float(g.w), float(g.h), float(g.d),
+                           g.rotated ? 1.f : 0.f, 0.f, 0.f});
+  }
+  // Node -> incident segments, offsets first (absolute positions in the same buffer).
+  const int nn = int(L.skeleton.nodes.size());
+  std::vector<std::vector<int>> node_segments(nn);
+  for (size_t s = 0; s < L.segments.size(); ++s) {
+    node_segments[L.segments[s].a].push_back(int(s));
+    if (L.segments[s].b != L.segments[s].a) node_segments[L.segments[s].b].push_back(int(s));
+  }
+  std::vector<GLint> incidence(size_t(nn) + 1);
+  for (int n = 0, at = nn + 1; n <= nn; ++n) {
+    incidence[n] = at;
+    if (n < nn) at += int(node_segments[n].size());
+  }
+  for (int n = 0; n < nn; ++n) incidence.insert(incidence.end(), node_segments[n].begin(), node_segments[n].end());
+
+  gl.make_current();
+  GLint max_tex = 0;
+  glGetIntegerv(GL_MAX_TEXTURE_SIZE, &max_tex);
+  if (atlas.width > max_tex) throw InputError("atlas of " + std::to_string(atlas.width) + "^2 exceeds the GL limit of " + std::to_string(max_tex));
+  GLuint bufs[5] = {0, 0, 0, 0, 0};  // vertices, nodes, indices, segments, incidence
+  GLuint texs[3] = {0, 0, 0};        // atlas, segments, incidence
+  GLuint vao = 0;
+  struct Cleanup {
+    GLuint *bufs, *texs, &vao;
+    ~Cleanup() {
+      glDeleteBuffers(5, bufs);
+      glDeleteTextures(3, texs);
+      glDeleteVertexArrays(1, &vao);
+    }
+  } cleanup{bufs, texs, vao};
+  glCreateBuffers(5, bufs);
+  glNamedBufferData(bufs[0], GLsizeiptr(verts.size() * sizeof(float)), verts.data(), GL_STATIC_DRAW);
+  glNamedBufferData(bufs[1], GLsizeiptr(nodes.size() * sizeof(int)), nodes.data(), GL_STATIC_DRAW);
+  glNamedBufferData(bufs[2], GLsizeiptr(index.size() * sizeof(GLuint)), index.data(), GL_STATIC_DRAW);
+  glNamedBufferData(bufs[3], GLsizeiptr(seg.size() * sizeof(float)), seg.data(), GL_STATIC_DRAW);
+  glNamedBufferData(bufs[4], GLsizeiptr(incidence.size() * sizeof(GLint)), incidence.data(), GL_STATIC_DRAW);
+  glCreateVertexArrays(1, &vao);
+  glVertexArrayVertexBuffer(vao, 0, bufs[0], 0, 6 * sizeof(float));
+  glVertexArrayVertexBuffer(vao, 1, bufs[1], 0, 2 * sizeof(int));
+  glVertexArrayElementBuffer(vao, bufs[2]);
+  for (GLuint a = 0; a < 2; ++a) {
+    glEnableVertexArrayAttrib(vao, a);
+    glVertexArrayAttribFormat(vao, a, 3, GL_FLOAT, GL_FALSE, a * 3 * sizeof(float));
+    glVertexArrayAttribBinding(vao, a, 0);
+  }
+  for (GLuint a = 2; a < 4; ++a) {
+    glEnableVertexArrayAttrib(vao, a);
+    glVertexArrayAttribIFormat(vao, a, 1, GL_INT, (a - 2) * sizeof(int));
+    glVertexArrayAttribBinding(vao, a, 1);
+  }
+  texs[0] = upload_texture(atlas, false, false);  // clamped: margins, not wrapping, make filtering right
+  glCreateTextures(GL_TEXTURE_BUFFER, 2, texs + 1);
+  glTextureBuffer(texs[1], GL_RGBA32F, bufs[3]);
+  glTextureBuffer(texs[2], GL_R32I, bufs[4]);
+  // The STM pass has a geometry stage: it chooses each triangle's segment (DESIGN 4.7).
+  const GLuint prog = gl.program("stm.vert.glsl", "stm.frag.glsl", "stm.geom.glsl");
+
+  Eigen::Matrix4d to_center = Eigen::Matrix4d::Identity();
+  to_center.block<3, 1>(0, 3) = o;
+  const Eigen::Matrix4f model_view = (cam.view * to_center).cast<float>(), projection = cam.projection.cast<float>();
+  glUseProgram(prog);
+  glUniformMatrix4fv(glGetUniformLocation(prog, "u_model_view"), 1, GL_FALSE, model_view.data());
+  glUniformMatrix4fv(glGetUniformLocation(prog, "u_projection"), 1, GL_FALSE, projection.data());
+  glUniform1i(glGetUniformLocation(prog, "u_atlas"), 0);
+  glUniform1i(glGetUniformLocation(prog, "u_segments"), 1);
+  glUniform1i(glGetUniformLocation(prog, "u_nodes"), 2);
+  glUniform1i(glGetUniformLocation(prog, "u_segment_count"), GLint(L.segments.size()));
+  glUniform1f(glGetUniformLocation(prog, "u_size"), float(L.size));
+  glUniform1i(glGetUniformLocation(prog, "u_flat"), opt.flat_shading ? 1 : 0);
+  glUniform1i(glGetUniformLocation(prog, "u_lit"), opt.unlit ? 0 : 1);
+  glUniform1i(glGetUniformLocation(prog, "u_orthographic"), opt.orthographic ? 1 : 0);
+  glUniform1f(glGetUniformLocation(prog, "u_ambient"), float(opt.ambient));
+  glBindTextureUnit(0, texs[0]);
+  glBindTextureUnit(1, texs[1]);
+  glBindTextureUnit(2, texs[2]);
+
+  auto draw = [&](Framebuffer& fb, int output) {
+    fb.bind();
+    glDisable(GL_BLEND);
+    glDisable(GL_CULL_FACE);
+    glDisable(GL_SCISSOR_TEST);
+    glEnable(GL_DEPTH_TEST);
+    glDepthFunc(GL_LESS);
+    glDepthMask(GL_TRUE);
+    glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+    if (fb.samples() > 1) glEnable(GL_MULTISAMPLE); else glDisable(GL_MULTISAMPLE);
+    const float transparent[4] = {0, 0, 0, 0};
+    fb.clear(transparent, transparent);
+    glUseProgram(prog);
+    glUniform1i(glGetUniformLocation(prog, "u_output"), output);
+    glBindVertexArray(vao);
+    glDrawElements(GL_TRIANGLES, GLsizei(index.size()), GL_UNSIGNED_INT, nullptr);
+    glBindVertexArray(0);
+    check_gl("render_stm");
+  };
+
+  Framebuffer fb(opt.width, opt.height, opt.samples);
+  draw(fb, 0);
+  Image img = fb.read_rgba8();
+  if (probe) {
+    Framebuffer pf(opt.width, opt.height, 1, true);
+    draw(pf, 1);
+    probe->coordinates = pf.read_float();
+    draw(pf, 2);
+    probe->positions = pf.read_float();
+    // Back to model coordinates, in double for the offset.
+    for (size_t i = 0, n = size_t(opt.width) * opt.height; i < n; ++i) {
+      float* p = &probe->positions.pixels[i * 4];
+      if (p[3] > 0)
+        for (int k = 0; k < 3; ++k) p[k] = float(double(p[k]) + o[k]);
+    }
+  }
+  glBindTextureUnit(0, 0);
+  glBindTextureUnit(1, 0);
+  glBindTextureUnit(2, 0);
+  glUseProgram(0);
+  glBindFramebuffer(GL_FRAMEBUFFER, 0);
+
+  composite_over_background(img, opt.background, mask);
+  return img;
+}
+
+}  // namespace sdm

@@ -1,0 +1,59 @@
+#pragma once
+// Laplacian contraction (Au et al. 2008, "Skeleton extraction by mesh contraction"; paper 3.1):
+// the surface is shrunk iteratively into a zero-volume shape whose connectivity is still the
+// input's, ready for connectivity surgery (extract_skeleton.h).
+#include "libstm/mesh/mesh.h"
+
+#include <Eigen/Dense>
+#include <functional>
+#include <string>
+#include <vector>
+
+namespace sdm {
+
+// Sparse Cholesky used by the contraction: the project's supernodal LL^T (supernodal_cholesky.h),
+// Eigen's simplicial LDL^T, or CHOLMOD's supernodal LL^T where the build found SuiteSparse
+// (sparse_solver_available tells).
+enum class SparseSolver { supernodal, eigen, cholmod };
+bool sparse_solver_available(SparseSolver s);
+
+struct ContractOptions {
+  SparseSolver solver = SparseSolver::supernodal;
+  // Weights of the Laplacian: cotangent weights of the current (contracted) shape, as Au et al.,
+  // clamped to [cot_min, cot_max] so that degenerating triangles neither blow up nor turn the
+  // Laplacian indefinite. They need well-shaped triangles to start from: on raw CAD meshes (long
+  // thin triangles) they diverge, which is why extract_skeleton contracts an isotropic proxy.
+  // Uniform (umbrella) weights are the fallback for meshes that cannot be remeshed.
+  bool cotangent = true;
+  double cot_min = 0.0, cot_max = 1e4;
+  // Initial Laplacian weight W_L0 = laplacian_weight * sqrt(total area / mean face area) =
+  // laplacian_weight / sqrt(mean face area) in coordinates of unit total area: Au et al.'s rule,
+  // independent of the model's unit (W_H0 = 1). Small, so that thin limbs contract into their axis
+  // and get pinned before the Laplacian is strong enough to pull them into the body.
+  double laplacian_weight = 0.1;
+  double laplacian_scale = 2.0;     // s_L: W_L is multiplied by it each iteration
+  double max_laplacian_growth = 2048;  // W_L stops growing at this multiple of W_L0
+  double area_ratio_stop = 1e-6;    // stop when the area falls below this fraction of the original
+  int max_iterations = 20;
+  // A vertex whose one-ring area fell below this fraction of its original is pinned.
+  double pin_area_ratio = 1e-8;
+};
+
+struct ContractResult {
+  Eigen::MatrixX3d positions;       // contracted positions, one row per vertex, in input units
+  int iterations = 0;
+  std::vector<double> area_ratio;   // total area / original area after each iteration
+  double factor_seconds = 0;        // time spent in the sparse Cholesky factorisations
+};
+
+using Progress = std::function<void(const std::string&)>;
+
+// Contracts a closed triangle mesh (V: n x 3, F: m x 3; every vertex in a face). Each iteration
+// solves the normal equations (L^T W_L^2 L + W_H^2) V' = W_H^2 V with L the Laplacian of the
+// current shape (cotangents clamped for degenerate triangles); the sparsity pattern never
+// changes, so the symbolic factorisation is done once. Deterministic; commutes with rigid motions.
+ContractResult contract_mesh(const Eigen::MatrixX3d& V, const Eigen::MatrixX3i& F, const ContractOptions& options = {},
+                             const Progress& progress = nullptr);
+ContractResult contract_mesh(const Mesh& mesh, const ContractOptions& options = {}, const Progress& progress = nullptr);
+
+}  // namespace sdm

@@ -1,0 +1,340 @@
+#include "libstm/skeleton/match_skeletons.h"
+
+#include "libstm/core/errors.h"
+
+#include <Eigen/SVD>
+#include <algorithm>
+#include <functional>
+#include <map>
+#include <numeric>
+#include <sstream>
+
+namespace sdm {
+namespace {
+
+std::vector<int> component_labels(const Skeleton& s) {
+  std::vector<int> label(s.nodes.size(), -1);
+  const auto adj = s.adjacency();
+  int c = 0;
+  for (size_t i = 0; i < s.nodes.size(); ++i) {
+    if (label[i] >= 0) continue;
+    std::vector<int> stack{int(i)};
+    label[i] = c;
+    while (!stack.empty()) {
+      int x = stack.back();
+      stack.pop_back();
+      for (int y : adj[x])
+        if (label[y] < 0) label[y] = c, stack.push_back(y);
+    }
+    ++c;
+  }
+  return label;
+}
+
+// Point at arc-length fraction f along a chain (reversed: from its end).
+Eigen::Vector3d chain_point(const Skeleton& s, const ReducedSkeleton::Chain& c, double f, bool reversed) {
+  if (reversed) f = 1 - f;
+  double total = 0;  // measured here: `s` may be a rescaled copy of the skeleton c was made from
+  for (size_t k = 0; k + 1 < c.nodes.size(); ++k) total += (s.nodes[c.nodes[k + 1]] - s.nodes[c.nodes[k]]).norm();
+  double target = f * total, run = 0;
+  for (size_t k = 0; k + 1 < c.nodes.size(); ++k) {
+    const Eigen::Vector3d p = s.nodes[c.nodes[k]], q = s.nodes[c.nodes[k + 1]];
+    const double l = (q - p).norm();
+    if (run + l >= target || k + 2 == c.nodes.size()) return l > 0 ? p + (q - p) * std::clamp((target - run) / l, 0.0, 1.0) : p;
+    run += l;
+  }
+  return s.nodes[c.nodes.front()];
+}
+
+// Positions centred on the node centroid and scaled to unit RMS radius: pose and size neutral.
+std::vector<Eigen::Vector3d> normalised_nodes(const Skeleton& s) {
+  Eigen::Vector3d c = Eigen::Vector3d::Zero();
+  for (const auto& p : s.nodes) c += p;
+  c /= double(std::max<size_t>(1, s.nodes.size()));
+  double r2 = 0;
+  for (const auto& p : s.nodes) r2 += (p - c).squaredNorm();
+  const double scale = r2 > 0 ? 1.0 / std::sqrt(r2 / double(s.nodes.size())) : 1.0;
+  std::vector<Eigen::Vector3d> out;
+  for (const auto& p : s.nodes) out.push_back((p - c) * scale);
+  return out;
+}
+
+// Best rotation (no reflection) taking points a onto points b, and the mean squared residual.
+double kabsch(const std::vector<Eigen::Vector3d>& a, const std::vector<Eigen::Vector3d>& b, Eigen::Matrix3d& R) {
+  Eigen::Matrix3d H = Eigen::Matrix3d::Zero();
+  for (size_t i = 0; i < a.size(); ++i) H += a[i] * b[i].transpose();
+  Eigen::JacobiSVD<Eigen::Matrix3d> svd(H, Eigen::ComputeFullU | Eigen::ComputeFullV);
+  Eigen::Matrix3d D = Eigen::Matrix3d::Identity();
+  if ((svd.matrixV() * svd.matrixU().transpose()).determinant() < 0) D(2, 2) = -1;
+  R = svd.matrixV() * D * svd.matrixU().transpose();
+  double e = 0;
+  for (size_t i = 0; i < a.size(); ++i) e += (R * a[i] - b[i]).squaredNorm();
+  return a.empty() ? 0.0 : e / double(a.size());
+}
+
+}  // namespace
+
+ReducedSkeleton reduce_skeleton(const Skeleton& s) {
+  ReducedSkeleton r;
+  const std::vector<int> deg = s.degrees();
+  std::vector<std::vector<std::pair<int, int>>> adj(s.nodes.size());  // (neighbour, edge)
+  for (size_t e = 0; e < s.edges.size(); ++e) {
+    adj[s.edges[e][0]].push_back({s.edges[e][1], int(e)});
+    adj[s.edges[e][1]].push_back({s.edges[e][0], int(e)});
+  }
+  std::vector<int> key_of(s.nodes.size(), -1);
+  for (size_t i = 0; i < s.nodes.size(); ++i)
+    if (deg[i] != 2) key_of[i] = 0;
+  // Pure cycles: no node of degree != 2; the node farthest from the component's centre is key.
+  const std::vector<int> label = component_labels(s);
+  const int ncomp = label.empty() ? 0 : *std::max_element(label.begin(), label.end()) + 1;
+  for (int c = 0; c < ncomp; ++c) {
+    bool has_key = false;
+    Eigen::Vector3d centre = Eigen::Vector3d::Zero();
+    int n = 0;
+    for (size_t i = 0; i < s.nodes.size(); ++i)
+      if (label[i] == c) has_key |= key_of[i] >= 0, centre += s.nodes[i], ++n;
+    if (has_key) continue;
+    centre /= n;
+    int best = -1;
+    for (size_t i = 0; i < s.nodes.size(); ++i) {
+      if (label[i] != c) continue;
+      if (best < 0) {
+        best = int(i);
+        continue;
+      }
+      const double di = (s.nodes[i] - centre).norm(), db = (s.nodes[best] - centre).norm();
+      const auto& p = s.nodes[i];
+      const auto& q = s.nodes[best];
+      if (di > db + 1e-12 || (std::abs(di - db) <= 1e-12 && std::tie(p.x(), p.y(), p.z()) > std::tie(q.x(), q.y(), q.z())))
+        best = int(i);
+    }
+    key_of[best] = 0;
+  }
+  for (size_t i = 0; i < s.nodes.size(); ++i)
+    if (key_of[i] >= 0) {
+      key_of[i] = int(r.keys.size());
+      r.keys.push_back(int(i));
+      r.key_degree.push_back(deg[i]);
+    }
+  std::vector<char> used(s.edges.size(), 0);
+  for (int k : r.keys) {
+    for (auto [first, first_edge] : adj[k]) {
+      if (used[first_edge]) continue;
+      ReducedSkeleton::Chain c;
+      c.from = key_of[k];
+      c.nodes.push_back(k);
+      int prev_edge = first_edge, cur = first;
+      for (;;) {
+        used[prev_edge] = 1;
+        c.edges.push_back(prev_edge);
+        c.length += (s.nodes[cur] - s.nodes[c.nodes.back()]).norm();
+        c.nodes.push_back(cur);
+        if (key_of[cur] >= 0) break;
+        const auto& nb = adj[cur];
+        const auto next = nb[0].second == prev_edge ? nb[1] : nb[0];
+        prev_edge = next.second;
+        cur = next.first;
+      }
+      c.to = key_of[cur];
+      r.chains.push_back(std::move(c));
+    }
+  }
+  return r;
+}
+
+std::string branching_difference(const Skeleton& a, const Skeleton& b) {
+  auto junctions = [](const Skeleton& s) {
+    std::vector<int> d;
+    for (int x : s.degrees())
+      if (x >= 3) d.push_back(x);
+    std::sort(d.rbegin(), d.rend());
+    return d;
+  };
+  auto list = [](const std::vector<int>& v) {
+    std::ostringstream o;
+    o << '[';
+    for (size_t i = 0; i < v.size(); ++i) o << (i ? ", " : "") << v[i];
+    o << ']';
+    return o.str();
+  };
+  std::vector<std::string> diffs;
+  if (a.components() != b.components())
+    diffs.push_back("connected parts " + std::to_string(a.components()) + " vs " + std::to_string(b.components()));
+  if (junctions(a) != junctions(b)) diffs.push_back("junction degrees " + list(junctions(a)) + " vs " + list(junctions(b)));
+  if (a.end_nodes() != b.end_nodes())
+    diffs.push_back("ends " + std::to_string(a.end_nodes()) + " vs " + std::to_string(b.end_nodes()));
+  if (a.cycles() != b.cycles()) diffs.push_back("cycles " + std::to_string(a.cycles()) + " vs " + std::to_string(b.cycles()));
+  std::string out;
+  for (const auto& d : diffs) out += (out.empty() ? "" : "; ") + d;
+  return out;
+}
+
+SkeletonMatch match_skeletons(const Skeleton& sa, const Skeleton& sb, const std::vector<std::pair<int, int>>& fixed) {
+  const std::string diff = branching_difference(sa, sb);
+  if (!diff.empty()) throw InputError("the skeletons' branchings differ (source vs target): " + diff);
+  SkeletonMatch m;
+  m.a = reduce_skeleton(sa);
+  m.b = reduce_skeleton(sb);
+  const int nk = int(m.a.keys.size());
+  if (nk != int(m.b.keys.size()) || m.a.chains.size() != m.b.chains.size())
+    throw InputError("the skeletons' branchings differ: " + std::to_string(nk) + " vs " + std::to_string(m.b.keys.size()) +
+                     " junctions and ends, " + std::to_string(m.a.chains.size()) + " vs " + std::to_string(m.b.chains.size()) +
+                     " chains");
+  // Chains between each pair of keys.
+  auto chains_between = [](const ReducedSkeleton& r) {
+    std::map<std::pair<int, int>, std::vector<int>> out;
+    for (size_t c = 0; c < r.chains.size(); ++c)
+      out[std::minmax(r.chains[c].from, r.chains[c].to)].push_back(int(c));
+    return out;
+  };
+  const auto between_a = chains_between(m.a), between_b = chains_between(m.b);
+  auto count = [](const std::map<std::pair<int, int>, std::vector<int>>& M, int i, int j) {
+    auto it = M.find(std::minmax(i, j));
+    return it == M.end() ? 0 : int(it->second.size());
+  };
+  // Fixed pairs, in key indices.
+  std::vector<int> forced(nk, -1);
+  for (auto [na, nb] : fixed) {
+    auto ka = std::find(m.a.keys.begin(), m.a.keys.end(), na), kb = std::find(m.b.keys.begin(), m.b.keys.end(), nb);
+    if (ka == m.a.keys.end() || kb == m.b.keys.end())
+      throw InputError("--match " + std::to_string(na) + "=" + std::to_string(nb) +
+                       ": both must be junction or end nodes of their skeletons");
+    forced[ka - m.a.keys.begin()] = int(kb - m.b.keys.begin());
+  }
+  // Assignment order: breadth first from the key of highest degree, so that neighbours are
+  // assigned early and the adjacency counts prune.
+  std::vector<int> order;
+  {
+    std::vector<char> seen(nk, 0);
+    std::vector<int> idx(nk);
+    std::iota(idx.begin(), idx.end(), 0);
+    std::stable_sort(idx.begin(), idx.end(), [&](int x, int y) { return m.a.key_degree[x] > m.a.key_degree[y]; });
+    for (int start : idx) {
+      if (seen[start]) continue;
+      std::vector<int> queue{start};
+      seen[start] = 1;
+      for (size_t q = 0; q < queue.size(); ++q) {
+        order.push_back(queue[q]);
+        for (const auto& c : m.a.chains) {
+          int other = c.from == queue[q] ? c.to : c.to == queue[q] ? c.from : -1;
+          if (other >= 0 && !seen[other]) seen[other] = 1, queue.push_back(other);
+        }
+      }
+    }
+  }
+  const std::vector<Eigen::Vector3d> pa = normalised_nodes(sa), pb = normalised_nodes(sb);
+  double total_a = 0, total_b = 0;
+  for (const auto& c : m.a.chains) total_a += c.length;
+  for (const auto& c : m.b.chains) total_b += c.length;
+  Skeleton na = sa, nb = sb;
+  na.nodes = pa;
+  nb.nodes = pb;
+
+  // Two-level cost: first the pose-invariant shape (residual after the best rotation, relative
+  // chain lengths), then, among candidates equal on that, the residual in the models' own pose:
+  // symmetric parts (four equal legs) fit equally well after any rotation, and only the pose
+  // tells which is which.
+  // One score, shape + pose: the pose-invariant shape (residual after the best rotation, relative
+  // chain lengths) plus the residual in the models' own pose. Shape alone cannot tell
+  // near-symmetric branches apart once the skeletons carry an extraction's noise (the ypsilon's
+  // three arms, left and right legs: their shape costs differ by the noise), and a bent limb
+  // raises the true match's shape cost above a relabelled one's (bent ypsilon: 0.16 against 0.04)
+  // while the pose tells them apart (0.16 against 1.08). The models are thus assumed in roughly
+  // the same orientation; --match pins branches otherwise.
+  double best = INFINITY, best_pose = INFINITY, best_total = INFINITY, second = INFINITY;
+  std::vector<int> map(nk, -1);
+  std::vector<char> taken(nk, 0);
+  const long limit = 2000000;
+
+  // Evaluates a complete key assignment: pairs chains (permuting parallel chains), aligns, scores.
+  auto evaluate = [&]() {
+    ++m.candidates;
+    std::vector<std::pair<int, bool>> chain_map(m.a.chains.size(), {-1, false});
+    for (const auto& [key, list_a] : between_a) {
+      const auto& list_b = between_b.at(std::minmax(map[key.first], map[key.second]));
+      std::vector<int> perm(list_b.begin(), list_b.end());
+      double best_perm = INFINITY;
+      std::vector<int> best_p;
+      std::sort(perm.begin(), perm.end());
+      do {
+        double e = 0;
+        for (size_t k = 0; k < list_a.size(); ++k) {
+          const double d = m.a.chains[list_a[k]].length / total_a - m.b.chains[perm[k]].length / total_b;
+          e += d * d;
+        }
+        if (e < best_perm) best_perm = e, best_p = perm;
+      } while (std::next_permutation(perm.begin(), perm.end()));
+      for (size_t k = 0; k < list_a.size(); ++k) {
+        const auto& ca = m.a.chains[list_a[k]];
+        const auto& cb = m.b.chains[best_p[k]];
+        bool reversed = !(map[ca.from] == cb.from && map[ca.to] == cb.to);
+        if (ca.from == ca.to) {  // a loop: its direction is chosen by geometry
+          const Eigen::Vector3d p = chain_point(na, ca, 0.25, false);
+          reversed = (chain_point(nb, cb, 0.25, true) - p).norm() < (chain_point(nb, cb, 0.25, false) - p).norm();
+        }
+        chain_map[list_a[k]] = {best_p[k], reversed};
+      }
+    }
+    std::vector<Eigen::Vector3d> A, B;
+    double length_term = 0;
+    for (size_t c = 0; c < chain_map.size(); ++c) {
+      const auto& ca = m.a.chains[c];
+      const auto& cb = m.b.chains[chain_map[c].first];
+      for (double f : {0.0, 0.25, 0.5, 0.75, 1.0}) {
+        A.push_back(chain_point(na, ca, f, false));
+        B.push_back(chain_point(nb, cb, f, chain_map[c].second));
+      }
+      const double d = ca.length / total_a - cb.length / total_b;
+      length_term += d * d;
+    }
+    Eigen::Matrix3d R;
+    const double shape = kabsch(A, B, R) + length_term;
+    double pose = 0;
+    for (size_t i = 0; i < A.size(); ++i) pose += (A[i] - B[i]).squaredNorm();
+    pose /= double(std::max<size_t>(1, A.size()));
+    const double total = shape + pose;
+    const bool better = total < best_total - 1e-12 || (total <= best_total + 1e-12 && shape < best);
+    if (better) {
+      if (std::isfinite(best)) second = std::min(second, best + best_pose);
+      best_total = total;
+      best = shape;
+      best_pose = pose;
+      m.key_a_to_b = map;
+      m.chain_a_to_b = chain_map;
+      m.rotation = R;
+      m.cost = shape;
+    } else {
+      second = std::min(second, total);
+    }
+  };
+
+  std::function<void(size_t)> assign = [&](size_t depth) {
+    if (m.candidates >= limit) return;
+    if (depth == order.size()) return evaluate();
+    const int i = order[depth];
+    for (int c = 0; c < nk; ++c) {
+      if (taken[c] || m.b.key_degree[c] != m.a.key_degree[i]) continue;
+      if (forced[i] >= 0 && forced[i] != c) continue;
+      bool ok = count(between_a, i, i) == count(between_b, c, c);
+      for (size_t d = 0; d < depth && ok; ++d) {
+        const int k = order[d];
+        ok = count(between_a, i, k) == count(between_b, c, map[k]);
+      }
+      if (!ok) continue;
+      map[i] = c;
+      taken[c] = 1;
+      assign(depth + 1);
+      taken[c] = 0;
+      map[i] = -1;
+    }
+  };
+  assign(0);
+  if (m.key_a_to_b.empty())
+    throw InputError(fixed.empty() ? "the skeletons have the same junction degrees but are connected differently"
+                                   : "no match of the skeletons satisfies the --match pairs");
+  m.confidence = std::isfinite(second) && second > 0 ? std::clamp(1.0 - best_total / second, 0.0, 1.0) : 1.0;
+  return m;
+}
+
+}  // namespace sdm

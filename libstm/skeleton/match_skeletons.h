@@ -1,0 +1,49 @@
+#pragma once
+// Branch matching between two skeletons with the same branching (paper 1 and 5, DESIGN 4.9):
+// each skeleton is reduced to its key nodes (junctions and ends) and the chains of degree-2 nodes
+// between them; the reduced graphs are matched by an isomorphism whose symmetric ties are broken
+// by geometry (positions after the best rigid alignment, relative chain lengths).
+#include "libstm/skeleton/skeleton.h"
+
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace sdm {
+
+struct ReducedSkeleton {
+  struct Chain {
+    int from = -1, to = -1;   // key node indices (into `keys`); equal for a loop
+    std::vector<int> nodes;   // skeleton nodes from `from` to `to`, ends included
+    std::vector<int> edges;   // skeleton edges along it, in order
+    double length = 0;
+  };
+  std::vector<int> keys;      // skeleton nodes of degree != 2 (one chosen node per pure cycle)
+  std::vector<Chain> chains;
+  std::vector<int> key_degree;
+};
+
+// Deterministic for a given skeleton; a component that is a pure cycle gets one key node, the
+// node farthest from the component's centre (ties by coordinates), so the choice follows geometry.
+ReducedSkeleton reduce_skeleton(const Skeleton& skeleton);
+
+// What differs between two branchings, in words ("junction degrees 3 vs 4; ends 3 vs 4"), or
+// empty when they can match.
+std::string branching_difference(const Skeleton& a, const Skeleton& b);
+
+struct SkeletonMatch {
+  ReducedSkeleton a, b;
+  std::vector<int> key_a_to_b;                   // key of a -> key of b
+  std::vector<std::pair<int, bool>> chain_a_to_b;  // chain of a -> (chain of b, reversed)
+  Eigen::Matrix3d rotation = Eigen::Matrix3d::Identity();  // best rigid alignment of a onto b
+  double cost = 0;        // pose-invariant shape cost of the chosen match (0 for congruent skeletons)
+  double confidence = 1;  // 1 - (shape + pose cost) / the next candidate's; 1 when the match is unique
+  long candidates = 0;                           // isomorphisms examined
+};
+
+// `fixed`: pairs (skeleton node of a, skeleton node of b) that must match (key nodes only).
+// Throws InputError naming the difference when the branchings differ, or when a fixed pair is
+// not a pair of key nodes or cannot be satisfied.
+SkeletonMatch match_skeletons(const Skeleton& a, const Skeleton& b, const std::vector<std::pair<int, int>>& fixed = {});
+
+}  // namespace sdm

@@ -1,0 +1,109 @@
+#include "libstm/skeleton/skeleton.h"
+
+#include "libstm/core/atomic_file.h"
+#include "libstm/core/errors.h"
+
+#include <numeric>
+#include <sstream>
+
+namespace sdm {
+
+std::vector<std::vector<int>> Skeleton::adjacency() const {
+  std::vector<std::vector<int>> adj(nodes.size());
+  for (const auto& e : edges) {
+    adj[e[0]].push_back(e[1]);
+    adj[e[1]].push_back(e[0]);
+  }
+  return adj;
+}
+
+std::vector<int> Skeleton::degrees() const {
+  std::vector<int> d(nodes.size(), 0);
+  for (const auto& e : edges) d[e[0]]++, d[e[1]]++;
+  return d;
+}
+
+int Skeleton::components() const {
+  std::vector<int> p(nodes.size());
+  std::iota(p.begin(), p.end(), 0);
+  auto find = [&](int x) {
+    while (p[x] != x) x = p[x] = p[p[x]];
+    return x;
+  };
+  for (const auto& e : edges) p[find(e[0])] = find(e[1]);
+  int c = 0;
+  for (size_t i = 0; i < nodes.size(); ++i)
+    if (find(int(i)) == int(i)) ++c;
+  return c;
+}
+
+int Skeleton::cycles() const { return int(edges.size()) - int(nodes.size()) + components(); }
+
+int Skeleton::branch_nodes() const {
+  int n = 0;
+  for (int d : degrees()) n += d >= 3;
+  return n;
+}
+
+int Skeleton::end_nodes() const {
+  int n = 0;
+  for (int d : degrees()) n += d == 1;
+  return n;
+}
+
+nlohmann::json skeleton_to_json(const Skeleton& s) {
+  nlohmann::json j;
+  j["format"] = "sdm-skeleton";
+  j["version"] = 1;
+  j["nodes"] = nlohmann::json::array();
+  for (const auto& n : s.nodes) j["nodes"].push_back({n.x(), n.y(), n.z()});
+  j["edges"] = nlohmann::json::array();
+  for (const auto& e : s.edges) j["edges"].push_back({e[0], e[1]});
+  j["vertex_node"] = s.vertex_node;
+  return j;
+}
+
+Skeleton skeleton_from_json(const nlohmann::json& j) {
+  Skeleton s;
+  try {
+    if (j.contains("skeleton")) return skeleton_from_json(j.at("skeleton"));  // a layout holds one
+    for (const auto& n : j.at("nodes")) s.nodes.emplace_back(n.at(0).get<double>(), n.at(1).get<double>(), n.at(2).get<double>());
+    for (const auto& e : j.at("edges")) s.edges.push_back({e.at(0).get<int>(), e.at(1).get<int>()});
+    s.vertex_node = j.at("vertex_node").get<std::vector<int>>();
+  } catch (const nlohmann::json::exception& e) {
+    throw InputError(std::string("not a valid skeleton: ") + e.what());
+  }
+  const int n = int(s.nodes.size());
+  for (size_t i = 0; i < s.edges.size(); ++i)
+    for (int k : s.edges[i])
+      if (k < 0 || k >= n)
+        throw InputError("not a valid skeleton: edge " + std::to_string(i) + " names node " + std::to_string(k) + " of " +
+                         std::to_string(n));
+  for (size_t i = 0; i < s.vertex_node.size(); ++i)
+    if (s.vertex_node[i] < 0 || s.vertex_node[i] >= n)
+      throw InputError("not a valid skeleton: vertex " + std::to_string(i) + " maps to node " +
+                       std::to_string(s.vertex_node[i]) + " of " + std::to_string(n));
+  return s;
+}
+
+void write_skeleton_json(const Skeleton& s, const std::string& path) {
+  write_text_file(path, skeleton_to_json(s).dump() + "\n");
+}
+
+Skeleton read_skeleton_json(const std::string& path) {
+  const std::string text = read_text_file(path);
+  nlohmann::json j = nlohmann::json::parse(text, nullptr, false);
+  if (j.is_discarded()) throw InputError("cannot read skeleton " + path + ": not JSON");
+  return skeleton_from_json(j);
+}
+
+void write_skeleton_obj(const Skeleton& s, const std::string& path) {
+  std::ostringstream o;
+  o.precision(17);
+  o << "# sdm skeleton: " << s.nodes.size() << " nodes, " << s.edges.size() << " edges\n";
+  for (const auto& n : s.nodes) o << "v " << n.x() << ' ' << n.y() << ' ' << n.z() << '\n';
+  for (const auto& e : s.edges) o << "l " << e[0] + 1 << ' ' << e[1] + 1 << '\n';
+  write_text_file(path, o.str());
+}
+
+}  // namespace sdm

@@ -1,0 +1,36 @@
+#pragma once
+// A curve skeleton: nodes, edges, and for every vertex of the mesh it came from, the node that
+// vertex collapsed into (the paper's one-to-many map between skeleton and surface).
+#include <Eigen/Dense>
+#include <array>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+namespace sdm {
+
+struct Skeleton {
+  std::vector<Eigen::Vector3d> nodes;
+  std::vector<std::array<int, 2>> edges;
+  std::vector<int> vertex_node;  // size = mesh vertices; every node owns at least one vertex
+
+  std::vector<std::vector<int>> adjacency() const;  // node -> neighbouring nodes
+  std::vector<int> degrees() const;
+  int components() const;          // connected parts of the graph
+  int cycles() const;              // independent cycles: edges - nodes + components
+  int branch_nodes() const;        // degree >= 3
+  int end_nodes() const;           // degree == 1
+};
+
+// JSON form: {"format": "sdm-skeleton", "version": 1, "nodes": [[x,y,z]...], "edges": [[a,b]...],
+// "vertex_node": [...]}. Doubles are written with round-trip precision.
+nlohmann::json skeleton_to_json(const Skeleton& s);
+// Throws InputError naming the problem when the JSON is not a valid skeleton.
+Skeleton skeleton_from_json(const nlohmann::json& j);
+
+void write_skeleton_json(const Skeleton& s, const std::string& path);
+Skeleton read_skeleton_json(const std::string& path);
+// OBJ polyline (`v` and `l` lines) so that any viewer shows the skeleton.
+void write_skeleton_obj(const Skeleton& s, const std::string& path);
+
+}  // namespace sdm
