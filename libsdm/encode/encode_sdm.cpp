@@ -2,6 +2,7 @@
 
 #include "libsdm/encode/base_mesh.h"
 #include "libstm/geometry/capsule_ray.h"
+#include "libstm/geometry/differential_geometry.h"
 #include "libstm/layout/segments.h"
 #include "libstm/geometry/triangle_bvh.h"
 
@@ -17,17 +18,6 @@ size_t pixel(const SdmImage& im, int ix, int iy) { return size_t(im.height - 1 -
 void extent(const LayoutSegment& s, int& ex, int& ey) {
   ex = s.rotated ? s.h : s.w;
   ey = s.rotated ? s.w : s.h;
-}
-
-// Barycentric coordinates of p (on or near triangle a, b, c) with respect to its corners.
-Eigen::Vector3d barycentric(const Eigen::Vector3d& p, const Eigen::Vector3d& a, const Eigen::Vector3d& b,
-                            const Eigen::Vector3d& c) {
-  const Eigen::Vector3d e1 = b - a, e2 = c - a, w = p - a;
-  const double d11 = e1.dot(e1), d12 = e1.dot(e2), d22 = e2.dot(e2), w1 = w.dot(e1), w2 = w.dot(e2);
-  const double det = d11 * d22 - d12 * d12;
-  if (!(std::abs(det) > 1e-30)) return {1.0 / 3, 1.0 / 3, 1.0 / 3};
-  const double v = (d22 * w1 - d12 * w2) / det, u2 = (d11 * w2 - d12 * w1) / det;
-  return {1 - v - u2, v, u2};
 }
 
 }  // namespace

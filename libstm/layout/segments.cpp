@@ -8,14 +8,6 @@
 
 namespace sdm {
 
-double distance_to_segment(const Eigen::Vector3d& p, const Eigen::Vector3d& a, const Eigen::Vector3d& b, double* t) {
-  const Eigen::Vector3d ab = b - a;
-  const double l2 = ab.squaredNorm();
-  const double tt = l2 > 0 ? (p - a).dot(ab) / l2 : 0.0;
-  if (t) *t = tt;
-  const double c = std::clamp(tt, 0.0, 1.0);
-  return (p - (a + c * ab)).norm();
-}
 
 namespace {
 

@@ -1,6 +1,7 @@
 #pragma once
 // Segments of a skeleton (DESIGN 4.3): segment i is skeleton edge i, a -> b, with its capsule.
 // Every face of the mesh belongs to exactly one segment.
+#include "libstm/geometry/differential_geometry.h"
 #include "libstm/mesh/mesh.h"
 #include "libstm/skeleton/skeleton.h"
 
@@ -38,9 +39,5 @@ struct SegmentGeometry {
 // its neighbours' mean (or a tenth of its length when isolated), so that it still has a rectangle.
 std::vector<SegmentGeometry> segment_geometry(const Mesh& mesh, const Skeleton& skeleton,
                                               const std::vector<int>& face_segment);
-
-// Distance of p to the segment [a, b]; t receives the unclamped axial parameter.
-double distance_to_segment(const Eigen::Vector3d& p, const Eigen::Vector3d& a, const Eigen::Vector3d& b,
-                           double* t = nullptr);
 
 }  // namespace sdm

@@ -1,0 +1,21 @@
+#pragma once
+// Geometric measures of a Mesh (the mesh-free formulas are in geometry/differential_geometry.h).
+#include "libstm/geometry/differential_geometry.h"
+#include "libstm/mesh/mesh.h"
+
+#include <vector>
+
+namespace sdm {
+
+/// Area of face f.
+inline double face_area(const Mesh& m, Mesh::FaceHandle f) {
+  auto h = m.halfedge_handle(f);
+  const Eigen::Vector3d a = point(m, m.from_vertex_handle(h)), b = point(m, m.to_vertex_handle(h)),
+                        c = point(m, m.to_vertex_handle(m.next_halfedge_handle(h)));
+  return triangle_area(a, b, c);
+}
+
+/// Per vertex, a third of the area of its faces (the barycentric dual area), times `factor`.
+std::vector<double> vertex_areas(const Mesh& mesh, double factor = 1.0);
+
+}  // namespace sdm
