@@ -10,6 +10,7 @@
 // for texels between and around them): D is the crossing nearest the point of that flat base face,
 // or, when no crossing is within half the face's longest edge (a ray grazing a saddle), that
 // point's foot on the ray. Near junctions the first crossing is often another sheet of the surface.
+#include "libstm/core/progress.h"
 #include "libsdm/map/sdm_exr.h"
 #include "libstm/layout/layout.h"
 
@@ -19,7 +20,7 @@ namespace sdm {
 
 struct EncodeOptions {
   int base_vertices = 0;  // size of the base mesh (0: chosen from the mesh)
-  std::function<void(const std::string&)> progress;
+  Progress progress;
 };
 
 struct EncodeStats {

@@ -2,6 +2,7 @@
 // The skeleton texture map layout (the STM, DESIGN 3 and 4.3-4.7): one capsule and one atlas
 // rectangle per skeleton segment. A layout file alone (it holds the skeleton) defines the STM
 // coordinates of every point of the mesh it was made for.
+#include "libstm/core/progress.h"
 #include "libstm/geometry/capsule_uv.h"
 #include "libstm/mesh/mesh.h"
 #include "libstm/skeleton/skeleton.h"
@@ -51,7 +52,7 @@ struct LayoutOptions {
   // Rectangles grow into leftover space up to this ratio between their two growth factors
   // (pack_rectangles.h); 1 keeps the uniform texel density exactly.
   double max_anisotropy = 1.25;
-  std::function<void(const std::string&)> progress;
+  Progress progress;
 };
 
 // Long edges cut (options.split_ratio; the layout keeps the cut skeleton), then segments, face

@@ -12,6 +12,7 @@
 //  - Texels no triangle covers (margins past the poles, unused atlas area) are filled by
 //    push-pull from their covered neighbours, so bilinear filtering and mip-mapping never pull
 //    in black.
+#include "libstm/core/progress.h"
 #include "libstm/render/gl_context.h"
 #include "libstm/core/image.h"
 #include "libstm/layout/layout.h"
@@ -26,7 +27,7 @@ namespace sdm {
 
 struct AtlasOptions {
   bool fill = true;  // push-pull fill of uncovered texels (off: they stay transparent black)
-  std::function<void(const std::string&)> progress;
+  Progress progress;
 };
 
 // Remaps `source_texture` (sampled trilinearly at the mesh's per-halfedge uv, uv (0,0) = the

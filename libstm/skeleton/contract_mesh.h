@@ -2,6 +2,7 @@
 // Laplacian contraction (Au et al. 2008, "Skeleton extraction by mesh contraction"; paper 3.1):
 // the surface is shrunk iteratively into a zero-volume shape whose connectivity is still the
 // input's, ready for connectivity surgery (extract_skeleton.h).
+#include "libstm/core/progress.h"
 #include "libstm/mesh/mesh.h"
 
 #include <Eigen/Dense>
@@ -45,8 +46,6 @@ struct ContractResult {
   std::vector<double> area_ratio;   // total area / original area after each iteration
   double factor_seconds = 0;        // time spent in the sparse Cholesky factorisations
 };
-
-using Progress = std::function<void(const std::string&)>;
 
 // Contracts a closed triangle mesh (V: n x 3, F: m x 3; every vertex in a face). Each iteration
 // solves the normal equations (L^T W_L^2 L + W_H^2) V' = W_H^2 V with L the Laplacian of the

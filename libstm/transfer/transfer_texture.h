@@ -4,6 +4,7 @@
 // segments so both skeletons share one graph, the source's layout (its STM) is reused for the
 // target with the target's own capsules and frames carried from the source's, and the source's
 // texture, remapped into its STM atlas, textures the target through the target's STM coordinates.
+#include "libstm/core/progress.h"
 #include "libstm/skeleton/extract_skeleton.h"
 #include "libstm/registration/fit_skeleton.h"
 #include "libstm/render/gl_context.h"
@@ -94,7 +95,7 @@ struct TransferOptions {
   // legs, a bent arm 0.18-0.23 % RMS and 0.8-1.0 %; crossed cylinders bent onto a ypsilon 0.74 %
   // and 2.4 %. Both meshes must have the same Euler characteristic (genus) for either.
   double fit_rms = 0.004, fit_p99 = 0.016, fit_spread = 0.5;
-  std::function<void(const std::string&)> progress;
+  Progress progress;
 };
 
 struct TextureTransfer {
