@@ -1,7 +1,7 @@
 #include "libstm/skeleton/contract_mesh.h"
 #include "libstm/skeleton/extract_skeleton.h"
 #include "libstm/layout/segments.h"
-#include "libstm/geometry/inside_mesh.h"
+#include "libstm/mesh/inside_mesh.h"
 #include "libstm/mesh/mesh.h"
 #include "libstm/mesh/primitives.h"
 #include "libstm/skeleton/skeleton.h"

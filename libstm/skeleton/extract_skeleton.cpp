@@ -1,6 +1,6 @@
 #include "libstm/skeleton/extract_skeleton.h"
 
-#include "libstm/geometry/inside_mesh.h"
+#include "libstm/mesh/inside_mesh.h"
 #include "libstm/mesh/isotropic_remesh.h"
 #include "libstm/skeleton/medial_poles.h"
 #include "libstm/geometry/triangle_bvh.h"

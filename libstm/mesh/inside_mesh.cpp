@@ -1,4 +1,4 @@
-#include "libstm/geometry/inside_mesh.h"
+#include "libstm/mesh/inside_mesh.h"
 
 #include <algorithm>
 #include <array>
