@@ -1,13 +1,13 @@
+#include "apps/cli_common.h"
 #include "apps/commands.h"
 #include "libstm/core/errors.h"
-#include "libstm/skeleton/extract_skeleton.h"
 #include "libstm/render/gl_context.h"
 #include "libstm/core/image.h"
+#include "libstm/core/stopwatch.h"
 #include "libstm/layout/layout.h"
 #include "libstm/mesh/mesh.h"
 #include "libstm/render/render_atlas.h"
 
-#include <chrono>
 #include <filesystem>
 #include <memory>
 
@@ -39,8 +39,6 @@ Command add_remap_command(CLI::App& parent) {
       ->capture_default_str();
   app->add_flag("--json", o->json, "Print one JSON object instead of text");
   return {app, [o]() {
-            using clock = std::chrono::steady_clock;
-            auto seconds = [](clock::time_point a) { return std::chrono::duration<double>(clock::now() - a).count(); };
             std::string material;
             const sdm::Mesh mesh = sdm::load_mesh(o->mesh, &material);
             const std::string texture_path = o->texture.empty() ? material : o->texture;
@@ -49,52 +47,42 @@ Command add_remap_command(CLI::App& parent) {
             if (!mesh.has_halfedge_texcoords2D())
               throw sdm::InputError("'" + o->mesh + "' has no texture coordinates, so its texture cannot be remapped");
             const sdm::Image source = sdm::read_png(texture_path);
-            sdm::Layout layout;
-            double t_skeleton = 0, t_layout = 0;
-            std::string layout_path = o->layout;
-            if (!o->layout.empty()) {
-              layout = sdm::read_layout_json(o->layout);
-            } else {
-              auto t0 = clock::now();
-              const sdm::Skeleton sk = sdm::extract_skeleton(mesh, {}, progress);
-              t_skeleton = seconds(t0);
-              t0 = clock::now();
-              sdm::LayoutOptions lo;
-              lo.size = o->size;
-              lo.margin = o->margin;
-              lo.progress = progress;
-              layout = sdm::compute_layout(mesh, sk, lo);
-              t_layout = seconds(t0);
-              layout_path = (std::filesystem::path(o->output).replace_extension(".json")).string();
-            }
-            auto t0 = clock::now();
+            LayoutSource from;
+            from.layout_file = o->layout;
+            from.options.size = o->size;
+            from.options.margin = o->margin;
+            const LayoutForMesh got = layout_for(mesh, from);
+            const sdm::Layout& layout = got.layout;
+            const std::string layout_path =
+                got.computed ? std::filesystem::path(o->output).replace_extension(".json").string() : o->layout;
+            const sdm::Stopwatch clock;
             sdm::GlContext gl;
             progress("GL renderer: " + gl.renderer() + " (" + gl.version() + ", " + gl.platform() + ")");
             sdm::AtlasOptions ao;
             ao.progress = progress;
             std::vector<uint8_t> covered;
             const sdm::Image atlas = sdm::render_atlas(gl, mesh, layout, source, ao, &covered);
-            const double t_atlas = seconds(t0);
+            const double t_atlas = clock.seconds();
             sdm::write_png(atlas, o->output);
-            if (o->layout.empty()) sdm::write_layout_json(layout, layout_path);
+            if (got.computed) sdm::write_layout_json(layout, layout_path);
             size_t n = 0;
             for (uint8_t c : covered) n += c ? 1 : 0;
             const double covered_fraction = double(n) / double(covered.size());
             if (o->json) {
               print_json({{"atlas", o->output},
                           {"layout", layout_path},
-                          {"layout_written", o->layout.empty()},
+                          {"layout_written", got.computed},
                           {"texture", texture_path},
                           {"size", layout.size},
                           {"segments", layout.segments.size()},
                           {"covered_texels", covered_fraction},
                           {"coverage", layout.coverage},
-                          {"seconds", {{"skeleton", t_skeleton}, {"layout", t_layout}, {"atlas", t_atlas}}},
+                          {"seconds", {{"skeleton", got.skeleton_seconds}, {"layout", got.layout_seconds}, {"atlas", t_atlas}}},
                           {"renderer", gl.renderer()}});
             } else {
               std::cout << o->output << ": " << layout.size << "^2 atlas, " << layout.segments.size() << " segments, "
                         << int(100 * covered_fraction + 0.5) << " % of texels drawn from the surface\n"
-                        << "  layout " << layout_path << (o->layout.empty() ? " (written)" : " (given)") << "\n"
+                        << "  layout " << layout_path << (got.computed ? " (written)" : " (given)") << "\n"
                         << "  texture " << texture_path << "\n";
             }
             return 0;

@@ -16,25 +16,17 @@
 #include <memory>
 
 namespace sdm::cli {
+namespace {
 
-Command add_render_command(CLI::App& parent) {
-  struct Opts {
-    std::string mesh, output, texture, skeleton, stm, layout;
-    bool checker = false;
-    int width = 800, height = 800, views = 1;
-    double azimuth = 30, elevation = 20;
-    bool unlit = false, orthographic = false, flat = false, no_texture = false, json = false, compare_uv = false;
-  };
-  auto o = std::make_shared<Opts>();
-  auto* app = parent.add_subcommand(
-      "render", "Render a mesh to a PNG image, offscreen (headless OpenGL through EGL).\n"
-                "The camera frames the mesh's bounding box from the given azimuth and elevation; a mesh with uv\n"
-                "is drawn with its texture (the map_Kd of its MTL, or --texture). Open meshes are drawn too.\n"
-                "With --stm ATLAS.png --layout LAYOUT.json the mesh is drawn from its skeleton texture map, with\n"
-                "STM coordinates computed in the shaders from positions and the layout only (any uv is ignored);\n"
-                "--compare-uv then also draws it with its own uv and texture, writes both side by side (own uv\n"
-                "left, STM right) and prints the PSNR between them over the object's pixels.\n"
-                "--views N draws a turntable (N azimuths, 360/N degrees apart) as one contact sheet.");
+struct RenderArgs {
+  std::string mesh, output, texture, skeleton, stm, layout;
+  bool checker = false;
+  int width = 800, height = 800, views = 1;
+  double azimuth = 30, elevation = 20;
+  bool unlit = false, orthographic = false, flat = false, no_texture = false, json = false, compare_uv = false;
+};
+
+void declare_render_options(CLI::App* app, RenderArgs* o) {
   app->add_option("mesh", o->mesh, "Input mesh (.obj, .off, .ply, .stl)")->required();
   app->add_option("-o,--output", o->output, "Output image (.png)")->required();
   app->add_option("--width", o->width, "Image width in pixels")->capture_default_str()->check(CLI::Range(1, 16384));
@@ -60,115 +52,167 @@ Command add_render_command(CLI::App& parent) {
       ->check(CLI::Range(1, 64))
       ->capture_default_str();
   app->add_flag("--json", o->json, "Print one JSON object describing the render");
-  return {app, [o]() {
-            // A picture is useful for any mesh, so unlike the pipeline commands, render also draws open
-            // meshes (lighting is two-sided); only input the halfedge structure cannot hold is refused.
-            sdm::MeshSoup soup = sdm::read_mesh_soup(o->mesh);
-            sdm::MeshReport report = sdm::validate_mesh(soup);
-            if (report.usable()) sdm::orient_outward(soup, report);
-            sdm::Mesh mesh;
-            try {
-              mesh = sdm::build_mesh(soup);
-            } catch (const sdm::InputError&) {
-              throw sdm::InputError(report.refusal(o->mesh));
-            }
-            const std::string material_texture = soup.texture;
-            std::string texture_path = o->texture.empty() ? material_texture : o->texture;
-            if (o->no_texture) texture_path.clear();
-            // Drawn from the STM, the mesh's own uv and texture only serve the --compare-uv picture.
-            if ((!o->stm.empty() || o->checker) && !o->compare_uv) texture_path.clear();
-            sdm::Image texture;
-            if (!texture_path.empty()) {
-              if (!mesh.has_halfedge_texcoords2D())
-                throw sdm::InputError("'" + o->mesh + "' has no texture coordinates, so texture '" + texture_path +
-                                      "' cannot be applied");
-              texture = sdm::read_png(texture_path);
-            }
-            if (!o->stm.empty() && o->layout.empty()) throw sdm::InputError("--stm needs the atlas's --layout LAYOUT.json");
-            if (o->checker && (o->layout.empty() || !o->stm.empty()))
-              throw sdm::InputError("--checker needs --layout LAYOUT.json and no --stm");
-            if (o->stm.empty() && !o->checker && (!o->layout.empty() || o->compare_uv))
-              throw sdm::InputError("--layout and --compare-uv go with --stm ATLAS.png (or --layout with --checker)");
-            if (o->compare_uv && texture_path.empty())
-              throw sdm::InputError("--compare-uv needs the mesh's own texture: '" + o->mesh + "' names none (pass --texture)");
-            if (!o->stm.empty() && !o->skeleton.empty()) throw sdm::InputError("--skeleton cannot be combined with --stm");
-            sdm::Layout layout;
-            sdm::Image atlas;
-            if (!o->stm.empty()) {
-              layout = sdm::read_layout_json(o->layout);
-              atlas = sdm::read_png(o->stm);
-            } else if (o->checker) {
-              layout = sdm::read_layout_json(o->layout);
-              atlas = sdm::checker_atlas(layout, std::max(4, layout.size / 64));
-            }
-            const bool from_stm = !o->stm.empty() || o->checker;
-            sdm::GlContext gl;
-            progress("GL renderer: " + gl.renderer() + " (" + gl.version() + ", " + gl.platform() + ")");
-            sdm::RenderOptions ro;
-            ro.width = o->width;
-            ro.height = o->height;
-            ro.elevation_deg = o->elevation;
-            ro.unlit = o->unlit;
-            ro.orthographic = o->orthographic;
-            ro.flat_shading = o->flat;
-            if (!texture_path.empty()) ro.texture = &texture;
-            std::vector<sdm::Image> cells;
-            std::vector<double> psnrs;
-            size_t covered = 0;
-            for (int view = 0; view < o->views; ++view) {
-              ro.azimuth_deg = o->azimuth + 360.0 * view / o->views;
-              std::vector<uint8_t> mask;
-              sdm::Image img;
-              if (from_stm) {
-                img = sdm::render_stm(gl, mesh, layout, atlas, ro, &mask);
-                if (o->compare_uv) {
-                  std::vector<uint8_t> uv_mask;
-                  const sdm::Image uv_img = sdm::render_mesh(gl, mesh, ro, &uv_mask);
-                  const double p = sdm::psnr(uv_img, img, &(mask = sdm::mask_union(mask, uv_mask)));
-                  psnrs.push_back(p);
-                  progress("view " + std::to_string(view) + " (azimuth " + std::to_string(ro.azimuth_deg) + "): PSNR " +
-                           std::to_string(p) + " dB");
-                  img = sdm::side_by_side({uv_img, img});
-                }
-              } else if (!o->skeleton.empty()) {
-                const sdm::Skeleton sk = sdm::read_skeleton_json(o->skeleton);
-                img = sdm::render_with_skeleton(gl, mesh, sk, ro);
-                sdm::render_mesh(gl, mesh, ro, &mask);
-              } else {
-                img = sdm::render_mesh(gl, mesh, ro, &mask);
-              }
-              for (uint8_t m : mask) covered += m ? 1 : 0;
-              cells.push_back(std::move(img));
-            }
-            int columns = 1;
-            while (columns * columns < o->views) ++columns;
-            if (o->compare_uv) columns = std::max(1, (columns + 1) / 2);  // each cell is a pair
-            const sdm::Image img = cells.size() == 1 ? cells[0] : sdm::contact_sheet(cells, columns);
-            sdm::write_png(img, o->output);
-            double min_psnr = std::numeric_limits<double>::infinity(), mean_psnr = 0;
-            for (double p : psnrs) min_psnr = std::min(min_psnr, p), mean_psnr += p / psnrs.size();
-            if (o->json) {
-              nlohmann::json j = {{"output", o->output},
-                                  {"width", img.width},
-                                  {"height", img.height},
-                                  {"views", o->views},
-                                  {"texture", o->stm.empty() ? texture_path : o->stm},
-                                  {"covered_pixels", covered},
-                                  {"renderer", gl.renderer()},
-                                  {"gl_version", gl.version()},
-                                  {"platform", gl.platform()}};
-              if (!o->stm.empty()) j["layout"] = o->layout;
-              if (o->compare_uv) j["psnr"] = {{"views", psnrs}, {"min", min_psnr}, {"mean", mean_psnr}};
-              print_json(j);
-            } else {
-              std::cout << o->output << ": " << img.width << "x" << img.height << ", " << covered << " object pixels"
-                        << (o->stm.empty() ? (texture_path.empty() ? "" : ", texture " + texture_path) : ", STM " + o->stm) << "\n";
-              if (o->compare_uv)
-                std::cout << std::fixed << std::setprecision(2) << "PSNR own uv vs STM: min " << min_psnr << " dB, mean "
-                          << mean_psnr << " dB over " << psnrs.size() << " view(s)\n";
-            }
-            return 0;
-          }};
+}
+
+// A picture is useful for any mesh, so unlike the pipeline commands, render also draws open
+// meshes (lighting is two-sided); only input the halfedge structure cannot hold is refused.
+sdm::Mesh load_any_mesh(const std::string& path, std::string* material_texture) {
+  sdm::MeshSoup soup = sdm::read_mesh_soup(path);
+  sdm::MeshReport report = sdm::validate_mesh(soup);
+  if (report.usable()) sdm::orient_outward(soup, report);
+  sdm::Mesh mesh;
+  try {
+    mesh = sdm::build_mesh(soup);
+  } catch (const sdm::InputError&) {
+    throw sdm::InputError(report.refusal(path));
+  }
+  *material_texture = soup.texture;
+  return mesh;
+}
+
+// The texture drawn with the mesh's own uv: --texture, else the material's; none with --no-texture.
+// Drawn from the STM, the mesh's own uv and texture only serve the --compare-uv picture.
+std::string own_texture_path(const RenderArgs& o, const std::string& material_texture) {
+  std::string texture_path = o.texture.empty() ? material_texture : o.texture;
+  if (o.no_texture) texture_path.clear();
+  if ((!o.stm.empty() || o.checker) && !o.compare_uv) texture_path.clear();
+  return texture_path;
+}
+
+// Throws InputError for flags that do not go together.
+void check_render_flags(const RenderArgs& o, const std::string& texture_path) {
+  if (!o.stm.empty() && o.layout.empty()) throw sdm::InputError("--stm needs the atlas's --layout LAYOUT.json");
+  if (o.checker && (o.layout.empty() || !o.stm.empty())) throw sdm::InputError("--checker needs --layout LAYOUT.json and no --stm");
+  if (o.stm.empty() && !o.checker && (!o.layout.empty() || o.compare_uv))
+    throw sdm::InputError("--layout and --compare-uv go with --stm ATLAS.png (or --layout with --checker)");
+  if (o.compare_uv && texture_path.empty())
+    throw sdm::InputError("--compare-uv needs the mesh's own texture: '" + o.mesh + "' names none (pass --texture)");
+  if (!o.stm.empty() && !o.skeleton.empty()) throw sdm::InputError("--skeleton cannot be combined with --stm");
+}
+
+// The views drawn, and what they measured.
+struct RenderedViews {
+  std::vector<sdm::Image> cells;
+  std::vector<double> psnrs;  // own uv vs STM, per view (--compare-uv)
+  size_t covered = 0;         // object pixels over all views
+};
+
+// Draws the --views turntable: from the STM (layout and atlas given), with the skeleton, or plain.
+RenderedViews render_views(const RenderArgs& o, sdm::GlContext& gl, const sdm::Mesh& mesh, sdm::RenderOptions ro,
+                           const sdm::Layout* layout, const sdm::Image& atlas) {
+  RenderedViews r;
+  for (int view = 0; view < o.views; ++view) {
+    ro.azimuth_deg = o.azimuth + 360.0 * view / o.views;
+    std::vector<uint8_t> mask;
+    sdm::Image img;
+    if (layout) {
+      img = sdm::render_stm(gl, mesh, *layout, atlas, ro, &mask);
+      if (o.compare_uv) {
+        std::vector<uint8_t> uv_mask;
+        const sdm::Image uv_img = sdm::render_mesh(gl, mesh, ro, &uv_mask);
+        const double p = sdm::psnr(uv_img, img, &(mask = sdm::mask_union(mask, uv_mask)));
+        r.psnrs.push_back(p);
+        progress("view " + std::to_string(view) + " (azimuth " + std::to_string(ro.azimuth_deg) + "): PSNR " + std::to_string(p) +
+                 " dB");
+        img = sdm::side_by_side({uv_img, img});
+      }
+    } else if (!o.skeleton.empty()) {
+      const sdm::Skeleton sk = sdm::read_skeleton_json(o.skeleton);
+      img = sdm::render_with_skeleton(gl, mesh, sk, ro);
+      sdm::render_mesh(gl, mesh, ro, &mask);
+    } else {
+      img = sdm::render_mesh(gl, mesh, ro, &mask);
+    }
+    for (uint8_t m : mask) r.covered += m ? 1 : 0;
+    r.cells.push_back(std::move(img));
+  }
+  return r;
+}
+
+// One cell, or the contact sheet of all (as square as it gets; a --compare-uv cell is a pair).
+sdm::Image contact_sheet_of(const RenderArgs& o, const std::vector<sdm::Image>& cells) {
+  int columns = 1;
+  while (columns * columns < o.views) ++columns;
+  if (o.compare_uv) columns = std::max(1, (columns + 1) / 2);  // each cell is a pair
+  return cells.size() == 1 ? cells[0] : sdm::contact_sheet(cells, columns);
+}
+
+void report_render(const RenderArgs& o, const sdm::GlContext& gl, const sdm::Image& img, const RenderedViews& v,
+                   const std::string& texture_path) {
+  double min_psnr = std::numeric_limits<double>::infinity(), mean_psnr = 0;
+  for (double p : v.psnrs) min_psnr = std::min(min_psnr, p), mean_psnr += p / v.psnrs.size();
+  if (o.json) {
+    nlohmann::json j = {{"output", o.output},
+                        {"width", img.width},
+                        {"height", img.height},
+                        {"views", o.views},
+                        {"texture", o.stm.empty() ? texture_path : o.stm},
+                        {"covered_pixels", v.covered},
+                        {"renderer", gl.renderer()},
+                        {"gl_version", gl.version()},
+                        {"platform", gl.platform()}};
+    if (!o.stm.empty()) j["layout"] = o.layout;
+    if (o.compare_uv) j["psnr"] = {{"views", v.psnrs}, {"min", min_psnr}, {"mean", mean_psnr}};
+    print_json(j);
+  } else {
+    std::cout << o.output << ": " << img.width << "x" << img.height << ", " << v.covered << " object pixels"
+              << (o.stm.empty() ? (texture_path.empty() ? "" : ", texture " + texture_path) : ", STM " + o.stm) << "\n";
+    if (o.compare_uv)
+      std::cout << std::fixed << std::setprecision(2) << "PSNR own uv vs STM: min " << min_psnr << " dB, mean " << mean_psnr
+                << " dB over " << v.psnrs.size() << " view(s)\n";
+  }
+}
+
+int run_render(const RenderArgs& o) {
+  std::string material_texture;
+  const sdm::Mesh mesh = load_any_mesh(o.mesh, &material_texture);
+  const std::string texture_path = own_texture_path(o, material_texture);
+  sdm::Image texture;
+  if (!texture_path.empty()) {
+    if (!mesh.has_halfedge_texcoords2D())
+      throw sdm::InputError("'" + o.mesh + "' has no texture coordinates, so texture '" + texture_path + "' cannot be applied");
+    texture = sdm::read_png(texture_path);
+  }
+  check_render_flags(o, texture_path);
+  const bool from_stm = !o.stm.empty() || o.checker;
+  sdm::Layout layout;
+  sdm::Image atlas;
+  if (from_stm) {
+    layout = sdm::read_layout_json(o.layout);
+    atlas = o.checker ? sdm::checker_atlas(layout, std::max(4, layout.size / 64)) : sdm::read_png(o.stm);
+  }
+  sdm::GlContext gl;
+  progress("GL renderer: " + gl.renderer() + " (" + gl.version() + ", " + gl.platform() + ")");
+  sdm::RenderOptions ro;
+  ro.width = o.width;
+  ro.height = o.height;
+  ro.elevation_deg = o.elevation;
+  ro.unlit = o.unlit;
+  ro.orthographic = o.orthographic;
+  ro.flat_shading = o.flat;
+  if (!texture_path.empty()) ro.texture = &texture;
+  const RenderedViews views = render_views(o, gl, mesh, ro, from_stm ? &layout : nullptr, atlas);
+  const sdm::Image img = contact_sheet_of(o, views.cells);
+  sdm::write_png(img, o.output);
+  report_render(o, gl, img, views, texture_path);
+  return 0;
+}
+
+}  // namespace
+
+Command add_render_command(CLI::App& parent) {
+  auto o = std::make_shared<RenderArgs>();
+  auto* app = parent.add_subcommand(
+      "render", "Render a mesh to a PNG image, offscreen (headless OpenGL through EGL).\n"
+                "The camera frames the mesh's bounding box from the given azimuth and elevation; a mesh with uv\n"
+                "is drawn with its texture (the map_Kd of its MTL, or --texture). Open meshes are drawn too.\n"
+                "With --stm ATLAS.png --layout LAYOUT.json the mesh is drawn from its skeleton texture map, with\n"
+                "STM coordinates computed in the shaders from positions and the layout only (any uv is ignored);\n"
+                "--compare-uv then also draws it with its own uv and texture, writes both side by side (own uv\n"
+                "left, STM right) and prints the PSNR between them over the object's pixels.\n"
+                "--views N draws a turntable (N azimuths, 360/N degrees apart) as one contact sheet.");
+  declare_render_options(app, o.get());
+  return {app, [o]() { return run_render(*o); }};
 }
 
 }  // namespace sdm::cli

@@ -1,49 +1,31 @@
 // sdm encode / decode / roundtrip: skeleton displacement maps.
+#include "apps/cli_common.h"
 #include "apps/commands.h"
 #include "libsdm/decode/decode_sdm.h"
 #include "libsdm/encode/encode_sdm.h"
 #include "libsdm/map/sdm_exr.h"
 #include "libstm/mesh/surface_distance.h"
 #include "libstm/core/errors.h"
-#include "libstm/skeleton/extract_skeleton.h"
 #include "libstm/core/image.h"
+#include "libstm/core/stopwatch.h"
 #include "libstm/layout/layout.h"
 #include "libstm/mesh/mesh.h"
 #include "libstm/mesh/validate_mesh.h"
 
-#include <chrono>
 #include <cmath>
 #include <memory>
 
 namespace sdm::cli {
 namespace {
 
-double seconds_since(std::chrono::steady_clock::time_point t0) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-}
-
-// The layout of a mesh: from a layout file, or from a skeleton file, or extracted here.
-sdm::Layout layout_for(const sdm::Mesh& mesh, const std::string& layout_path, const std::string& skeleton_path, int size) {
-  if (!layout_path.empty()) {
-    sdm::Layout layout = sdm::read_layout_json(layout_path);
-    if (layout.skeleton.vertex_node.size() != mesh.n_vertices())
-      throw sdm::InputError("layout " + layout_path + " was made for a mesh with " +
-                            std::to_string(layout.skeleton.vertex_node.size()) + " vertices, this one has " +
-                            std::to_string(mesh.n_vertices()));
-    return layout;
-  }
-  sdm::Skeleton skeleton;
-  if (!skeleton_path.empty()) {
-    skeleton = sdm::read_skeleton_json(skeleton_path);
-  } else {
-    progress("extracting the skeleton");
-    skeleton = sdm::extract_skeleton(mesh, {}, [](const std::string& s) { progress("  " + s); });
-  }
-  sdm::LayoutOptions lo;
-  lo.size = size;
-  lo.progress = [](const std::string& s) { progress("  " + s); };
-  progress("computing the layout");
-  return sdm::compute_layout(mesh, skeleton, lo);
+// The layout encode and roundtrip use: the stages announced, the atlas size given, the default margin.
+LayoutSource encode_layout_source(const std::string& layout_file, const std::string& skeleton_file, int size) {
+  LayoutSource source;
+  source.layout_file = layout_file;
+  source.skeleton_file = skeleton_file;
+  source.options.size = size;
+  source.announce_stages = true;
+  return source;
 }
 
 // False colour of D (blue near the axis, red far) where A = 1, grey where A = 0, black outside.
@@ -113,16 +95,15 @@ Command add_encode_command(CLI::App& parent) {
   app->add_option("--png", o->png, "Also write a false-colour picture of the map (.png)");
   app->add_flag("--json", o->json, "Print one JSON object with the summary");
   return {app, [o]() {
-            const auto t0 = std::chrono::steady_clock::now();
+            sdm::Stopwatch clock;
             const sdm::Mesh mesh = sdm::load_mesh(o->mesh);
-            const sdm::Layout layout = layout_for(mesh, o->layout, o->skeleton, o->size);
-            const double layout_s = seconds_since(t0);
-            const auto t1 = std::chrono::steady_clock::now();
+            const sdm::Layout layout = layout_for(mesh, encode_layout_source(o->layout, o->skeleton, o->size)).layout;
+            const double layout_s = clock.lap();
             sdm::EncodeStats st;
             sdm::EncodeOptions eo;
             eo.progress = [](const std::string& s) { progress("  " + s); };
             const sdm::SdmImage im = sdm::encode_sdm(mesh, layout, eo, &st);
-            const double encode_s = seconds_since(t1);
+            const double encode_s = clock.lap();
             sdm::write_sdm_exr(im, o->out);
             if (!o->png.empty()) sdm::write_png(false_colour(im), o->png);
             const double own = st.texels ? double(st.own_hits) / st.texels : 0.0;
@@ -161,14 +142,14 @@ Command add_decode_command(CLI::App& parent) {
                   "Also write the map's skeleton (.json, or .obj polyline): edit its node positions for --skeleton");
   app->add_flag("--json", o->json, "Print one JSON object with the summary");
   return {app, [o]() {
-            const auto t0 = std::chrono::steady_clock::now();
+            const sdm::Stopwatch clock;
             const sdm::SdmImage im = sdm::read_sdm_exr(o->map);
             sdm::DecodeOptions d;
             d.level = o->lod;
             d.segment_level = parse_segment_levels(o->segment_lod);
             if (!o->skeleton.empty()) d.skeleton = sdm::read_skeleton_json(o->skeleton);
             const sdm::Mesh mesh = sdm::decode_sdm(im, d);
-            const double s = seconds_since(t0);
+            const double s = clock.seconds();
             sdm::write_mesh(mesh, o->out);
             if (!o->write_skeleton.empty()) {
               const sdm::Skeleton sk = sdm::layout_from_json(im.layout).skeleton;
@@ -209,19 +190,18 @@ Command add_roundtrip_command(CLI::App& parent) {
   app->add_option("-o,--output", o->out, "Also write the decoded mesh");
   app->add_flag("--json", o->json, "Print one JSON object with the summary");
   return {app, [o]() {
-            const auto t0 = std::chrono::steady_clock::now();
+            const sdm::Stopwatch total;
             const sdm::Mesh mesh = sdm::load_mesh(o->mesh);
-            const sdm::Layout layout = layout_for(mesh, "", "", o->size);
-            const auto t1 = std::chrono::steady_clock::now();
+            const sdm::Layout layout = layout_for(mesh, encode_layout_source("", "", o->size)).layout;
+            sdm::Stopwatch stage;
             progress("encoding");
             const sdm::SdmImage im = sdm::encode_sdm(mesh, layout);
-            const double encode_s = seconds_since(t1);
-            const auto t2 = std::chrono::steady_clock::now();
+            const double encode_s = stage.lap();
             progress("decoding");
             sdm::DecodeOptions d;
             d.level = o->lod;
             const sdm::Mesh out = sdm::decode_sdm(im, d);
-            const double decode_s = seconds_since(t2);
+            const double decode_s = stage.lap();
             if (!o->out.empty()) sdm::write_mesh(out, o->out);
             progress("measuring");
             const sdm::SurfaceDistance dist = sdm::surface_distance(mesh, out, o->samples);
@@ -232,7 +212,7 @@ Command add_roundtrip_command(CLI::App& parent) {
               print_json({{"mesh", o->mesh}, {"size", o->size}, {"lod", o->lod}, {"segments", layout.segments.size()},
                           {"rms", rms}, {"hausdorff", hd}, {"psnr", psnr}, {"faces", out.n_faces()},
                           {"closed", closed}, {"encode_seconds", encode_s}, {"decode_seconds", decode_s},
-                          {"total_seconds", seconds_since(t0)}, {"samples", o->samples}});
+                          {"total_seconds", total.seconds()}, {"samples", o->samples}});
             } else {
               std::cout << o->mesh << " at " << o->size << ", level " << o->lod << ": RMS " << 100 * rms << " %, Hausdorff "
                         << 100 * hd << " % of the diagonal, PSNR " << psnr << " dB, " << out.n_faces() << " faces, "

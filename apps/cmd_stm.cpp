@@ -1,7 +1,7 @@
+#include "apps/cli_common.h"
 #include "apps/commands.h"
 #include "libstm/layout/draw_atlas.h"
 #include "libstm/core/errors.h"
-#include "libstm/skeleton/extract_skeleton.h"
 #include "libstm/layout/layout.h"
 #include "libstm/mesh/mesh.h"
 #include "libstm/skeleton/skeleton.h"
@@ -36,13 +36,11 @@ Command add_stm_command(CLI::App& parent) {
   app->add_flag("--json", o->json, "Print one JSON object instead of text");
   return {app, [o]() {
             sdm::Mesh mesh = sdm::load_mesh(o->mesh);
-            const sdm::Skeleton sk =
-                o->skeleton.empty() ? sdm::extract_skeleton(mesh, {}, progress) : sdm::read_skeleton_json(o->skeleton);
-            sdm::LayoutOptions opt;
-            opt.size = o->size;
-            opt.margin = o->margin;
-            opt.progress = progress;
-            const sdm::Layout layout = sdm::compute_layout(mesh, sk, opt);
+            LayoutSource from;
+            from.skeleton_file = o->skeleton;
+            from.options.size = o->size;
+            from.options.margin = o->margin;
+            const sdm::Layout layout = layout_for(mesh, from).layout;
             const sdm::StmCoordinates c = sdm::stm_coordinates(mesh, layout);
             sdm::write_layout_json(layout, o->out);
             if (!o->atlas_png.empty()) sdm::write_atlas_png(mesh, layout, c.face_segment, o->atlas_png);

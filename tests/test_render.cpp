@@ -2,6 +2,7 @@
 // camera geometry (30 degree field of view framing the bounding sphere).
 #include "libstm/core/errors.h"
 #include "libstm/render/gl_context.h"
+#include "libstm/render/gl_objects.h"
 #include "libstm/core/image.h"
 #include "libstm/mesh/mesh.h"
 #include "libstm/render/render_mesh.h"
@@ -93,6 +94,39 @@ TEST_CASE("Framebuffer reads back cleared colour and float values", "[render]") 
   CHECK(fi.at(6, 4)[0] == -1.5f);
   CHECK(fi.at(0, 0)[2] == 1e6f);  // a float target keeps values an 8-bit one cannot
   CHECK(fi.at(2, 3)[3] == 0.125f);
+}
+
+TEST_CASE("GL object handles delete their object once and a move hands it over", "[render]") {
+  gl().make_current();
+  sdm::GlBuffer a = sdm::make_buffer(std::vector<float>{1, 2, 3});
+  const GLuint name = a.get();
+  REQUIRE(name != 0);
+  CHECK(glIsBuffer(name) == GL_TRUE);
+  sdm::GlBuffer b = std::move(a);
+  CHECK(a.get() == 0);
+  CHECK(b.get() == name);
+  a.reset();  // owns nothing: deletes nothing
+  CHECK(glIsBuffer(name) == GL_TRUE);
+  b.reset();
+  CHECK(b.get() == 0);
+  CHECK(glIsBuffer(name) == GL_FALSE);
+  // An empty vector still gets storage for one element.
+  const sdm::GlBuffer empty = sdm::make_buffer(std::vector<float>{});
+  GLint64 bytes = 0;
+  glGetNamedBufferParameteri64v(empty.get(), GL_BUFFER_SIZE, &bytes);
+  CHECK(bytes == GLint64(sizeof(float)));
+  GLuint texture = 0, vao = 0;
+  {
+    const sdm::GlTexture t = sdm::make_texture(GL_TEXTURE_2D);
+    const sdm::GlVertexArray v = sdm::make_vertex_array();
+    texture = t.get();
+    vao = v.get();
+    CHECK(glIsTexture(texture) == GL_TRUE);
+    CHECK(glIsVertexArray(vao) == GL_TRUE);
+  }
+  CHECK(glIsTexture(texture) == GL_FALSE);
+  CHECK(glIsVertexArray(vao) == GL_FALSE);
+  sdm::check_gl("gl object handles");
 }
 
 TEST_CASE("Unlit square facing the camera: exact colour inside, background outside, analytic extent", "[render]") {

@@ -44,134 +44,193 @@ double sample_displacement(const SdmImage& im, const LayoutSegment& seg, double 
          au * av * at(iu + 1, iv + 1);
 }
 
+namespace {
+
+// What the texels of every segment are encoded against.
+struct EncodeScene {
+  Eigen::MatrixX3d V;
+  Eigen::MatrixX3i F;
+  std::vector<int> face_segment;
+  TriangleBvh all;                                // every face of the mesh
+  std::vector<std::vector<int>> faces_of;         // per segment, its faces of the mesh
+  BaseMesh base;
+  std::vector<std::vector<int>> base_faces_of;    // per segment, its base faces
+};
+
+EncodeScene encode_scene(const Mesh& mesh, const Layout& layout, const EncodeOptions& options) {
+  EncodeScene sc;
+  sc.V = vertex_matrix(mesh);
+  sc.F = face_matrix(mesh);
+  sc.face_segment = assign_faces(mesh, layout.skeleton);
+  sc.all = TriangleBvh(sc.V, sc.F);
+  sc.faces_of.resize(layout.segments.size());
+  for (size_t f = 0; f < sc.face_segment.size(); ++f) sc.faces_of[sc.face_segment[f]].push_back(int(f));
+  report_progress(options.progress, "building the base mesh");
+  sc.base = make_base_mesh(mesh, layout, options.base_vertices);
+  sc.base_faces_of.resize(layout.segments.size());
+  for (int f = 0; f < sc.base.triangles.rows(); ++f) sc.base_faces_of[sc.base.face_segment[f]].push_back(f);
+  return sc;
+}
+
+// The crossing of a ray with the surface nearest a target point, among those within `reach` of
+// the target's foot on the ray; face -1 when there is none.
+struct Crossing {
+  double t = -1, distance = INFINITY;
+  int face = -1;
+};
+
+Crossing crossing_nearest(const TriangleBvh& all, const CapsuleRay& ray, const Eigen::Vector3d& target, double foot, double reach) {
+  Crossing best;
+  double t_min = std::max(0.0, foot - reach);
+  for (int n = 0; n < 64; ++n) {
+    const auto hit = all.first_hit(ray.origin, ray.direction, t_min, foot + reach);
+    if (hit.face < 0) break;
+    const double dist = (ray.origin + hit.t * ray.direction - target).norm();
+    if (dist < best.distance) best.distance = dist, best.t = hit.t, best.face = hit.face;
+    t_min = hit.t + 1e-9 * (1 + hit.t);
+  }
+  return best;
+}
+
+// The texels of one segment's rectangle.
+class SegmentEncoder {
+ public:
+  SegmentEncoder(const EncodeScene& scene, const Layout& layout, int s);
+  void encode(SdmImage& im, EncodeStats& st) const;
+
+ private:
+  void encode_texel(int ix, int iy, SdmImage& im, EncodeStats& st) const;
+  void encode_unread(const CapsuleRay& ray, float& D, float& A, EncodeStats& st) const;
+  bool target_triangle(const CapsuleRay& ray, int& k, Eigen::Vector3d& bary) const;
+
+  const EncodeScene& sc_;
+  const LayoutSegment& seg_;
+  const int s_;
+  const CapsuleFrame frame_;
+  const std::vector<int>& own_base_;
+  Eigen::MatrixX3d R_;  // corners of the segment's base faces on the reference capsule
+  TriangleBvh reference_, own_;
+  double texel_ = 0;
+};
+
+SegmentEncoder::SegmentEncoder(const EncodeScene& scene, const Layout& layout, int s)
+    : sc_(scene), seg_(layout.segments[s]), s_(s), frame_(capsule_frame(layout, s)), own_base_(scene.base_faces_of[s]) {
+  // The segment's base faces on the reference capsule, exactly as the decoder builds them: the
+  // decoder places a point of a base face on the ray through that point of its reference
+  // triangle, so a texel's ray crossing a reference triangle is the texel that face will read.
+  R_.resize(3 * own_base_.size(), 3);
+  Eigen::MatrixX3i RF(own_base_.size(), 3);
+  for (size_t k = 0; k < own_base_.size(); ++k)
+    for (int c = 0; c < 3; ++c) {
+      const auto& uv = sc_.base.corner_uv[own_base_[k]][c];
+      const CapsuleRay ray = capsule_ray(frame_, seg_.w, seg_.h, seg_.d, uv.x(), uv.y());
+      R_.row(3 * k + c) = (ray.origin + seg_.radius * ray.direction).transpose();
+      RF(Eigen::Index(k), c) = int(3 * k + c);
+    }
+  reference_ = TriangleBvh(R_, RF);
+  own_ = TriangleBvh(sc_.V, sc_.F, sc_.faces_of[s]);
+  // Texel size on the reference capsule (around the axis, and along it on the cylinder).
+  texel_ = std::max(2 * M_PI * seg_.radius / seg_.h, seg_.length / std::max(1.0, seg_.w - 2 * seg_.d));
+}
+
+void SegmentEncoder::encode(SdmImage& im, EncodeStats& st) const {
+  int ex, ey;
+  extent(seg_, ex, ey);
+  for (int j = 0; j < ey; ++j)
+    for (int i = 0; i < ex; ++i) encode_texel(seg_.x + i, seg_.y + j, im, st);
+}
+
+// Texels no base face reads (the decoder's bilinear lookups reach one texel beyond a face; texels
+// more than 4 from every reference triangle, measured on the capsule where the map's stretch
+// varies, are out of reach): the first crossing with the segment's own faces, else with any.
+void SegmentEncoder::encode_unread(const CapsuleRay& ray, float& D, float& A, EncodeStats& st) const {
+  auto hit = own_.first_hit(ray.origin, ray.direction);
+  if (hit.face >= 0) {
+    D = float(hit.t);
+    A = 1.0f;
+    ++st.own_hits;
+    return;
+  }
+  hit = sc_.all.first_hit(ray.origin, ray.direction);
+  D = float(hit.face >= 0 ? hit.t : seg_.radius);
+  ++(hit.face >= 0 ? st.other_hits : st.filled);
+}
+
+// Which reference triangle k (index into own_base_) the decoder's flat base triangle puts this
+// texel on, and where (bary): from the texel's crossing with a reference triangle, or, for texels
+// between faces and around the segment's region, from the nearest reference triangle (what
+// bilinear lookups near the region's border read). False when no base face reads the texel.
+bool SegmentEncoder::target_triangle(const CapsuleRay& ray, int& k, Eigen::Vector3d& bary) const {
+  const auto cross = reference_.first_hit(ray.origin, ray.direction);
+  if (cross.face >= 0) {
+    k = cross.face;
+    bary = {1 - cross.u - cross.v, cross.u, cross.v};
+    return true;
+  }
+  const auto near = reference_.closest_point(ray.origin + seg_.radius * ray.direction);
+  if (near.distance > 4 * texel_) return false;
+  k = near.face;
+  bary = barycentric(near.point, R_.row(3 * k), R_.row(3 * k + 1), R_.row(3 * k + 2));
+  return true;
+}
+
+void SegmentEncoder::encode_texel(int ix, int iy, SdmImage& im, EncodeStats& st) const {
+  const Eigen::Vector2d uv = texel_local_uv(seg_, ix, iy);
+  const CapsuleRay ray = capsule_ray(frame_, seg_.w, seg_.h, seg_.d, uv.x(), uv.y());
+  ++st.texels;
+  float& D = im.D[pixel(im, ix, iy)];
+  float& A = im.A[pixel(im, ix, iy)];
+  int k = -1;
+  Eigen::Vector3d bary;
+  if (own_base_.empty() || !target_triangle(ray, k, bary)) {
+    encode_unread(ray, D, A, st);
+    return;
+  }
+  const auto& corner = sc_.base.corner_position[own_base_[k]];
+  const Eigen::Vector3d target = bary[0] * corner[0] + bary[1] * corner[1] + bary[2] * corner[2];
+  // D = the crossing of the ray with the surface nearest that target. The first crossing
+  // (or the first with the segment's own faces) is another sheet where the surface is not
+  // star-shaped about the capsule (near junctions, in concave bends), and the decoder would
+  // put the point there. A ray that grazes a saddle (the crotch between two branches) or
+  // leaves without meeting the surface near the face has only far crossings; the target's
+  // foot on the ray is then nearer the surface, and it keeps D continuous with the
+  // neighbouring texels that do hit. Crossings farther than half the face's longest edge
+  // count as far, so only the stretch of the ray within that distance of the foot is searched.
+  double longest = 0;
+  for (int c = 0; c < 3; ++c) longest = std::max(longest, (corner[c] - corner[(c + 1) % 3]).norm());
+  const double reach = 0.5 * longest, foot = (target - ray.origin).dot(ray.direction);
+  const Crossing best = crossing_nearest(sc_.all, ray, target, foot, reach);
+  if (best.face < 0 || best.distance > reach) {
+    D = float(std::max(0.0, foot));
+    ++st.filled;
+  } else {
+    D = float(best.t);
+    if (sc_.face_segment[best.face] == s_) {
+      A = 1.0f;
+      ++st.own_hits;
+    } else {
+      ++st.other_hits;
+    }
+  }
+}
+
+}  // namespace
+
 SdmImage encode_sdm(const Mesh& mesh, const Layout& layout, const EncodeOptions& options, EncodeStats* stats) {
   EncodeStats st;
   SdmImage im;
   im.width = im.height = layout.size;
   im.D.assign(size_t(layout.size) * layout.size, 0.0f);
   im.A.assign(im.D.size(), 0.0f);
-
-  const Eigen::MatrixX3d V = vertex_matrix(mesh);
-  const Eigen::MatrixX3i F = face_matrix(mesh);
-  const std::vector<int> face_segment = assign_faces(mesh, layout.skeleton);
-  const TriangleBvh all(V, F);
-  std::vector<std::vector<int>> faces_of(layout.segments.size());
-  for (size_t f = 0; f < face_segment.size(); ++f) faces_of[face_segment[f]].push_back(int(f));
-  if (options.progress) options.progress("building the base mesh");
-  const BaseMesh base = make_base_mesh(mesh, layout, options.base_vertices);
-  std::vector<std::vector<int>> base_faces_of(layout.segments.size());
-  for (int f = 0; f < base.triangles.rows(); ++f) base_faces_of[base.face_segment[f]].push_back(f);
-
+  const EncodeScene scene = encode_scene(mesh, layout, options);
   for (size_t s = 0; s < layout.segments.size(); ++s) {
-    const LayoutSegment& seg = layout.segments[s];
-    if (options.progress && s % 8 == 0)
-      options.progress("encoding segment " + std::to_string(s + 1) + "/" + std::to_string(layout.segments.size()));
-    const CapsuleFrame frame = capsule_frame(layout, int(s));
-    // The segment's base faces on the reference capsule, exactly as the decoder builds them: the
-    // decoder places a point of a base face on the ray through that point of its reference
-    // triangle, so a texel's ray crossing a reference triangle is the texel that face will read.
-    const std::vector<int>& own_base = base_faces_of[s];
-    Eigen::MatrixX3d R(3 * own_base.size(), 3);
-    Eigen::MatrixX3i RF(own_base.size(), 3);
-    for (size_t k = 0; k < own_base.size(); ++k)
-      for (int c = 0; c < 3; ++c) {
-        const auto& uv = base.corner_uv[own_base[k]][c];
-        const CapsuleRay ray = capsule_ray(frame, seg.w, seg.h, seg.d, uv.x(), uv.y());
-        R.row(3 * k + c) = (ray.origin + seg.radius * ray.direction).transpose();
-        RF(Eigen::Index(k), c) = int(3 * k + c);
-      }
-    const TriangleBvh reference(R, RF);
-    const TriangleBvh own(V, F, faces_of[s]);
-    // Texel size on the reference capsule (around the axis, and along it on the cylinder).
-    const double texel = std::max(2 * M_PI * seg.radius / seg.h, seg.length / std::max(1.0, seg.w - 2 * seg.d));
-    int ex, ey;
-    extent(seg, ex, ey);
-    for (int j = 0; j < ey; ++j)
-      for (int i = 0; i < ex; ++i) {
-        const int ix = seg.x + i, iy = seg.y + j;
-        const Eigen::Vector2d uv = texel_local_uv(seg, ix, iy);
-        const CapsuleRay ray = capsule_ray(frame, seg.w, seg.h, seg.d, uv.x(), uv.y());
-        ++st.texels;
-        float& D = im.D[pixel(im, ix, iy)];
-        // Texels no base face reads (the decoder's bilinear lookups reach one texel beyond a
-        // face; texels more than 4 from every reference triangle, measured on the capsule where
-        // the map's stretch varies, are out of reach): the first crossing with the segment's own
-        // faces, else with any.
-        auto unread = [&]() {
-          auto hit = own.first_hit(ray.origin, ray.direction);
-          if (hit.face >= 0) {
-            D = float(hit.t);
-            im.A[pixel(im, ix, iy)] = 1.0f;
-            ++st.own_hits;
-            return;
-          }
-          hit = all.first_hit(ray.origin, ray.direction);
-          D = float(hit.face >= 0 ? hit.t : seg.radius);
-          ++(hit.face >= 0 ? st.other_hits : st.filled);
-        };
-        if (own_base.empty()) {
-          unread();
-          continue;
-        }
-        // Where the decoder's flat base triangle puts this texel (target), from the texel's
-        // crossing with a reference triangle, or, for texels between faces and around the
-        // segment's region, from the nearest reference triangle (what bilinear lookups near the
-        // region's border read).
-        int k = -1;
-        Eigen::Vector3d bary;
-        const auto cross = reference.first_hit(ray.origin, ray.direction);
-        if (cross.face >= 0) {
-          k = cross.face;
-          bary = {1 - cross.u - cross.v, cross.u, cross.v};
-        } else {
-          const auto near = reference.closest_point(ray.origin + seg.radius * ray.direction);
-          if (near.distance > 4 * texel) {
-            unread();
-            continue;
-          }
-          k = near.face;
-          bary = barycentric(near.point, R.row(3 * k), R.row(3 * k + 1), R.row(3 * k + 2));
-        }
-        const auto& corner = base.corner_position[own_base[k]];
-        const Eigen::Vector3d target = bary[0] * corner[0] + bary[1] * corner[1] + bary[2] * corner[2];
-        // D = the crossing of the ray with the surface nearest that target. The first crossing
-        // (or the first with the segment's own faces) is another sheet where the surface is not
-        // star-shaped about the capsule (near junctions, in concave bends), and the decoder would
-        // put the point there. A ray that grazes a saddle (the crotch between two branches) or
-        // leaves without meeting the surface near the face has only far crossings; the target's
-        // foot on the ray is then nearer the surface, and it keeps D continuous with the
-        // neighbouring texels that do hit. Crossings farther than half the face's longest edge
-        // count as far, so only the stretch of the ray within that distance of the foot is searched.
-        double longest = 0;
-        for (int c = 0; c < 3; ++c) longest = std::max(longest, (corner[c] - corner[(c + 1) % 3]).norm());
-        const double reach = 0.5 * longest, foot = (target - ray.origin).dot(ray.direction);
-        double best_t = -1, best = INFINITY;
-        int best_face = -1;
-        double t_min = std::max(0.0, foot - reach);
-        for (int n = 0; n < 64; ++n) {
-          const auto hit = all.first_hit(ray.origin, ray.direction, t_min, foot + reach);
-          if (hit.face < 0) break;
-          const double dist = (ray.origin + hit.t * ray.direction - target).norm();
-          if (dist < best) best = dist, best_t = hit.t, best_face = hit.face;
-          t_min = hit.t + 1e-9 * (1 + hit.t);
-        }
-        if (best_face < 0 || best > reach) {
-          D = float(std::max(0.0, foot));
-          ++st.filled;
-        } else {
-          D = float(best_t);
-          if (face_segment[best_face] == int(s)) {
-            im.A[pixel(im, ix, iy)] = 1.0f;
-            ++st.own_hits;
-          } else {
-            ++st.other_hits;
-          }
-        }
-      }
+    if (s % 8 == 0)
+      report_progress(options.progress, "encoding segment " + std::to_string(s + 1) + "/" + std::to_string(layout.segments.size()));
+    SegmentEncoder(scene, layout, int(s)).encode(im, st);
   }
-  st.base_faces = int(base.triangles.rows());
+  st.base_faces = int(scene.base.triangles.rows());
   im.layout = layout_to_json(layout);
-  im.layout["base_mesh"] = base_mesh_to_json(base);
+  im.layout["base_mesh"] = base_mesh_to_json(scene.base);
   if (stats) *stats = st;
   return im;
 }

@@ -55,71 +55,67 @@ std::vector<int> postorder(const std::vector<int>& parent) {
   return order;
 }
 
-}  // namespace
+// Fill-reducing order: AMD on the symmetric pattern, as Eigen's simplicial factorisations use;
+// amd[old] = new index.
+std::vector<int> amd_order(const Eigen::SparseMatrix<double>& A) {
+  const int n = int(A.rows());
+  std::vector<int> amd(n);
+  const Eigen::SparseMatrix<double> full = A.selfadjointView<Eigen::Lower>();
+  Eigen::PermutationMatrix<Eigen::Dynamic, Eigen::Dynamic, int> inverse;
+  Eigen::AMDOrdering<int>()(full, inverse);
+  for (int k = 0; k < n; ++k) amd[inverse.indices()(k)] = k;
+  return amd;
+}
 
-void SupernodalCholesky::analyze(const Eigen::SparseMatrix<double>& A) {
-  n_ = int(A.rows());
-  // Fill-reducing order: AMD on the symmetric pattern, as Eigen's simplicial factorisations use.
-  std::vector<int> amd(n_);
-  {
-    const Eigen::SparseMatrix<double> full = A.selfadjointView<Eigen::Lower>();
-    Eigen::PermutationMatrix<Eigen::Dynamic, Eigen::Dynamic, int> inverse;
-    Eigen::AMDOrdering<int>()(full, inverse);
-    for (int k = 0; k < n_; ++k) amd[inverse.indices()(k)] = k;
-  }
-  // The strict upper triangle by rows, under a given order.
-  auto upper_rows = [&](const std::vector<int>& p) {
-    UpperRows up;
-    up.start.assign(n_ + 1, 0);
-    for (int j = 0; j < n_; ++j)
-      for (Eigen::SparseMatrix<double>::InnerIterator it(A, j); it; ++it)
-        if (it.row() != j) ++up.start[std::max(p[it.row()], p[j]) + 1];
-    for (int k = 0; k < n_; ++k) up.start[k + 1] += up.start[k];
-    up.cols.resize(up.start[n_]);
-    std::vector<int> fill(up.start.begin(), up.start.end() - 1);
-    for (int j = 0; j < n_; ++j)
-      for (Eigen::SparseMatrix<double>::InnerIterator it(A, j); it; ++it)
-        if (it.row() != j) {
-          const int a = p[it.row()], b = p[j];
-          up.cols[fill[std::max(a, b)]++] = std::min(a, b);
-        }
-    return up;
-  };
-  // A postorder of the elimination tree has the same fill and makes chains of columns with
-  // one structure (supernodes) contiguous, children before parents.
-  {
-    const std::vector<int> order = postorder(elimination_tree(upper_rows(amd)));
-    std::vector<int> rank(n_);
-    for (int t = 0; t < n_; ++t) rank[order[t]] = t;
-    perm_.resize(n_);
-    for (int i = 0; i < n_; ++i) perm_[i] = rank[amd[i]];
-  }
-  const UpperRows up = upper_rows(perm_);
-  const std::vector<int> parent = elimination_tree(up);
+// The strict upper triangle of A (lower triangle given) by rows, under the order p (p[old] = new).
+UpperRows upper_rows(const Eigen::SparseMatrix<double>& A, const std::vector<int>& p) {
+  const int n = int(A.rows());
+  UpperRows up;
+  up.start.assign(n + 1, 0);
+  for (int j = 0; j < n; ++j)
+    for (Eigen::SparseMatrix<double>::InnerIterator it(A, j); it; ++it)
+      if (it.row() != j) ++up.start[std::max(p[it.row()], p[j]) + 1];
+  for (int k = 0; k < n; ++k) up.start[k + 1] += up.start[k];
+  up.cols.resize(up.start[n]);
+  std::vector<int> fill(up.start.begin(), up.start.end() - 1);
+  for (int j = 0; j < n; ++j)
+    for (Eigen::SparseMatrix<double>::InnerIterator it(A, j); it; ++it)
+      if (it.row() != j) {
+        const int a = p[it.row()], b = p[j];
+        up.cols[fill[std::max(a, b)]++] = std::min(a, b);
+      }
+  return up;
+}
 
-  // Permuted lower triangle with the source of every value.
-  col_start_.assign(n_ + 1, 0);
-  for (int j = 0; j < n_; ++j)
-    for (Eigen::SparseMatrix<double>::InnerIterator it(A, j); it; ++it) ++col_start_[std::min(perm_[it.row()], perm_[j]) + 1];
-  for (int j = 0; j < n_; ++j) col_start_[j + 1] += col_start_[j];
-  col_row_.resize(col_start_[n_]);
-  col_src_.resize(col_start_[n_]);
-  std::vector<int> fill(col_start_.begin(), col_start_.end() - 1);
-  for (int j = 0; j < n_; ++j)
-    for (Eigen::SparseMatrix<double>::InnerIterator it(A, j); it; ++it) {
-      const int a = perm_[it.row()], b = perm_[j];
-      const int q = fill[std::min(a, b)]++;
-      col_row_[q] = std::max(a, b);
-      col_src_[q] = int(&it.value() - A.valuePtr());
-    }
+// The order `amd` followed by a postorder of its elimination tree: the same fill, and chains of
+// columns with one structure (supernodes) contiguous, children before parents.
+std::vector<int> postordered(const Eigen::SparseMatrix<double>& A, const std::vector<int>& amd) {
+  const int n = int(amd.size());
+  const std::vector<int> order = postorder(elimination_tree(upper_rows(A, amd)));
+  std::vector<int> rank(n);
+  for (int t = 0; t < n; ++t) rank[order[t]] = t;
+  std::vector<int> perm(n);
+  for (int i = 0; i < n; ++i) perm[i] = rank[amd[i]];
+  return perm;
+}
 
-  // Structure of L by columns. Row k of L is the subtree of the elimination tree spanned by
-  // row k of A; walking it for k in increasing order appends k to each column it meets, so
-  // every column's rows come out sorted (two passes: count, then fill).
-  std::vector<int> l_start(n_ + 1, 0), mark(n_, -1);
+// The structure of L by columns: column j's rows are rows[start[j]..start[j + 1]), sorted.
+struct ColumnStructure {
+  std::vector<int> start, rows;
+  int count(int j) const { return start[j + 1] - start[j]; }
+};
+
+// Row k of L is the subtree of the elimination tree spanned by row k of A; walking it for k in
+// increasing order appends k to each column it meets, so every column's rows come out sorted
+// (two passes: count, then fill).
+ColumnStructure column_structure(const UpperRows& up, const std::vector<int>& parent) {
+  const int n = up.size();
+  ColumnStructure L;
+  L.start.assign(n + 1, 0);
+  std::vector<int> mark(n, -1);
   auto walk_rows = [&](auto&& visit) {
     std::fill(mark.begin(), mark.end(), -1);
-    for (int k = 0; k < n_; ++k) {
+    for (int k = 0; k < n; ++k) {
       mark[k] = k;
       visit(k, k);
       for (int q = up.start[k]; q < up.start[k + 1]; ++q)
@@ -129,29 +125,38 @@ void SupernodalCholesky::analyze(const Eigen::SparseMatrix<double>& A) {
         }
     }
   };
-  walk_rows([&](int j, int) { ++l_start[j + 1]; });
-  for (int j = 0; j < n_; ++j) l_start[j + 1] += l_start[j];
-  std::vector<int> l_rows(l_start[n_]);
-  fill.assign(l_start.begin(), l_start.end() - 1);
-  walk_rows([&](int j, int k) { l_rows[fill[j]++] = k; });
-  auto column_count = [&](int j) { return l_start[j + 1] - l_start[j]; };
+  walk_rows([&](int j, int) { ++L.start[j + 1]; });
+  for (int j = 0; j < n; ++j) L.start[j + 1] += L.start[j];
+  L.rows.resize(L.start[n]);
+  std::vector<int> fill(L.start.begin(), L.start.end() - 1);
+  walk_rows([&](int j, int k) { L.rows[fill[j]++] = k; });
+  return L;
+}
 
-  // Fundamental supernodes: j + 1 joins j's when it is j's parent and has j's structure less j.
-  struct Group {
-    int first, width;
-    std::vector<int> rows;
-    double zeros;  // explicit zeros of L taken on by merging (below)
-  };
+// Columns [first, first + width) of L with the row list `rows` (the block's own columns first).
+struct Group {
+  int first, width;
+  std::vector<int> rows;
+  double zeros;  // explicit zeros of L taken on by merging (relaxed_supernodes)
+};
+
+// Fundamental supernodes: j + 1 joins j's when it is j's parent and has j's structure less j.
+std::vector<Group> fundamental_supernodes(const ColumnStructure& L, const std::vector<int>& parent) {
+  const int n = int(parent.size());
   std::vector<Group> groups;
-  for (int j = 0; j < n_;) {
+  for (int j = 0; j < n;) {
     int last = j;
-    while (last + 1 < n_ && parent[last] == last + 1 && column_count(last + 1) + 1 == column_count(last)) ++last;
-    groups.push_back({j, last - j + 1, std::vector<int>(l_rows.begin() + l_start[j], l_rows.begin() + l_start[j + 1]), 0.0});
+    while (last + 1 < n && parent[last] == last + 1 && L.count(last + 1) + 1 == L.count(last)) ++last;
+    groups.push_back({j, last - j + 1, std::vector<int>(L.rows.begin() + L.start[j], L.rows.begin() + L.start[j + 1]), 0.0});
     j = last + 1;
   }
-  // Relaxed supernodes: a supernode absorbs its last child (the columns just before it) when few
-  // explicit zeros come with it. Dense blocks of a few columns more cost little, while very
-  // narrow ones spend their time in bookkeeping (thresholds as CHOLMOD's defaults).
+  return groups;
+}
+
+// Relaxed supernodes: a supernode absorbs its last child (the columns just before it) when few
+// explicit zeros come with it. Dense blocks of a few columns more cost little, while very
+// narrow ones spend their time in bookkeeping (thresholds as CHOLMOD's defaults).
+std::vector<Group> relaxed_supernodes(std::vector<Group> groups, const std::vector<int>& parent) {
   std::vector<Group> merged;
   for (auto& g : groups) {
     if (!merged.empty() && g.first > 0 && parent[g.first - 1] == g.first) {
@@ -170,11 +175,23 @@ void SupernodalCholesky::analyze(const Eigen::SparseMatrix<double>& A) {
     }
     merged.push_back(std::move(g));
   }
+  return merged;
+}
+
+}  // namespace
+
+void SupernodalCholesky::analyze(const Eigen::SparseMatrix<double>& A) {
+  n_ = int(A.rows());
+  perm_ = postordered(A, amd_order(A));
+  const UpperRows up = upper_rows(A, perm_);
+  const std::vector<int> parent = elimination_tree(up);
+  index_lower_triangle(A);
+  const std::vector<Group> groups = relaxed_supernodes(fundamental_supernodes(column_structure(up, parent), parent), parent);
   sn_.clear();
   rows_.clear();
   std::vector<int> sn_of(n_, -1);
   size_t values = 0;
-  for (const auto& g : merged) {
+  for (const auto& g : groups) {
     Supernode s;
     s.first = g.first;
     s.width = g.width;
@@ -191,6 +208,23 @@ void SupernodalCholesky::analyze(const Eigen::SparseMatrix<double>& A) {
     s.parent = p >= 0 ? sn_of[p] : -1;
   }
   values_.assign(values, 0.0);
+}
+
+void SupernodalCholesky::index_lower_triangle(const Eigen::SparseMatrix<double>& A) {
+  col_start_.assign(n_ + 1, 0);
+  for (int j = 0; j < n_; ++j)
+    for (Eigen::SparseMatrix<double>::InnerIterator it(A, j); it; ++it) ++col_start_[std::min(perm_[it.row()], perm_[j]) + 1];
+  for (int j = 0; j < n_; ++j) col_start_[j + 1] += col_start_[j];
+  col_row_.resize(col_start_[n_]);
+  col_src_.resize(col_start_[n_]);
+  std::vector<int> fill(col_start_.begin(), col_start_.end() - 1);
+  for (int j = 0; j < n_; ++j)
+    for (Eigen::SparseMatrix<double>::InnerIterator it(A, j); it; ++it) {
+      const int a = perm_[it.row()], b = perm_[j];
+      const int q = fill[std::min(a, b)]++;
+      col_row_[q] = std::max(a, b);
+      col_src_[q] = int(&it.value() - A.valuePtr());
+    }
 }
 
 bool SupernodalCholesky::factorize(const Eigen::SparseMatrix<double>& A) {

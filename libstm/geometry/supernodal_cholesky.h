@@ -22,6 +22,9 @@ class SupernodalCholesky {
   Eigen::MatrixX3d solve(const Eigen::MatrixX3d& B) const;
 
  private:
+  // Fills col_start_, col_row_, col_src_ from A under perm_.
+  void index_lower_triangle(const Eigen::SparseMatrix<double>& A_lower);
+
   int n_ = 0;
   std::vector<int> perm_;  // perm_[old] = new index
   // Permuted lower triangle: per new column, its rows and the position of each value in A's

@@ -2,6 +2,7 @@
 
 #include "libstm/core/atomic_file.h"
 #include "libstm/core/errors.h"
+#include "libstm/geometry/differential_geometry.h"
 #include "libstm/layout/pack_rectangles.h"
 #include "libstm/layout/segment_frames.h"
 #include "libstm/layout/segments.h"
@@ -299,7 +300,7 @@ double l2_stretch(const Mesh& mesh, const std::vector<int>& faces) {
       st[k] = {t[0], t[1]};
       ++k;
     }
-    const double a3 = 0.5 * (q[1] - q[0]).cross(q[2] - q[0]).norm();
+    const double a3 = triangle_area(q[0], q[1], q[2]);
     const double a2 = 0.5 * ((st[1].x() - st[0].x()) * (st[2].y() - st[0].y()) - (st[2].x() - st[0].x()) * (st[1].y() - st[0].y()));
     A3 += a3;
     A2 += std::abs(a2);

@@ -70,7 +70,7 @@ double face_stretch(const Eigen::Vector3d p[3], double orient, const Eigen::Vect
   const Eigen::Vector2d s0(r * phi[0], v[0]), s1(r * phi[1], v[1]), s2(r * phi[2], v[2]);
   // u runs along axis x radial and v along the axis, so an outward face keeps a positive area.
   const double a2 = orient * 0.5 * ((s1 - s0).x() * (s2 - s0).y() - (s2 - s0).x() * (s1 - s0).y());
-  const double a3 = 0.5 * (p[1] - p[0]).cross(p[2] - p[0]).norm();
+  const double a3 = triangle_area(p[0], p[1], p[2]);
   *folded = a2 < 0;
   if (!(std::abs(a2) > 1e-12 * a3)) return inf;
   const Eigen::Vector3d Ss = (p[0] * (s1.y() - s2.y()) + p[1] * (s2.y() - s0.y()) + p[2] * (s0.y() - s1.y())) / (2 * a2);
@@ -216,7 +216,7 @@ std::vector<SegmentGeometry> segment_geometry(const Mesh& mesh, const Skeleton& 
     Eigen::Vector3d p[3];
     int k = 0;
     for (auto v : mesh.fv_range(f)) p[k++] = point(mesh, v);
-    const double area = 0.5 * (p[1] - p[0]).cross(p[2] - p[0]).norm();
+    const double area = triangle_area(p[0], p[1], p[2]);
     // The vertices, not the centroid: the centroid of a flat triangle lies inside a curved surface.
     double r = 0;
     for (const auto& q : p) r += distance_to_segment(q, a, b);

@@ -1,6 +1,7 @@
 #include "libstm/mesh/primitives.h"
 
 #include "libstm/core/errors.h"
+#include "libstm/geometry/differential_geometry.h"
 #include "libstm/mesh/isotropic_remesh.h"
 
 #include <algorithm>
@@ -224,7 +225,7 @@ double surface_area(const Mesh& mesh) {
   for (auto fh : mesh.faces()) {
     auto it = mesh.cfv_begin(fh);
     Vec a = point(mesh, *it), b = point(mesh, *++it), c = point(mesh, *++it);
-    area += 0.5 * (b - a).cross(c - a).norm();
+    area += triangle_area(a, b, c);
   }
   return area;
 }

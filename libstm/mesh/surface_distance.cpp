@@ -1,5 +1,6 @@
 #include "libstm/mesh/surface_distance.h"
 
+#include "libstm/geometry/differential_geometry.h"
 #include "libstm/geometry/triangle_bvh.h"
 
 #include <algorithm>
@@ -14,7 +15,7 @@ Eigen::MatrixX3d sample_surface(const Mesh& mesh, int count, unsigned seed) {
   double total = 0;
   for (int f = 0; f < F.rows(); ++f) {
     const Eigen::Vector3d a = V.row(F(f, 0)), b = V.row(F(f, 1)), c = V.row(F(f, 2));
-    total += 0.5 * (b - a).cross(c - a).norm();
+    total += triangle_area(a, b, c);
     cumulative[f] = total;
   }
   Eigen::MatrixX3d P(count, 3);

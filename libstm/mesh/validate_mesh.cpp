@@ -1,24 +1,16 @@
 #include "libstm/mesh/validate_mesh.h"
 
+#include "libstm/core/union_find.h"
+#include "libstm/geometry/differential_geometry.h"
+
 #include <algorithm>
 #include <cmath>
 #include <map>
-#include <numeric>
 #include <sstream>
 #include <unordered_map>
 
 namespace sdm {
 namespace {
-
-struct UnionFind {
-  std::vector<int> p;
-  explicit UnionFind(size_t n) : p(n) { std::iota(p.begin(), p.end(), 0); }
-  int find(int x) {
-    while (p[x] != x) x = p[x] = p[p[x]];
-    return x;
-  }
-  void unite(int a, int b) { p[find(a)] = find(b); }
-};
 
 uint64_t edge_key(int a, int b) {
   if (a > b) std::swap(a, b);
@@ -62,24 +54,15 @@ nlohmann::json MeshReport::to_json() const {
   return j;
 }
 
-MeshReport validate_mesh(const MeshSoup& soup) {
-  MeshReport r;
-  const long nv = long(soup.points.size());
-  r.vertices = nv;
-  r.faces = long(soup.triangles.size());
+namespace {
 
-  if (soup.triangles.empty()) {
-    add(r, "empty mesh (no faces)", 1, std::to_string(nv) + " vertices but no face", true,
-        "export the surface as triangles or polygons, not as points or lines");
-    return r;
-  }
-
-  // Coordinates.
+// Counts non-finite coordinates and sets the bounding box of the finite ones; returns the count.
+long check_coordinates(const MeshSoup& soup, MeshReport& r) {
   long bad_coord = 0;
   long first_bad = -1;
   r.bbox_min.setConstant(INFINITY);
   r.bbox_max.setConstant(-INFINITY);
-  for (long i = 0; i < nv; ++i) {
+  for (long i = 0; i < r.vertices; ++i) {
     if (!soup.points[i].allFinite()) {
       if (first_bad < 0) first_bad = i;
       ++bad_coord;
@@ -90,9 +73,12 @@ MeshReport validate_mesh(const MeshSoup& soup) {
   }
   add(r, "vertices with NaN or infinite coordinates", bad_coord, "vertex " + std::to_string(first_bad), true,
       "remove or repair those vertices in the modelling tool");
-  const double diag = (r.bbox_max - r.bbox_min).norm();
+  return bad_coord;
+}
 
-  // Faces that cannot exist in a manifold mesh.
+// Faces that cannot exist in a manifold mesh (a repeated or out-of-range vertex): 0 in the result.
+std::vector<char> check_face_indices(const MeshSoup& soup, MeshReport& r) {
+  const long nv = r.vertices;
   long invalid = 0;
   std::string invalid_example;
   std::vector<char> face_ok(soup.triangles.size(), 1);
@@ -109,8 +95,11 @@ MeshReport validate_mesh(const MeshSoup& soup) {
   }
   add(r, "invalid faces (a repeated or out-of-range vertex index)", invalid, invalid_example, true,
       "remove those faces or merge the duplicated vertices");
+  return face_ok;
+}
 
-  // Duplicated faces: the same three vertices, in either orientation.
+// Duplicated faces: the same three vertices, in either orientation.
+void check_duplicated_faces(const MeshSoup& soup, const std::vector<char>& face_ok, MeshReport& r) {
   std::map<std::array<int, 3>, int> seen;
   long dup = 0;
   std::string dup_example;
@@ -124,25 +113,57 @@ MeshReport validate_mesh(const MeshSoup& soup) {
     }
   }
   add(r, "duplicated faces", dup, dup_example, true, "delete the duplicates (e.g. 'merge by distance' then 'delete duplicate faces')");
+}
 
-  // Edge use.
-  std::unordered_map<uint64_t, std::vector<int>> edge_faces;  // undirected edge -> faces
-  std::unordered_map<uint64_t, int> directed;                 // directed edge -> uses
-  edge_faces.reserve(soup.triangles.size() * 2);
+uint64_t directed_key(int a, int b) { return (uint64_t(uint32_t(a)) << 32) | uint32_t(b); }
+
+// Edge use of the valid faces.
+struct EdgeUse {
+  std::unordered_map<uint64_t, std::vector<int>> faces;  // undirected edge (edge_key) -> faces
+  std::unordered_map<uint64_t, int> directed;            // directed edge -> uses
+};
+
+EdgeUse edge_use(const MeshSoup& soup, const std::vector<char>& face_ok) {
+  EdgeUse use;
+  use.faces.reserve(soup.triangles.size() * 2);
   for (size_t f = 0; f < soup.triangles.size(); ++f) {
     if (!face_ok[f]) continue;
     const auto& t = soup.triangles[f];
     for (int c = 0; c < 3; ++c) {
       int a = t[c], b = t[(c + 1) % 3];
-      edge_faces[edge_key(a, b)].push_back(int(f));
-      directed[(uint64_t(uint32_t(a)) << 32) | uint32_t(b)]++;
+      use.faces[edge_key(a, b)].push_back(int(f));
+      use.directed[directed_key(a, b)]++;
     }
   }
-  r.edges = long(edge_faces.size());
+  return use;
+}
+
+// Components of the boundary-edge graph.
+int count_boundary_loops(std::unordered_map<int, std::vector<int>>& boundary_adj) {
+  int loops = 0;
+  std::unordered_map<int, char> visited;
+  for (const auto& [v, nb] : boundary_adj) {
+    if (visited[v]) continue;
+    ++loops;
+    std::vector<int> stack{v};
+    visited[v] = 1;
+    while (!stack.empty()) {
+      int x = stack.back();
+      stack.pop_back();
+      for (int y : boundary_adj[x])
+        if (!visited[y]) visited[y] = 1, stack.push_back(y);
+    }
+  }
+  return loops;
+}
+
+// Boundary edges (and loops), non-manifold edges, edges between inconsistently oriented faces.
+void check_edges(const EdgeUse& use, MeshReport& r) {
+  r.edges = long(use.faces.size());
   long boundary = 0, nonmanifold = 0, flipped = 0;
   std::string boundary_example, nm_example, flip_example;
   std::unordered_map<int, std::vector<int>> boundary_adj;
-  for (const auto& [k, fs] : edge_faces) {
+  for (const auto& [k, fs] : use.faces) {
     int a = int(k >> 32), b = int(k & 0xffffffffu);
     std::string e = "edge (" + std::to_string(a) + ", " + std::to_string(b) + ")";
     if (fs.size() == 1) {
@@ -152,28 +173,13 @@ MeshReport validate_mesh(const MeshSoup& soup) {
     } else if (fs.size() > 2) {
       if (!nonmanifold++) nm_example = e + " shared by " + std::to_string(fs.size()) + " faces";
     } else {
-      auto ab = directed.find((uint64_t(uint32_t(a)) << 32) | uint32_t(b));
-      if (ab != directed.end() && ab->second != 1) {
+      auto ab = use.directed.find(directed_key(a, b));
+      if (ab != use.directed.end() && ab->second != 1) {
         if (!flipped++) flip_example = "faces " + std::to_string(fs[0]) + " and " + std::to_string(fs[1]) + " across " + e;
       }
     }
   }
-  // Boundary loops: components of the boundary-edge graph.
-  {
-    std::unordered_map<int, char> visited;
-    for (const auto& [v, nb] : boundary_adj) {
-      if (visited[v]) continue;
-      ++r.boundary_loops;
-      std::vector<int> stack{v};
-      visited[v] = 1;
-      while (!stack.empty()) {
-        int x = stack.back();
-        stack.pop_back();
-        for (int y : boundary_adj[x])
-          if (!visited[y]) visited[y] = 1, stack.push_back(y);
-      }
-    }
-  }
+  r.boundary_loops = count_boundary_loops(boundary_adj);
   add(r, "boundary edges (the mesh is open)", boundary,
       boundary_example + "; " + std::to_string(r.boundary_loops) + " boundary loop(s)", true,
       "close the holes (e.g. 'fill holes' in MeshLab or Blender) so the surface bounds a volume");
@@ -181,53 +187,62 @@ MeshReport validate_mesh(const MeshSoup& soup) {
       "split the mesh where more than two faces meet at an edge, or remove the extra faces");
   add(r, "edges between inconsistently oriented faces", flipped, flip_example, true,
       "recompute consistent normals (e.g. 'recalculate outside' in Blender)");
+}
 
-  // Non-manifold vertices: incident faces must form a single fan (connected through edges at the vertex).
+// The number of fans the faces `fs` around vertex v form: faces are connected when they share an
+// edge that contains v.
+int fans_around(const MeshSoup& soup, int v, const std::vector<int>& fs) {
+  std::unordered_map<int, std::vector<int>> by_other;  // other vertex -> faces
+  for (size_t i = 0; i < fs.size(); ++i)
+    for (int w : soup.triangles[fs[i]])
+      if (w != v) by_other[w].push_back(int(i));
+  UnionFind uf(fs.size());
+  for (const auto& [w, list] : by_other)
+    for (size_t i = 1; i < list.size(); ++i) uf.unite(list[0], list[i]);
+  return uf.count();
+}
+
+// Non-manifold vertices: incident faces must form a single fan (connected through edges at the vertex).
+void check_vertex_fans(const MeshSoup& soup, const std::vector<char>& face_ok, MeshReport& r) {
+  const long nv = r.vertices;
   long nm_vertices = 0;
   std::string nmv_example;
-  {
-    std::vector<std::vector<int>> vf(nv);
-    for (size_t f = 0; f < soup.triangles.size(); ++f)
-      if (face_ok[f])
-        for (int v : soup.triangles[f]) vf[v].push_back(int(f));
-    for (long v = 0; v < nv; ++v) {
-      const auto& fs = vf[v];
-      if (fs.size() < 2) continue;
-      // Faces around v are connected when they share an edge that contains v.
-      std::unordered_map<int, std::vector<int>> by_other;  // other vertex -> faces
-      for (size_t i = 0; i < fs.size(); ++i)
-        for (int w : soup.triangles[fs[i]])
-          if (w != v) by_other[w].push_back(int(i));
-      UnionFind uf(fs.size());
-      for (const auto& [w, list] : by_other)
-        for (size_t i = 1; i < list.size(); ++i) uf.unite(list[0], list[i]);
-      int roots = 0;
-      for (size_t i = 0; i < fs.size(); ++i)
-        if (uf.find(int(i)) == int(i)) ++roots;
-      if (roots > 1) {
-        if (!nm_vertices++) nmv_example = "vertex " + std::to_string(v) + " where " + std::to_string(roots) + " fans of faces meet";
-      }
+  std::vector<std::vector<int>> vf(nv);
+  for (size_t f = 0; f < soup.triangles.size(); ++f)
+    if (face_ok[f])
+      for (int v : soup.triangles[f]) vf[v].push_back(int(f));
+  for (long v = 0; v < nv; ++v) {
+    if (vf[v].size() < 2) continue;
+    const int roots = fans_around(soup, int(v), vf[v]);
+    if (roots > 1) {
+      if (!nm_vertices++) nmv_example = "vertex " + std::to_string(v) + " where " + std::to_string(roots) + " fans of faces meet";
     }
   }
   add(r, "non-manifold vertices", nm_vertices, nmv_example, true,
       "split the vertex so that each fan of faces gets its own copy (e.g. 'split non-manifold vertices' in MeshLab)");
+}
 
-  // Degenerate faces: harmless for I/O, reported because they make the Laplacian ill-conditioned.
+// Degenerate faces: harmless for I/O, reported because they make the Laplacian ill-conditioned.
+// Only measured when every coordinate is finite.
+void check_degenerate_faces(const MeshSoup& soup, const std::vector<char>& face_ok, long bad_coord, MeshReport& r) {
+  const double diag = (r.bbox_max - r.bbox_min).norm();
   long degenerate = 0;
   std::string deg_example;
   const double area_eps = 1e-14 * diag * diag;
   for (size_t f = 0; f < soup.triangles.size(); ++f) {
     if (!face_ok[f] || bad_coord) continue;
     const auto& t = soup.triangles[f];
-    double a = 0.5 * (soup.points[t[1]] - soup.points[t[0]]).cross(soup.points[t[2]] - soup.points[t[0]]).norm();
+    const double a = triangle_area(soup.points[t[0]], soup.points[t[1]], soup.points[t[2]]);
     if (a <= area_eps) {
       if (!degenerate++) deg_example = "face " + std::to_string(f);
     }
   }
   add(r, "degenerate (zero-area) faces", degenerate, deg_example, false,
       "they are tolerated; remove them for better skeletons (e.g. 'remove zero-area faces' in MeshLab)");
+}
 
-  // Isolated vertices.
+void check_isolated_vertices(const MeshSoup& soup, const std::vector<char>& face_ok, MeshReport& r) {
+  const long nv = r.vertices;
   std::vector<char> used(nv, 0);
   for (size_t f = 0; f < soup.triangles.size(); ++f)
     if (face_ok[f])
@@ -237,10 +252,13 @@ MeshReport validate_mesh(const MeshSoup& soup) {
   for (long v = 0; v < nv; ++v)
     if (!used[v] && !isolated++) iso_example = "vertex " + std::to_string(v);
   add(r, "isolated vertices (in no face)", isolated, iso_example, false, "they are ignored; delete loose vertices to silence this");
+}
 
-  // Parts and genus: Euler characteristic per edge-connected component.
+// Parts and genus: Euler characteristic per edge-connected component.
+void find_parts(const MeshSoup& soup, const std::vector<char>& face_ok, const EdgeUse& use, MeshReport& r) {
+  const long nv = r.vertices;
   UnionFind uf(soup.triangles.size());
-  for (const auto& [k, fs] : edge_faces)
+  for (const auto& [k, fs] : use.faces)
     for (size_t i = 1; i < fs.size(); ++i) uf.unite(fs[0], fs[i]);
   std::map<int, int> part_of_root;
   r.face_part.assign(soup.triangles.size(), -1);
@@ -260,7 +278,7 @@ MeshReport validate_mesh(const MeshSoup& soup) {
   }
   for (long v = 0; v < nv; ++v)
     if (vpart[v] >= 0) pv[vpart[v]]++;
-  for (const auto& [k, fs] : edge_faces) {
+  for (const auto& [k, fs] : use.faces) {
     pe[r.face_part[fs[0]]]++;
     if (fs.size() == 1) pb[r.face_part[fs[0]]]++;
   }
@@ -272,6 +290,29 @@ MeshReport validate_mesh(const MeshSoup& soup) {
   }
   if (r.parts > 1)
     add(r, "connected parts", r.parts, "each part gets its own skeleton", false, "nothing to fix: several parts are supported");
+}
+
+}  // namespace
+
+MeshReport validate_mesh(const MeshSoup& soup) {
+  MeshReport r;
+  r.vertices = long(soup.points.size());
+  r.faces = long(soup.triangles.size());
+  if (soup.triangles.empty()) {
+    add(r, "empty mesh (no faces)", 1, std::to_string(r.vertices) + " vertices but no face", true,
+        "export the surface as triangles or polygons, not as points or lines");
+    return r;
+  }
+  // The findings come in this order: fatal ones first, from coordinates to topology.
+  const long bad_coord = check_coordinates(soup, r);
+  const std::vector<char> face_ok = check_face_indices(soup, r);
+  check_duplicated_faces(soup, face_ok, r);
+  const EdgeUse use = edge_use(soup, face_ok);
+  check_edges(use, r);
+  check_vertex_fans(soup, face_ok, r);
+  check_degenerate_faces(soup, face_ok, bad_coord, r);
+  check_isolated_vertices(soup, face_ok, r);
+  find_parts(soup, face_ok, use, r);
   if (soup.polygons_triangulated)
     add(r, "polygons fan-triangulated on read", soup.polygons_triangulated, "faces with more than three corners", false,
         "nothing to fix; triangulate in the modelling tool for control over the diagonals");

@@ -4,8 +4,7 @@
 #include "libstm/core/errors.h"
 #include "libstm/layout/segments.h"
 
-#define GL_GLEXT_PROTOTYPES 1
-#include <GL/glcorearb.h>
+#include "libstm/render/gl_objects.h"  // GL prototypes and owning handles
 
 #include <algorithm>
 #include <array>
@@ -112,34 +111,24 @@ AtlasPass draw_atlas_pass(GlContext& gl, const Layout& L, const std::vector<floa
     throw InputError("atlas of " + std::to_string(S) + "^2 texels exceeds the GL limits (" + std::to_string(std::min(dims[0], max_tex)) + ")");
   const bool values = source == nullptr;
   Framebuffer fb(S, S, 1, values);
-  GLuint vbo = 0, vao = 0, tex = 0;
-  struct Cleanup {
-    GLuint &vbo, &vao, &tex;
-    ~Cleanup() {
-      glDeleteBuffers(1, &vbo);
-      glDeleteVertexArrays(1, &vao);
-      glDeleteTextures(1, &tex);
-    }
-  } cleanup{vbo, vao, tex};
-  glCreateBuffers(1, &vbo);
-  glNamedBufferData(vbo, GLsizeiptr(std::max<size_t>(verts.size(), 1) * sizeof(float)), verts.empty() ? nullptr : verts.data(),
-                    GL_STATIC_DRAW);
-  glCreateVertexArrays(1, &vao);
-  glVertexArrayVertexBuffer(vao, 0, vbo, 0, kFloats * sizeof(float));
+  const GlBuffer vbo = make_buffer(verts);
+  const GlVertexArray vao = make_vertex_array();
+  glVertexArrayVertexBuffer(vao.get(), 0, vbo.get(), 0, kFloats * sizeof(float));
   const GLint sizes[3] = {3, 4, 4};
   const GLuint offsets[3] = {0, 3 * sizeof(float), 7 * sizeof(float)};
   for (GLuint a = 0; a < 3; ++a) {
-    glEnableVertexArrayAttrib(vao, a);
-    glVertexArrayAttribFormat(vao, a, sizes[a], GL_FLOAT, GL_FALSE, offsets[a]);
-    glVertexArrayAttribBinding(vao, a, 0);
+    glEnableVertexArrayAttrib(vao.get(), a);
+    glVertexArrayAttribFormat(vao.get(), a, sizes[a], GL_FLOAT, GL_FALSE, offsets[a]);
+    glVertexArrayAttribBinding(vao.get(), a, 0);
   }
+  GlTexture tex;
   if (source) {
-    tex = upload_texture(*source, true, false);
+    tex = GlTexture(upload_texture(*source, true, false));
   } else {
     const uint8_t white[4] = {255, 255, 255, 255};
-    glCreateTextures(GL_TEXTURE_2D, 1, &tex);
-    glTextureStorage2D(tex, 1, GL_RGBA8, 1, 1);
-    glTextureSubImage2D(tex, 0, 0, 0, 1, 1, GL_RGBA, GL_UNSIGNED_BYTE, white);
+    tex = make_texture(GL_TEXTURE_2D);
+    glTextureStorage2D(tex.get(), 1, GL_RGBA8, 1, 1);
+    glTextureSubImage2D(tex.get(), 0, 0, 0, 1, 1, GL_RGBA, GL_UNSIGNED_BYTE, white);
   }
   const GLuint prog = gl.program("atlas.vert.glsl", "atlas.frag.glsl");
   fb.bind();
@@ -157,8 +146,8 @@ AtlasPass draw_atlas_pass(GlContext& gl, const Layout& L, const std::vector<floa
   glUniform1f(glGetUniformLocation(prog, "u_size"), float(S));
   glUniform1i(glGetUniformLocation(prog, "u_mode"), values ? 1 : 0);
   glUniform1i(glGetUniformLocation(prog, "u_source"), 0);
-  glBindTextureUnit(0, tex);
-  glBindVertexArray(vao);
+  glBindTextureUnit(0, tex.get());
+  glBindVertexArray(vao.get());
   glDrawArrays(GL_TRIANGLES, 0, GLsizei(verts.size() / kFloats));
   glBindVertexArray(0);
   glBindTextureUnit(0, 0);

@@ -2,8 +2,7 @@
 
 #include "libstm/core/errors.h"
 
-#define GL_GLEXT_PROTOTYPES 1
-#include <GL/glcorearb.h>
+#include "libstm/render/gl_objects.h"  // GL prototypes and owning handles
 
 #include <algorithm>
 #include <cmath>
@@ -126,29 +125,18 @@ Image render_mesh(GlContext& gl, const Mesh& mesh, const RenderOptions& opt, std
   const std::vector<float> verts = corner_vertices(mesh, cam.center, opt.flat_shading ? 0.0 : opt.crease_angle_deg, textured);
 
   Framebuffer fb(opt.width, opt.height, opt.samples);
-  GLuint vbo = 0, vao = 0, tex = 0;
-  // GL names are plain integers: free them on every exit path.
-  struct Cleanup {
-    GLuint &vbo, &vao, &tex;
-    ~Cleanup() {
-      glDeleteBuffers(1, &vbo);
-      glDeleteVertexArrays(1, &vao);
-      glDeleteTextures(1, &tex);
-    }
-  } cleanup{vbo, vao, tex};
-
-  glCreateBuffers(1, &vbo);
-  glNamedBufferData(vbo, GLsizeiptr(verts.size() * sizeof(float)), verts.data(), GL_STATIC_DRAW);
-  glCreateVertexArrays(1, &vao);
-  glVertexArrayVertexBuffer(vao, 0, vbo, 0, 8 * sizeof(float));
+  const GlBuffer vbo = make_buffer(verts);
+  const GlVertexArray vao = make_vertex_array();
+  glVertexArrayVertexBuffer(vao.get(), 0, vbo.get(), 0, 8 * sizeof(float));
   const GLint sizes[3] = {3, 3, 2};
   const GLuint offsets[3] = {0, 3 * sizeof(float), 6 * sizeof(float)};
   for (GLuint a = 0; a < 3; ++a) {
-    glEnableVertexArrayAttrib(vao, a);
-    glVertexArrayAttribFormat(vao, a, sizes[a], GL_FLOAT, GL_FALSE, offsets[a]);
-    glVertexArrayAttribBinding(vao, a, 0);
+    glEnableVertexArrayAttrib(vao.get(), a);
+    glVertexArrayAttribFormat(vao.get(), a, sizes[a], GL_FLOAT, GL_FALSE, offsets[a]);
+    glVertexArrayAttribBinding(vao.get(), a, 0);
   }
-  if (textured) tex = upload_texture(*opt.texture, true, true);
+  GlTexture tex;
+  if (textured) tex = GlTexture(upload_texture(*opt.texture, true, true));
 
   const GLuint prog = gl.program("mesh.vert.glsl", "mesh.frag.glsl");
   // Positions are relative to the box centre, so the model-view includes that translation; it is
@@ -178,8 +166,8 @@ Image render_mesh(GlContext& gl, const Mesh& mesh, const RenderOptions& opt, std
   glUniform1i(glGetUniformLocation(prog, "u_orthographic"), opt.orthographic ? 1 : 0);
   glUniform1f(glGetUniformLocation(prog, "u_ambient"), float(opt.ambient));
   glUniform1i(glGetUniformLocation(prog, "u_texture"), 0);
-  glBindTextureUnit(0, tex);
-  glBindVertexArray(vao);
+  glBindTextureUnit(0, tex.get());
+  glBindVertexArray(vao.get());
   glDrawArrays(GL_TRIANGLES, 0, GLsizei(verts.size() / 8));
   glBindVertexArray(0);
   glBindTextureUnit(0, 0);

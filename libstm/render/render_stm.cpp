@@ -3,17 +3,17 @@
 #include "libstm/core/errors.h"
 #include "libstm/layout/segments.h"
 
-#define GL_GLEXT_PROTOTYPES 1
-#include <GL/glcorearb.h>
+#include "libstm/render/gl_objects.h"  // GL prototypes and owning handles
 
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
 
 namespace sdm {
+namespace {
 
-Image render_stm(GlContext& gl, const Mesh& mesh, const Layout& L, const Image& atlas, const RenderOptions& opt,
-                 std::vector<uint8_t>* mask, StmRenderProbe* probe) {
+// Throws InputError for what render_stm refuses (see the header).
+void check_stm_inputs(const Mesh& mesh, const Layout& L, const Image& atlas, const RenderOptions& opt) {
   if (mesh.n_faces() == 0) throw InputError("cannot render a mesh with no faces");
   if (opt.width <= 0 || opt.height <= 0 || opt.width > 16384 || opt.height > 16384)
     throw InputError("image size " + std::to_string(opt.width) + "x" + std::to_string(opt.height) + " is outside 1..16384");
@@ -26,15 +26,21 @@ Image render_stm(GlContext& gl, const Mesh& mesh, const Layout& L, const Image& 
                      std::to_string(L.size) + "x" + std::to_string(L.size));
   for (int n : L.skeleton.vertex_node)
     if (n < 0 || n >= int(L.skeleton.nodes.size())) throw InputError("the layout's skeleton maps a vertex to node " + std::to_string(n));
+}
 
-  Eigen::Vector3d lo = opt.bbox_min, hi = opt.bbox_max;
-  if (!(lo.array() <= hi.array()).all()) bounding_box(mesh, lo, hi);
-  const Camera cam = frame_camera(lo, hi, opt.azimuth_deg, opt.elevation_deg, opt.width, opt.height, opt.orthographic);
-  const Eigen::Vector3d& o = cam.center;
+// What the vertex stage reads: per vertex its position relative to the framing centre `o` and its
+// area-weighted normal (6 floats), and its (node, orientation); the triangles as indices.
+struct StmVertices {
+  std::vector<float> verts;
+  std::vector<int> nodes;
+  std::vector<GLuint> index;
+};
 
+StmVertices stm_vertices(const Mesh& mesh, const Layout& L, const Eigen::Vector3d& o) {
+  StmVertices r;
   // Vertices shared by their faces: no uv, so nothing is split at the seam.
   std::vector<Eigen::Vector3d> normal(mesh.n_vertices(), Eigen::Vector3d::Zero());
-  std::vector<GLuint> index;
+  std::vector<GLuint>& index = r.index;
   index.reserve(mesh.n_faces() * 3);
   for (auto f : mesh.faces()) {
     Eigen::Vector3d p[3];
@@ -46,12 +52,11 @@ Image render_stm(GlContext& gl, const Mesh& mesh, const Layout& L, const Image& 
     const Eigen::Vector3d n = (p[1] - p[0]).cross(p[2] - p[0]);  // area weighted
     for (int j = 0; j < 3; ++j) normal[index[index.size() - 3 + j]] += n;
   }
-  std::vector<float> verts;
-  verts.reserve(mesh.n_vertices() * 6);
+  r.verts.reserve(mesh.n_vertices() * 6);
   for (auto v : mesh.vertices()) {
     const Eigen::Vector3d p = point(mesh, v) - o;
     const Eigen::Vector3d n = normal[v.idx()].norm() > 0 ? normal[v.idx()].normalized() : Eigen::Vector3d(0, 0, 1);
-    verts.insert(verts.end(), {float(p.x()), float(p.y()), float(p.z()), float(n.x()), float(n.y()), float(n.z())});
+    r.verts.insert(r.verts.end(), {float(p.x()), float(p.y()), float(p.z()), float(n.x()), float(n.y()), float(n.z())});
   }
   // Per vertex: its skeleton node and the orientation of its part, which assign_faces' rule needs
   // (a vertex's faces all lie in one part: parts are connected through shared edges, and OpenMesh
@@ -61,10 +66,13 @@ Image render_stm(GlContext& gl, const Mesh& mesh, const Layout& L, const Image& 
   std::vector<int> vertex_orient(mesh.n_vertices(), 1);
   for (auto f : mesh.faces())
     for (auto v : mesh.fv_range(f)) vertex_orient[v.idx()] = face_orient[f.idx()];
-  std::vector<int> nodes;  // (node, orientation) per vertex
-  nodes.reserve(2 * mesh.n_vertices());
-  for (size_t v = 0; v < mesh.n_vertices(); ++v) nodes.insert(nodes.end(), {L.skeleton.vertex_node[v], vertex_orient[v]});
-  // Segments: 6 RGBA32F texels each: a, b (relative to the framing centre), e1, e2, rect, (d, rotated).
+  r.nodes.reserve(2 * mesh.n_vertices());
+  for (size_t v = 0; v < mesh.n_vertices(); ++v) r.nodes.insert(r.nodes.end(), {L.skeleton.vertex_node[v], vertex_orient[v]});
+  return r;
+}
+
+// Segments: 6 RGBA32F texels each: a, b (relative to the framing centre o), e1, e2, rect, (d, rotated).
+std::vector<float> segment_texels(const Layout& L, const Eigen::Vector3d& o) {
   std::vector<float> seg;
   for (size_t s = 0; s < L.segments.size(); ++s) {
     const LayoutSegment& g = L.segments[s];
@@ -74,7 +82,11 @@ Image render_stm(GlContext& gl, const Mesh& mesh, const Layout& L, const Image& 
                            float(g.e2.z()), 0.f, float(g.x), float(g.y), float(g.w), float(g.h), float(g.d),
                            g.rotated ? 1.f : 0.f, 0.f, 0.f});
   }
-  // Node -> incident segments, offsets first (absolute positions in the same buffer).
+  return seg;
+}
+
+// Node -> incident segments, offsets first (absolute positions in the same buffer).
+std::vector<GLint> node_incidence(const Layout& L) {
   const int nn = int(L.skeleton.nodes.size());
   std::vector<std::vector<int>> node_segments(nn);
   for (size_t s = 0; s < L.segments.size(); ++s) {
@@ -87,32 +99,30 @@ Image render_stm(GlContext& gl, const Mesh& mesh, const Layout& L, const Image& 
     if (n < nn) at += int(node_segments[n].size());
   }
   for (int n = 0; n < nn; ++n) incidence.insert(incidence.end(), node_segments[n].begin(), node_segments[n].end());
+  return incidence;
+}
 
-  gl.make_current();
-  GLint max_tex = 0;
-  glGetIntegerv(GL_MAX_TEXTURE_SIZE, &max_tex);
-  if (atlas.width > max_tex) throw InputError("atlas of " + std::to_string(atlas.width) + "^2 exceeds the GL limit of " + std::to_string(max_tex));
-  GLuint bufs[5] = {0, 0, 0, 0, 0};  // vertices, nodes, indices, segments, incidence
-  GLuint texs[3] = {0, 0, 0};        // atlas, segments, incidence
-  GLuint vao = 0;
-  struct Cleanup {
-    GLuint *bufs, *texs, &vao;
-    ~Cleanup() {
-      glDeleteBuffers(5, bufs);
-      glDeleteTextures(3, texs);
-      glDeleteVertexArrays(1, &vao);
-    }
-  } cleanup{bufs, texs, vao};
-  glCreateBuffers(5, bufs);
-  glNamedBufferData(bufs[0], GLsizeiptr(verts.size() * sizeof(float)), verts.data(), GL_STATIC_DRAW);
-  glNamedBufferData(bufs[1], GLsizeiptr(nodes.size() * sizeof(int)), nodes.data(), GL_STATIC_DRAW);
-  glNamedBufferData(bufs[2], GLsizeiptr(index.size() * sizeof(GLuint)), index.data(), GL_STATIC_DRAW);
-  glNamedBufferData(bufs[3], GLsizeiptr(seg.size() * sizeof(float)), seg.data(), GL_STATIC_DRAW);
-  glNamedBufferData(bufs[4], GLsizeiptr(incidence.size() * sizeof(GLint)), incidence.data(), GL_STATIC_DRAW);
-  glCreateVertexArrays(1, &vao);
-  glVertexArrayVertexBuffer(vao, 0, bufs[0], 0, 6 * sizeof(float));
-  glVertexArrayVertexBuffer(vao, 1, bufs[1], 0, 2 * sizeof(int));
-  glVertexArrayElementBuffer(vao, bufs[2]);
+// The GL objects of the STM pass: the vertex array (positions and normals at binding 0,
+// attributes 0-1; node and orientation at binding 1, attributes 2-3; the triangles' indices) and
+// the textures of units 0-2 (atlas, segments, incidence).
+struct StmObjects {
+  GlBuffer vertices, nodes, indices, segments, incidence;
+  GlVertexArray vao;
+  GlTexture atlas, segment_texture, incidence_texture;
+};
+
+StmObjects upload_stm(const StmVertices& v, const std::vector<float>& seg, const std::vector<GLint>& incidence, const Image& atlas) {
+  StmObjects g;
+  g.vertices = make_buffer(v.verts);
+  g.nodes = make_buffer(v.nodes);
+  g.indices = make_buffer(v.index);
+  g.segments = make_buffer(seg);
+  g.incidence = make_buffer(incidence);
+  g.vao = make_vertex_array();
+  const GLuint vao = g.vao.get();
+  glVertexArrayVertexBuffer(vao, 0, g.vertices.get(), 0, 6 * sizeof(float));
+  glVertexArrayVertexBuffer(vao, 1, g.nodes.get(), 0, 2 * sizeof(int));
+  glVertexArrayElementBuffer(vao, g.indices.get());
   for (GLuint a = 0; a < 2; ++a) {
     glEnableVertexArrayAttrib(vao, a);
     glVertexArrayAttribFormat(vao, a, 3, GL_FLOAT, GL_FALSE, a * 3 * sizeof(float));
@@ -123,15 +133,17 @@ Image render_stm(GlContext& gl, const Mesh& mesh, const Layout& L, const Image& 
     glVertexArrayAttribIFormat(vao, a, 1, GL_INT, (a - 2) * sizeof(int));
     glVertexArrayAttribBinding(vao, a, 1);
   }
-  texs[0] = upload_texture(atlas, false, false);  // clamped: margins, not wrapping, make filtering right
-  glCreateTextures(GL_TEXTURE_BUFFER, 2, texs + 1);
-  glTextureBuffer(texs[1], GL_RGBA32F, bufs[3]);
-  glTextureBuffer(texs[2], GL_R32I, bufs[4]);
-  // The STM pass has a geometry stage: it chooses each triangle's segment (DESIGN 4.7).
-  const GLuint prog = gl.program("stm.vert.glsl", "stm.frag.glsl", "stm.geom.glsl");
+  g.atlas = GlTexture(upload_texture(atlas, false, false));  // clamped: margins, not wrapping, make filtering right
+  g.segment_texture = make_texture(GL_TEXTURE_BUFFER);
+  g.incidence_texture = make_texture(GL_TEXTURE_BUFFER);
+  glTextureBuffer(g.segment_texture.get(), GL_RGBA32F, g.segments.get());
+  glTextureBuffer(g.incidence_texture.get(), GL_R32I, g.incidence.get());
+  return g;
+}
 
+void set_stm_uniforms(GLuint prog, const Camera& cam, const Layout& L, const RenderOptions& opt) {
   Eigen::Matrix4d to_center = Eigen::Matrix4d::Identity();
-  to_center.block<3, 1>(0, 3) = o;
+  to_center.block<3, 1>(0, 3) = cam.center;
   const Eigen::Matrix4f model_view = (cam.view * to_center).cast<float>(), projection = cam.projection.cast<float>();
   glUseProgram(prog);
   glUniformMatrix4fv(glGetUniformLocation(prog, "u_model_view"), 1, GL_FALSE, model_view.data());
@@ -145,45 +157,75 @@ Image render_stm(GlContext& gl, const Mesh& mesh, const Layout& L, const Image& 
   glUniform1i(glGetUniformLocation(prog, "u_lit"), opt.unlit ? 0 : 1);
   glUniform1i(glGetUniformLocation(prog, "u_orthographic"), opt.orthographic ? 1 : 0);
   glUniform1f(glGetUniformLocation(prog, "u_ambient"), float(opt.ambient));
-  glBindTextureUnit(0, texs[0]);
-  glBindTextureUnit(1, texs[1]);
-  glBindTextureUnit(2, texs[2]);
+}
 
-  auto draw = [&](Framebuffer& fb, int output) {
-    fb.bind();
-    glDisable(GL_BLEND);
-    glDisable(GL_CULL_FACE);
-    glDisable(GL_SCISSOR_TEST);
-    glEnable(GL_DEPTH_TEST);
-    glDepthFunc(GL_LESS);
-    glDepthMask(GL_TRUE);
-    glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
-    if (fb.samples() > 1) glEnable(GL_MULTISAMPLE); else glDisable(GL_MULTISAMPLE);
-    const float transparent[4] = {0, 0, 0, 0};
-    fb.clear(transparent, transparent);
-    glUseProgram(prog);
-    glUniform1i(glGetUniformLocation(prog, "u_output"), output);
-    glBindVertexArray(vao);
-    glDrawElements(GL_TRIANGLES, GLsizei(index.size()), GL_UNSIGNED_INT, nullptr);
-    glBindVertexArray(0);
-    check_gl("render_stm");
-  };
+// One draw of the STM pass into fb; `output` selects what the fragment shader writes (0: the
+// shaded colour, 1: coordinates, 2: positions; see StmRenderProbe).
+void draw_stm_pass(Framebuffer& fb, GLuint prog, GLuint vao, size_t index_count, int output) {
+  fb.bind();
+  glDisable(GL_BLEND);
+  glDisable(GL_CULL_FACE);
+  glDisable(GL_SCISSOR_TEST);
+  glEnable(GL_DEPTH_TEST);
+  glDepthFunc(GL_LESS);
+  glDepthMask(GL_TRUE);
+  glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+  if (fb.samples() > 1) glEnable(GL_MULTISAMPLE); else glDisable(GL_MULTISAMPLE);
+  const float transparent[4] = {0, 0, 0, 0};
+  fb.clear(transparent, transparent);
+  glUseProgram(prog);
+  glUniform1i(glGetUniformLocation(prog, "u_output"), output);
+  glBindVertexArray(vao);
+  glDrawElements(GL_TRIANGLES, GLsizei(index_count), GL_UNSIGNED_INT, nullptr);
+  glBindVertexArray(0);
+  check_gl("render_stm");
+}
+
+// The probe passes: single-sample, coordinates then positions, the positions back in model
+// coordinates (in double for the offset o).
+void read_probe(Framebuffer& pf, GLuint prog, GLuint vao, size_t index_count, const Eigen::Vector3d& o, StmRenderProbe& probe) {
+  draw_stm_pass(pf, prog, vao, index_count, 1);
+  probe.coordinates = pf.read_float();
+  draw_stm_pass(pf, prog, vao, index_count, 2);
+  probe.positions = pf.read_float();
+  for (size_t i = 0, n = size_t(pf.width()) * pf.height(); i < n; ++i) {
+    float* p = &probe.positions.pixels[i * 4];
+    if (p[3] > 0)
+      for (int k = 0; k < 3; ++k) p[k] = float(double(p[k]) + o[k]);
+  }
+}
+
+}  // namespace
+
+Image render_stm(GlContext& gl, const Mesh& mesh, const Layout& L, const Image& atlas, const RenderOptions& opt,
+                 std::vector<uint8_t>* mask, StmRenderProbe* probe) {
+  check_stm_inputs(mesh, L, atlas, opt);
+  Eigen::Vector3d lo = opt.bbox_min, hi = opt.bbox_max;
+  if (!(lo.array() <= hi.array()).all()) bounding_box(mesh, lo, hi);
+  const Camera cam = frame_camera(lo, hi, opt.azimuth_deg, opt.elevation_deg, opt.width, opt.height, opt.orthographic);
+  const Eigen::Vector3d& o = cam.center;
+  const StmVertices vertices = stm_vertices(mesh, L, o);
+  const std::vector<float> seg = segment_texels(L, o);
+  const std::vector<GLint> incidence = node_incidence(L);
+
+  gl.make_current();
+  GLint max_tex = 0;
+  glGetIntegerv(GL_MAX_TEXTURE_SIZE, &max_tex);
+  if (atlas.width > max_tex) throw InputError("atlas of " + std::to_string(atlas.width) + "^2 exceeds the GL limit of " + std::to_string(max_tex));
+  const StmObjects g = upload_stm(vertices, seg, incidence, atlas);
+  // The STM pass has a geometry stage: it chooses each triangle's segment (DESIGN 4.7).
+  const GLuint prog = gl.program("stm.vert.glsl", "stm.frag.glsl", "stm.geom.glsl");
+  set_stm_uniforms(prog, cam, L, opt);
+  glBindTextureUnit(0, g.atlas.get());
+  glBindTextureUnit(1, g.segment_texture.get());
+  glBindTextureUnit(2, g.incidence_texture.get());
 
   Framebuffer fb(opt.width, opt.height, opt.samples);
-  draw(fb, 0);
+  draw_stm_pass(fb, prog, g.vao.get(), vertices.index.size(), 0);
   Image img = fb.read_rgba8();
   if (probe) {
     Framebuffer pf(opt.width, opt.height, 1, true);
-    draw(pf, 1);
-    probe->coordinates = pf.read_float();
-    draw(pf, 2);
-    probe->positions = pf.read_float();
-    // Back to model coordinates, in double for the offset.
-    for (size_t i = 0, n = size_t(opt.width) * opt.height; i < n; ++i) {
-      float* p = &probe->positions.pixels[i * 4];
-      if (p[3] > 0)
-        for (int k = 0; k < 3; ++k) p[k] = float(double(p[k]) + o[k]);
-    }
+    read_probe(pf, prog, g.vao.get(), vertices.index.size(), o, *probe);
   }
   glBindTextureUnit(0, 0);
   glBindTextureUnit(1, 0);

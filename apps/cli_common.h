@@ -1,0 +1,34 @@
+#pragma once
+// What several subcommands share beyond commands.h: obtaining the layout of a mesh.
+#include "libstm/layout/layout.h"
+#include "libstm/mesh/mesh.h"
+
+#include <string>
+
+namespace sdm::cli {
+
+/// Where a command's layout comes from: the layout file when one is named, else a layout computed
+/// around the skeleton file when one is named, else around a skeleton extracted here (the
+/// default options of `sdm skeleton`).
+struct LayoutSource {
+  std::string layout_file;    // --layout
+  std::string skeleton_file;  // --skeleton
+  LayoutOptions options;      // of a computed layout (size, margin, ...); its progress is set by layout_for
+  // Print a line as each stage starts ("extracting the skeleton", "computing the layout") with
+  // the stage's own progress lines indented under it; otherwise the stage's lines only, as they are.
+  bool announce_stages = false;
+};
+
+struct LayoutForMesh {
+  Layout layout;
+  bool computed = false;         // false: read from the layout file
+  double skeleton_seconds = 0;   // reading or extracting the skeleton (0 for a layout file)
+  double layout_seconds = 0;     // computing the layout (0 for a layout file)
+};
+
+/// The layout of `mesh` from `source`, progress lines on stderr. Throws InputError when the layout
+/// file was made for a mesh with another vertex count, and whatever reading the files, extracting
+/// the skeleton or computing the layout throws.
+LayoutForMesh layout_for(const Mesh& mesh, const LayoutSource& source);
+
+}  // namespace sdm::cli
