@@ -1,6 +1,8 @@
 #include "libstm/skeleton/contract_mesh.h"
 
 #include "libstm/core/errors.h"
+#include "libstm/core/stopwatch.h"
+#include "libstm/geometry/differential_geometry.h"
 #include "libstm/geometry/supernodal_cholesky.h"
 
 #include <Eigen/Sparse>
@@ -9,16 +11,13 @@
 #include <Eigen/CholmodSupport>
 #endif
 #include <algorithm>
-#include <chrono>
+#include <array>
 #include <cmath>
 #include <cstdio>
 
 namespace sdm {
 
 namespace {
-
-using Clock = std::chrono::steady_clock;
-double seconds_since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
 
 // SupernodalCholesky behind the interface of Eigen's factorisations, for the iteration below.
 class SupernodalSolver {
@@ -42,194 +41,273 @@ double clamped_cot(const Eigen::Vector3d& u, const Eigen::Vector3d& v, double lo
   return std::clamp(c / s, lo, hi);
 }
 
+// Au et al.'s iteration on one mesh. The normal equations (L^T W_L^2 L + W_H^2) V' = W_H^2 V have
+// the sparsity of pairs of vertices in one closed one-ring, whatever the weights: the pattern, and
+// where each Laplacian entry lands in it, are set up once.
+class Contraction {
+ public:
+  Contraction(const Eigen::MatrixX3d& V0, const Eigen::MatrixX3i& F, const ContractOptions& opt, const Progress& progress);
+  // Iterates until the area ratio, the iteration count or stagnation stops it, or the solver fails
+  // (the last good shape is kept).
+  template <class Solver>
+  void run(Solver& solver);
+  ContractResult result() {
+    res_.positions = V_;
+    return std::move(res_);
+  }
+
+ private:
+  int slot_in(int i, int j) const {
+    return int(std::lower_bound(ring_[i].begin(), ring_[i].end(), j) - ring_[i].begin());
+  }
+  void build_rings();
+  void build_pattern();
+  double areas(std::vector<double>& vertex_area) const;
+  void assemble_laplacian();
+  Eigen::MatrixX3d assemble_system();
+  void eliminate_pinned(Eigen::MatrixX3d& rhs);
+  template <class Solver>
+  bool solve(Solver& solver, const Eigen::MatrixX3d& rhs);
+  void update_weights();
+
+  const Eigen::MatrixX3i& F_;
+  const ContractOptions& opt_;
+  const Progress& progress_;
+  const int n_, m_;
+  ContractResult res_;
+  Eigen::MatrixX3d V_;
+  // Closed one-rings R_i = {i} + neighbours, sorted: row i of L lives on R_i.
+  std::vector<std::vector<int>> ring_;
+  // For every face edge (opposite corner k): where each end sits in the other's ring.
+  std::vector<std::array<int, 6>> face_slots_;
+  Eigen::SparseMatrix<double> A_;  // lower triangle of the normal equations' matrix
+  std::vector<int> pair_slot_;     // value slot in A_ of every ring pair, ring by ring
+  std::vector<int> diag_slot_;
+  std::vector<std::vector<double>> lrow_;  // row i of L on R_i
+  std::vector<double> va0_, va_;           // one-ring areas: original, current
+  double area0_ = 0, ratio_ = 1.0;
+  double WL0_ = 0, WL_ = 0;
+  Eigen::VectorXd WH_;
+  std::vector<char> pinned_;
+  int npinned_ = 0;
+  bool analysed_ = false;
+};
+
+Contraction::Contraction(const Eigen::MatrixX3d& V0, const Eigen::MatrixX3i& F, const ContractOptions& opt,
+                         const Progress& progress)
+    : F_(F), opt_(opt), progress_(progress), n_(int(V0.rows())), m_(int(F.rows())), V_(V0) {
+  build_rings();
+  build_pattern();
+  area0_ = areas(va0_);
+  if (!(area0_ > 0)) throw InputError("cannot contract a mesh of zero area");
+  WL0_ = opt.laplacian_weight * std::sqrt(double(m_));
+  WL_ = WL0_;
+  WH_ = Eigen::VectorXd::Ones(n_);
+  lrow_.resize(n_);
+  for (int i = 0; i < n_; ++i) lrow_[i].assign(ring_[i].size(), 0.0);
+  pinned_.assign(n_, 0);
+}
+
+void Contraction::build_rings() {
+  ring_.resize(n_);
+  for (int i = 0; i < n_; ++i) ring_[i].push_back(i);
+  for (int f = 0; f < m_; ++f)
+    for (int k = 0; k < 3; ++k) {
+      const int a = F_(f, k), b = F_(f, (k + 1) % 3);
+      ring_[a].push_back(b), ring_[b].push_back(a);
+    }
+  for (auto& r : ring_) {
+    std::sort(r.begin(), r.end());
+    r.erase(std::unique(r.begin(), r.end()), r.end());
+  }
+  face_slots_.resize(m_);
+  for (int f = 0; f < m_; ++f)
+    for (int k = 0; k < 3; ++k) {
+      const int a = F_(f, (k + 1) % 3), b = F_(f, (k + 2) % 3);
+      face_slots_[f][2 * k] = slot_in(a, b);
+      face_slots_[f][2 * k + 1] = slot_in(b, a);
+    }
+}
+
+// Pattern of the lower triangle of L^T L (+ diagonal): every pair inside one closed ring; and the
+// value slot of every ring pair, so each iteration fills A without searching.
+void Contraction::build_pattern() {
+  std::vector<Eigen::Triplet<double>> trip;
+  size_t pairs = 0;
+  for (const auto& r : ring_) pairs += r.size() * (r.size() + 1) / 2;
+  trip.reserve(pairs);
+  for (const auto& r : ring_)
+    for (size_t a = 0; a < r.size(); ++a)
+      for (size_t b = 0; b <= a; ++b) trip.emplace_back(r[a], r[b], 0.0);  // r sorted: r[a] >= r[b]
+  A_.resize(n_, n_);
+  A_.setFromTriplets(trip.begin(), trip.end());
+  A_.makeCompressed();
+  trip.clear();
+  trip.shrink_to_fit();
+  pair_slot_.reserve(pairs);
+  auto value_index = [&](int row, int col) {
+    const int* begin = A_.innerIndexPtr() + A_.outerIndexPtr()[col];
+    const int* end = A_.innerIndexPtr() + A_.outerIndexPtr()[col + 1];
+    return int(std::lower_bound(begin, end, row) - A_.innerIndexPtr());
+  };
+  for (const auto& r : ring_)
+    for (size_t a = 0; a < r.size(); ++a)
+      for (size_t b = 0; b <= a; ++b) pair_slot_.push_back(value_index(r[a], r[b]));
+  diag_slot_.resize(n_);
+  for (int i = 0; i < n_; ++i) diag_slot_[i] = value_index(i, i);
+}
+
+// Total area of the current shape; the area of each vertex's faces into vertex_area.
+double Contraction::areas(std::vector<double>& vertex_area) const {
+  vertex_area.assign(n_, 0.0);
+  double total = 0;
+  for (int f = 0; f < m_; ++f) {
+    const Eigen::Vector3d a = V_.row(F_(f, 0)), b = V_.row(F_(f, 1)), c = V_.row(F_(f, 2));
+    const double fa = triangle_area(a, b, c);
+    total += fa;
+    for (int k = 0; k < 3; ++k) vertex_area[F_(f, k)] += fa;
+  }
+  return total;
+}
+
+// Laplacian of the current shape (uniform weights count each face corner 1/2, so that an
+// interior edge weighs 1 like the cotangent weights of an equilateral mesh).
+void Contraction::assemble_laplacian() {
+  for (auto& r : lrow_) std::fill(r.begin(), r.end(), 0.0);
+  for (int f = 0; f < m_; ++f) {
+    for (int k = 0; k < 3; ++k) {
+      const int c = F_(f, k), a = F_(f, (k + 1) % 3), b = F_(f, (k + 2) % 3);
+      const double w =
+          opt_.cotangent ? clamped_cot(V_.row(a) - V_.row(c), V_.row(b) - V_.row(c), opt_.cot_min, opt_.cot_max) : 0.5;
+      lrow_[a][face_slots_[f][2 * k]] += w;
+      lrow_[b][face_slots_[f][2 * k + 1]] += w;
+    }
+  }
+  for (int i = 0; i < n_; ++i) {
+    double s = 0;
+    const int self = slot_in(i, i);
+    for (size_t a = 0; a < ring_[i].size(); ++a)
+      if (int(a) != self) s += lrow_[i][a];
+    lrow_[i][self] = -s;
+  }
+}
+
+// A = W_L^2 L^T L + W_H^2 and its right-hand side W_H^2 V, pinned vertices eliminated.
+Eigen::MatrixX3d Contraction::assemble_system() {
+  double* val = A_.valuePtr();
+  std::fill(val, val + A_.nonZeros(), 0.0);
+  const double wl2 = WL_ * WL_;
+  size_t p = 0;
+  for (int i = 0; i < n_; ++i) {
+    const auto& l = lrow_[i];
+    if (pinned_[i]) {  // a collapsed one-ring's cotangents are noise; its row would fling its neighbours
+      p += l.size() * (l.size() + 1) / 2;
+      continue;
+    }
+    for (size_t a = 0; a < l.size(); ++a) {
+      const double la = wl2 * l[a];
+      for (size_t b = 0; b <= a; ++b) val[pair_slot_[p++]] += la * l[b];
+    }
+  }
+  for (int i = 0; i < n_; ++i) val[diag_slot_[i]] += WH_[i] * WH_[i];
+  Eigen::MatrixX3d rhs = WH_.cwiseAbs2().asDiagonal() * V_;
+  if (npinned_) eliminate_pinned(rhs);
+  return rhs;
+}
+
+// Pinned vertices are eliminated (their rows become identity) rather than weighted: with
+// W_L growing geometrically, no finite W_H would keep them in place.
+void Contraction::eliminate_pinned(Eigen::MatrixX3d& rhs) {
+  double* val = A_.valuePtr();
+  for (int col = 0; col < n_; ++col)
+    for (int q = A_.outerIndexPtr()[col]; q < A_.outerIndexPtr()[col + 1]; ++q) {
+      const int row = A_.innerIndexPtr()[q];
+      if (!pinned_[row] && !pinned_[col]) continue;
+      if (row == col) {
+        val[q] = 1.0;
+        continue;
+      }
+      if (!pinned_[row]) rhs.row(row) -= val[q] * V_.row(col);
+      if (!pinned_[col]) rhs.row(col) -= val[q] * V_.row(row);
+      val[q] = 0.0;
+    }
+  for (int i = 0; i < n_; ++i)
+    if (pinned_[i]) rhs.row(i) = V_.row(i);
+}
+
+// Factorises A (same pattern every iteration: one analysis) and solves; false, keeping the last
+// good shape, when the factorisation fails or the solution is not finite.
+template <class Solver>
+bool Contraction::solve(Solver& solver, const Eigen::MatrixX3d& rhs) {
+  const Stopwatch factor_time;
+  if (!analysed_) solver.analyzePattern(A_), analysed_ = true;
+  solver.factorize(A_);
+  res_.factor_seconds += factor_time.seconds();
+  if (solver.info() != Eigen::Success) return false;
+  Eigen::MatrixX3d Vn = solver.solve(rhs);
+  if (!Vn.allFinite()) return false;
+  V_ = Vn;
+  return true;
+}
+
+// Au et al.: W_H,i = sqrt(A_i^0 / A_i^t); a collapsed one-ring is pinned where it is. W_L grows
+// by s_L up to its cap.
+void Contraction::update_weights() {
+  for (int i = 0; i < n_; ++i) {
+    const double r = va_[i] / va0_[i];
+    if (r < opt_.pin_area_ratio && !pinned_[i]) pinned_[i] = 1, ++npinned_;
+    WH_[i] = pinned_[i] ? 1.0 : std::sqrt(1.0 / r);
+  }
+  WL_ = std::min(WL_ * opt_.laplacian_scale, WL0_ * opt_.max_laplacian_growth);
+}
+
+template <class Solver>
+void Contraction::run(Solver& solver) {
+  for (int it = 0; it < opt_.max_iterations && ratio_ > opt_.area_ratio_stop; ++it) {
+    assemble_laplacian();
+    if (!solve(solver, assemble_system())) break;
+    const double area = areas(va_);
+    const double previous = ratio_;
+    ratio_ = area / area0_;
+    res_.area_ratio.push_back(ratio_);
+    res_.iterations = it + 1;
+    if (progress_) {
+      char line[160];
+      std::snprintf(line, sizeof line, "contraction iteration %d: area ratio %.3g, W_L %.3g, pinned %d", it + 1, ratio_,
+                    WL_, npinned_);
+      progress_(line);
+    }
+    update_weights();
+    // Stagnation: once the shape is thin, an iteration that no longer halves the area only
+    // costs time (the surgery copes with the rest).
+    if (ratio_ < 1e-3 && ratio_ > 0.5 * previous) break;
+  }
+}
+
 }  // namespace
 
 ContractResult contract_mesh(const Eigen::MatrixX3d& V0, const Eigen::MatrixX3i& F, const ContractOptions& opt,
                              const Progress& progress) {
-  const int n = int(V0.rows()), m = int(F.rows());
-  ContractResult res;
-  res.positions = V0;
-  if (n == 0 || m == 0) return res;
-
-  // Closed one-rings R_i = {i} + neighbours, sorted: row i of L lives on R_i.
-  std::vector<std::vector<int>> ring(n);
-  for (int i = 0; i < n; ++i) ring[i].push_back(i);
-  for (int f = 0; f < m; ++f)
-    for (int k = 0; k < 3; ++k) {
-      const int a = F(f, k), b = F(f, (k + 1) % 3);
-      ring[a].push_back(b), ring[b].push_back(a);
-    }
-  for (auto& r : ring) {
-    std::sort(r.begin(), r.end());
-    r.erase(std::unique(r.begin(), r.end()), r.end());
+  if (V0.rows() == 0 || F.rows() == 0) {
+    ContractResult res;
+    res.positions = V0;
+    return res;
   }
-  auto slot_in = [&](int i, int j) { return int(std::lower_bound(ring[i].begin(), ring[i].end(), j) - ring[i].begin()); };
-  // For every face edge (opposite corner k): where each end sits in the other's ring.
-  std::vector<std::array<int, 6>> face_slots(m);
-  for (int f = 0; f < m; ++f)
-    for (int k = 0; k < 3; ++k) {
-      const int a = F(f, (k + 1) % 3), b = F(f, (k + 2) % 3);
-      face_slots[f][2 * k] = slot_in(a, b);
-      face_slots[f][2 * k + 1] = slot_in(b, a);
-    }
-
-  // Pattern of the lower triangle of L^T L (+ diagonal): every pair inside one closed ring.
-  std::vector<Eigen::Triplet<double>> trip;
-  size_t pairs = 0;
-  for (const auto& r : ring) pairs += r.size() * (r.size() + 1) / 2;
-  trip.reserve(pairs);
-  for (const auto& r : ring)
-    for (size_t a = 0; a < r.size(); ++a)
-      for (size_t b = 0; b <= a; ++b) trip.emplace_back(r[a], r[b], 0.0);  // r sorted: r[a] >= r[b]
-  Eigen::SparseMatrix<double> A(n, n);
-  A.setFromTriplets(trip.begin(), trip.end());
-  A.makeCompressed();
-  trip.clear();
-  trip.shrink_to_fit();
-  // Value slot of every ring pair, so each iteration fills A without searching.
-  std::vector<int> pair_slot;
-  pair_slot.reserve(pairs);
-  auto value_index = [&](int row, int col) {
-    const int* begin = A.innerIndexPtr() + A.outerIndexPtr()[col];
-    const int* end = A.innerIndexPtr() + A.outerIndexPtr()[col + 1];
-    return int(std::lower_bound(begin, end, row) - A.innerIndexPtr());
-  };
-  for (const auto& r : ring)
-    for (size_t a = 0; a < r.size(); ++a)
-      for (size_t b = 0; b <= a; ++b) pair_slot.push_back(value_index(r[a], r[b]));
-  std::vector<int> diag_slot(n);
-  for (int i = 0; i < n; ++i) diag_slot[i] = value_index(i, i);
-
-  Eigen::MatrixX3d V = V0;
-  auto face_areas = [&](const Eigen::MatrixX3d& P, std::vector<double>& fa, std::vector<double>& va) {
-    fa.assign(m, 0.0);
-    va.assign(n, 0.0);
-    double total = 0;
-    for (int f = 0; f < m; ++f) {
-      const Eigen::Vector3d a = P.row(F(f, 0)), b = P.row(F(f, 1)), c = P.row(F(f, 2));
-      fa[f] = 0.5 * (b - a).cross(c - a).norm();
-      total += fa[f];
-      for (int k = 0; k < 3; ++k) va[F(f, k)] += fa[f];
-    }
-    return total;
-  };
-  std::vector<double> fa, va0, va;
-  const double area0 = face_areas(V, fa, va0);
-  if (!(area0 > 0)) throw InputError("cannot contract a mesh of zero area");
-
-  const double WL0 = opt.laplacian_weight * std::sqrt(double(m));
-  double WL = WL0;
-  Eigen::VectorXd WH = Eigen::VectorXd::Ones(n);
-  std::vector<std::vector<double>> lrow(n);
-  for (int i = 0; i < n; ++i) lrow[i].assign(ring[i].size(), 0.0);
-
-  std::vector<char> pinned(n, 0);
-  int npinned = 0;
-  double ratio = 1.0;
-  // The iterations, over either sparse Cholesky (same pattern every iteration: one analysis).
-  auto iterate = [&](auto& solver) {
-  bool analysed = false;
-  for (int it = 0; it < opt.max_iterations && ratio > opt.area_ratio_stop; ++it) {
-    // Laplacian of the current shape (uniform weights count each face corner 1/2, so that an
-    // interior edge weighs 1 like the cotangent weights of an equilateral mesh).
-    for (auto& r : lrow) std::fill(r.begin(), r.end(), 0.0);
-    for (int f = 0; f < m; ++f) {
-      for (int k = 0; k < 3; ++k) {
-        const int c = F(f, k), a = F(f, (k + 1) % 3), b = F(f, (k + 2) % 3);
-        const double w = opt.cotangent ? clamped_cot(V.row(a) - V.row(c), V.row(b) - V.row(c), opt.cot_min, opt.cot_max) : 0.5;
-        lrow[a][face_slots[f][2 * k]] += w;
-        lrow[b][face_slots[f][2 * k + 1]] += w;
-      }
-    }
-    for (int i = 0; i < n; ++i) {
-      double s = 0;
-      const int self = slot_in(i, i);
-      for (size_t a = 0; a < ring[i].size(); ++a)
-        if (int(a) != self) s += lrow[i][a];
-      lrow[i][self] = -s;
-    }
-    // A = W_L^2 L^T L + W_H^2.
-    double* val = A.valuePtr();
-    std::fill(val, val + A.nonZeros(), 0.0);
-    const double wl2 = WL * WL;
-    size_t p = 0;
-    for (int i = 0; i < n; ++i) {
-      const auto& l = lrow[i];
-      if (pinned[i]) {  // a collapsed one-ring's cotangents are noise; its row would fling its neighbours
-        p += l.size() * (l.size() + 1) / 2;
-        continue;
-      }
-      for (size_t a = 0; a < l.size(); ++a) {
-        const double la = wl2 * l[a];
-        for (size_t b = 0; b <= a; ++b) val[pair_slot[p++]] += la * l[b];
-      }
-    }
-    for (int i = 0; i < n; ++i) val[diag_slot[i]] += WH[i] * WH[i];
-    // Pinned vertices are eliminated (their rows become identity) rather than weighted: with
-    // W_L growing geometrically, no finite W_H would keep them in place.
-    Eigen::MatrixX3d rhs = WH.cwiseAbs2().asDiagonal() * V;
-    if (npinned) {
-      for (int col = 0; col < n; ++col)
-        for (int q = A.outerIndexPtr()[col]; q < A.outerIndexPtr()[col + 1]; ++q) {
-          const int row = A.innerIndexPtr()[q];
-          if (!pinned[row] && !pinned[col]) continue;
-          if (row == col) {
-            val[q] = 1.0;
-            continue;
-          }
-          if (!pinned[row]) rhs.row(row) -= val[q] * V.row(col);
-          if (!pinned[col]) rhs.row(col) -= val[q] * V.row(row);
-          val[q] = 0.0;
-        }
-      for (int i = 0; i < n; ++i)
-        if (pinned[i]) rhs.row(i) = V.row(i);
-    }
-    const auto t0 = Clock::now();
-    if (!analysed) solver.analyzePattern(A), analysed = true;
-    solver.factorize(A);
-    res.factor_seconds += seconds_since(t0);
-    if (solver.info() != Eigen::Success) break;  // keep the last good shape
-    Eigen::MatrixX3d Vn = solver.solve(rhs);
-    if (!Vn.allFinite()) break;
-    V = Vn;
-
-    const double area = face_areas(V, fa, va);
-    const double previous = ratio;
-    ratio = area / area0;
-    res.area_ratio.push_back(ratio);
-    res.iterations = it + 1;
-    if (progress) {
-      char line[160];
-      std::snprintf(line, sizeof line, "contraction iteration %d: area ratio %.3g, W_L %.3g, pinned %d", it + 1, ratio, WL, npinned);
-      progress(line);
-    }
-    // Au et al.: W_H,i = sqrt(A_i^0 / A_i^t); a collapsed one-ring is pinned where it is.
-    for (int i = 0; i < n; ++i) {
-      const double r = va[i] / va0[i];
-      if (r < opt.pin_area_ratio && !pinned[i]) pinned[i] = 1, ++npinned;
-      WH[i] = pinned[i] ? 1.0 : std::sqrt(1.0 / r);
-    }
-    WL = std::min(WL * opt.laplacian_scale, WL0 * opt.max_laplacian_growth);
-    // Stagnation: once the shape is thin, an iteration that no longer halves the area only
-    // costs time (the surgery copes with the rest).
-    if (ratio < 1e-3 && ratio > 0.5 * previous) break;
-  }
-  };
+  Contraction contraction(V0, F, opt, progress);
 #ifdef SDM_HAVE_CHOLMOD
   if (opt.solver == SparseSolver::cholmod) {
     Eigen::CholmodSupernodalLLT<Eigen::SparseMatrix<double>> solver;
-    iterate(solver);
+    contraction.run(solver);
   } else
 #endif
   if (opt.solver == SparseSolver::eigen) {
     Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> solver;
-    iterate(solver);
+    contraction.run(solver);
   } else {
     SupernodalSolver solver;
-    iterate(solver);
+    contraction.run(solver);
   }
-  res.positions = V;
-  return res;
+  return contraction.result();
 }
 
 bool sparse_solver_available(SparseSolver s) {

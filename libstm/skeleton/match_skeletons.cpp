@@ -1,10 +1,9 @@
 #include "libstm/skeleton/match_skeletons.h"
 
 #include "libstm/core/errors.h"
+#include "libstm/geometry/differential_geometry.h"
 
-#include <Eigen/SVD>
 #include <algorithm>
-#include <functional>
 #include <map>
 #include <numeric>
 #include <sstream>
@@ -60,13 +59,12 @@ std::vector<Eigen::Vector3d> normalised_nodes(const Skeleton& s) {
 }
 
 // Best rotation (no reflection) taking points a onto points b, and the mean squared residual.
+// nearest_rotation of sum b a^T replaced a local SVD of sum a b^T (R = V D U^T): the rotations
+// differ in the last bits (at most 2e-15 over 10000 random point sets), the demo's outputs not at all.
 double kabsch(const std::vector<Eigen::Vector3d>& a, const std::vector<Eigen::Vector3d>& b, Eigen::Matrix3d& R) {
   Eigen::Matrix3d H = Eigen::Matrix3d::Zero();
-  for (size_t i = 0; i < a.size(); ++i) H += a[i] * b[i].transpose();
-  Eigen::JacobiSVD<Eigen::Matrix3d> svd(H, Eigen::ComputeFullU | Eigen::ComputeFullV);
-  Eigen::Matrix3d D = Eigen::Matrix3d::Identity();
-  if ((svd.matrixV() * svd.matrixU().transpose()).determinant() < 0) D(2, 2) = -1;
-  R = svd.matrixV() * D * svd.matrixU().transpose();
+  for (size_t i = 0; i < a.size(); ++i) H += b[i] * a[i].transpose();
+  R = nearest_rotation(H);
   double e = 0;
   for (size_t i = 0; i < a.size(); ++i) e += (R * a[i] - b[i]).squaredNorm();
   return a.empty() ? 0.0 : e / double(a.size());
@@ -170,6 +168,200 @@ std::string branching_difference(const Skeleton& a, const Skeleton& b) {
   return out;
 }
 
+namespace {
+
+using ChainsBetween = std::map<std::pair<int, int>, std::vector<int>>;
+
+// Chains between each pair of keys (the pair ordered).
+ChainsBetween chains_between(const ReducedSkeleton& r) {
+  ChainsBetween out;
+  for (size_t c = 0; c < r.chains.size(); ++c) out[std::minmax(r.chains[c].from, r.chains[c].to)].push_back(int(c));
+  return out;
+}
+
+int count_between(const ChainsBetween& M, int i, int j) {
+  auto it = M.find(std::minmax(i, j));
+  return it == M.end() ? 0 : int(it->second.size());
+}
+
+// The --match pairs in key indices: forced[key of a] = key of b, -1 where free.
+std::vector<int> forced_keys(const SkeletonMatch& m, const std::vector<std::pair<int, int>>& fixed) {
+  std::vector<int> forced(m.a.keys.size(), -1);
+  for (auto [na, nb] : fixed) {
+    auto ka = std::find(m.a.keys.begin(), m.a.keys.end(), na), kb = std::find(m.b.keys.begin(), m.b.keys.end(), nb);
+    if (ka == m.a.keys.end() || kb == m.b.keys.end())
+      throw InputError("--match " + std::to_string(na) + "=" + std::to_string(nb) +
+                       ": both must be junction or end nodes of their skeletons");
+    forced[ka - m.a.keys.begin()] = int(kb - m.b.keys.begin());
+  }
+  return forced;
+}
+
+// Assignment order: breadth first from the key of highest degree, so that neighbours are
+// assigned early and the adjacency counts prune.
+std::vector<int> assignment_order(const ReducedSkeleton& a) {
+  const int nk = int(a.keys.size());
+  std::vector<int> order;
+  std::vector<char> seen(nk, 0);
+  std::vector<int> idx(nk);
+  std::iota(idx.begin(), idx.end(), 0);
+  std::stable_sort(idx.begin(), idx.end(), [&](int x, int y) { return a.key_degree[x] > a.key_degree[y]; });
+  for (int start : idx) {
+    if (seen[start]) continue;
+    std::vector<int> queue{start};
+    seen[start] = 1;
+    for (size_t q = 0; q < queue.size(); ++q) {
+      order.push_back(queue[q]);
+      for (const auto& c : a.chains) {
+        int other = c.from == queue[q] ? c.to : c.to == queue[q] ? c.from : -1;
+        if (other >= 0 && !seen[other]) seen[other] = 1, queue.push_back(other);
+      }
+    }
+  }
+  return order;
+}
+
+// The search over key assignments (isomorphisms of the reduced graphs), each scored by geometry.
+//
+// One score, shape + pose: the pose-invariant shape (residual after the best rotation, relative
+// chain lengths) plus the residual in the models' own pose; ties on it go to the smaller shape
+// cost. Shape alone cannot tell near-symmetric branches apart once the skeletons carry an
+// extraction's noise (the ypsilon's three arms, left and right legs: their shape costs differ by
+// the noise), and a bent limb raises the true match's shape cost above a relabelled one's (bent
+// ypsilon: 0.16 against 0.04) while the pose tells them apart (0.16 against 1.08). The models are
+// thus assumed in roughly the same orientation; --match pins branches otherwise.
+class Matcher {
+ public:
+  Matcher(SkeletonMatch& m, const Skeleton& sa, const Skeleton& sb, std::vector<int> forced);
+  void assign(size_t depth);
+  double best_total() const { return best_total_; }
+  double second() const { return second_; }
+
+ private:
+  bool consistent(int i, int c, size_t depth) const;
+  std::vector<std::pair<int, bool>> pair_chains() const;
+  void evaluate();
+
+  static constexpr long kLimit = 2000000;  // isomorphisms examined at most
+  SkeletonMatch& m_;
+  const ChainsBetween between_a_, between_b_;
+  const std::vector<int> forced_, order_;
+  const int nk_;
+  Skeleton na_, nb_;  // the skeletons with normalised positions (normalised_nodes)
+  double total_a_ = 0, total_b_ = 0;  // total chain lengths
+  std::vector<int> map_;
+  std::vector<char> taken_;
+  double best_ = INFINITY, best_pose_ = INFINITY, best_total_ = INFINITY, second_ = INFINITY;
+};
+
+Matcher::Matcher(SkeletonMatch& m, const Skeleton& sa, const Skeleton& sb, std::vector<int> forced)
+    : m_(m), between_a_(chains_between(m.a)), between_b_(chains_between(m.b)), forced_(std::move(forced)),
+      order_(assignment_order(m.a)), nk_(int(m.a.keys.size())), na_(sa), nb_(sb), map_(nk_, -1), taken_(nk_, 0) {
+  for (const auto& c : m.a.chains) total_a_ += c.length;
+  for (const auto& c : m.b.chains) total_b_ += c.length;
+  na_.nodes = normalised_nodes(sa);
+  nb_.nodes = normalised_nodes(sb);
+}
+
+// Key c of b can stand for key i of a (assigned at `depth`): same degree, as forced, and as many
+// chains to itself and to every key assigned before.
+bool Matcher::consistent(int i, int c, size_t depth) const {
+  if (taken_[c] || m_.b.key_degree[c] != m_.a.key_degree[i]) return false;
+  if (forced_[i] >= 0 && forced_[i] != c) return false;
+  bool ok = count_between(between_a_, i, i) == count_between(between_b_, c, c);
+  for (size_t d = 0; d < depth && ok; ++d) {
+    const int k = order_[d];
+    ok = count_between(between_a_, i, k) == count_between(between_b_, c, map_[k]);
+  }
+  return ok;
+}
+
+void Matcher::assign(size_t depth) {
+  if (m_.candidates >= kLimit) return;
+  if (depth == order_.size()) return evaluate();
+  const int i = order_[depth];
+  for (int c = 0; c < nk_; ++c) {
+    if (!consistent(i, c, depth)) continue;
+    map_[i] = c;
+    taken_[c] = 1;
+    assign(depth + 1);
+    taken_[c] = 0;
+    map_[i] = -1;
+  }
+}
+
+// Chains of a -> (chain of b, reversed) under the current key assignment: parallel chains (same
+// two keys) paired by the permutation closest in relative length, loops directed by geometry.
+std::vector<std::pair<int, bool>> Matcher::pair_chains() const {
+  std::vector<std::pair<int, bool>> chain_map(m_.a.chains.size(), {-1, false});
+  for (const auto& [key, list_a] : between_a_) {
+    const auto& list_b = between_b_.at(std::minmax(map_[key.first], map_[key.second]));
+    std::vector<int> perm(list_b.begin(), list_b.end());
+    double best_perm = INFINITY;
+    std::vector<int> best_p;
+    std::sort(perm.begin(), perm.end());
+    do {
+      double e = 0;
+      for (size_t k = 0; k < list_a.size(); ++k) {
+        const double d = m_.a.chains[list_a[k]].length / total_a_ - m_.b.chains[perm[k]].length / total_b_;
+        e += d * d;
+      }
+      if (e < best_perm) best_perm = e, best_p = perm;
+    } while (std::next_permutation(perm.begin(), perm.end()));
+    for (size_t k = 0; k < list_a.size(); ++k) {
+      const auto& ca = m_.a.chains[list_a[k]];
+      const auto& cb = m_.b.chains[best_p[k]];
+      bool reversed = !(map_[ca.from] == cb.from && map_[ca.to] == cb.to);
+      if (ca.from == ca.to) {  // a loop: its direction is chosen by geometry
+        const Eigen::Vector3d p = chain_point(na_, ca, 0.25, false);
+        reversed = (chain_point(nb_, cb, 0.25, true) - p).norm() < (chain_point(nb_, cb, 0.25, false) - p).norm();
+      }
+      chain_map[list_a[k]] = {best_p[k], reversed};
+    }
+  }
+  return chain_map;
+}
+
+// Scores a complete key assignment (chains paired, aligned by the best rotation) and keeps it when
+// it beats the best so far.
+void Matcher::evaluate() {
+  ++m_.candidates;
+  const std::vector<std::pair<int, bool>> chain_map = pair_chains();
+  std::vector<Eigen::Vector3d> A, B;
+  double length_term = 0;
+  for (size_t c = 0; c < chain_map.size(); ++c) {
+    const auto& ca = m_.a.chains[c];
+    const auto& cb = m_.b.chains[chain_map[c].first];
+    for (double f : {0.0, 0.25, 0.5, 0.75, 1.0}) {
+      A.push_back(chain_point(na_, ca, f, false));
+      B.push_back(chain_point(nb_, cb, f, chain_map[c].second));
+    }
+    const double d = ca.length / total_a_ - cb.length / total_b_;
+    length_term += d * d;
+  }
+  Eigen::Matrix3d R;
+  const double shape = kabsch(A, B, R) + length_term;
+  double pose = 0;
+  for (size_t i = 0; i < A.size(); ++i) pose += (A[i] - B[i]).squaredNorm();
+  pose /= double(std::max<size_t>(1, A.size()));
+  const double total = shape + pose;
+  const bool better = total < best_total_ - 1e-12 || (total <= best_total_ + 1e-12 && shape < best_);
+  if (better) {
+    if (std::isfinite(best_)) second_ = std::min(second_, best_ + best_pose_);
+    best_total_ = total;
+    best_ = shape;
+    best_pose_ = pose;
+    m_.key_a_to_b = map_;
+    m_.chain_a_to_b = chain_map;
+    m_.rotation = R;
+    m_.cost = shape;
+  } else {
+    second_ = std::min(second_, total);
+  }
+}
+
+}  // namespace
+
 SkeletonMatch match_skeletons(const Skeleton& sa, const Skeleton& sb, const std::vector<std::pair<int, int>>& fixed) {
   const std::string diff = branching_difference(sa, sb);
   if (!diff.empty()) throw InputError("the skeletons' branchings differ (source vs target): " + diff);
@@ -181,158 +373,12 @@ SkeletonMatch match_skeletons(const Skeleton& sa, const Skeleton& sb, const std:
     throw InputError("the skeletons' branchings differ: " + std::to_string(nk) + " vs " + std::to_string(m.b.keys.size()) +
                      " junctions and ends, " + std::to_string(m.a.chains.size()) + " vs " + std::to_string(m.b.chains.size()) +
                      " chains");
-  // Chains between each pair of keys.
-  auto chains_between = [](const ReducedSkeleton& r) {
-    std::map<std::pair<int, int>, std::vector<int>> out;
-    for (size_t c = 0; c < r.chains.size(); ++c)
-      out[std::minmax(r.chains[c].from, r.chains[c].to)].push_back(int(c));
-    return out;
-  };
-  const auto between_a = chains_between(m.a), between_b = chains_between(m.b);
-  auto count = [](const std::map<std::pair<int, int>, std::vector<int>>& M, int i, int j) {
-    auto it = M.find(std::minmax(i, j));
-    return it == M.end() ? 0 : int(it->second.size());
-  };
-  // Fixed pairs, in key indices.
-  std::vector<int> forced(nk, -1);
-  for (auto [na, nb] : fixed) {
-    auto ka = std::find(m.a.keys.begin(), m.a.keys.end(), na), kb = std::find(m.b.keys.begin(), m.b.keys.end(), nb);
-    if (ka == m.a.keys.end() || kb == m.b.keys.end())
-      throw InputError("--match " + std::to_string(na) + "=" + std::to_string(nb) +
-                       ": both must be junction or end nodes of their skeletons");
-    forced[ka - m.a.keys.begin()] = int(kb - m.b.keys.begin());
-  }
-  // Assignment order: breadth first from the key of highest degree, so that neighbours are
-  // assigned early and the adjacency counts prune.
-  std::vector<int> order;
-  {
-    std::vector<char> seen(nk, 0);
-    std::vector<int> idx(nk);
-    std::iota(idx.begin(), idx.end(), 0);
-    std::stable_sort(idx.begin(), idx.end(), [&](int x, int y) { return m.a.key_degree[x] > m.a.key_degree[y]; });
-    for (int start : idx) {
-      if (seen[start]) continue;
-      std::vector<int> queue{start};
-      seen[start] = 1;
-      for (size_t q = 0; q < queue.size(); ++q) {
-        order.push_back(queue[q]);
-        for (const auto& c : m.a.chains) {
-          int other = c.from == queue[q] ? c.to : c.to == queue[q] ? c.from : -1;
-          if (other >= 0 && !seen[other]) seen[other] = 1, queue.push_back(other);
-        }
-      }
-    }
-  }
-  const std::vector<Eigen::Vector3d> pa = normalised_nodes(sa), pb = normalised_nodes(sb);
-  double total_a = 0, total_b = 0;
-  for (const auto& c : m.a.chains) total_a += c.length;
-  for (const auto& c : m.b.chains) total_b += c.length;
-  Skeleton na = sa, nb = sb;
-  na.nodes = pa;
-  nb.nodes = pb;
-
-  // Two-level cost: first the pose-invariant shape (residual after the best rotation, relative
-  // chain lengths), then, among candidates equal on that, the residual in the models' own pose:
-  // symmetric parts (four equal legs) fit equally well after any rotation, and only the pose
-  // tells which is which.
-  // One score, shape + pose: the pose-invariant shape (residual after the best rotation, relative
-  // chain lengths) plus the residual in the models' own pose. Shape alone cannot tell
-  // near-symmetric branches apart once the skeletons carry an extraction's noise (the ypsilon's
-  // three arms, left and right legs: their shape costs differ by the noise), and a bent limb
-  // raises the true match's shape cost above a relabelled one's (bent ypsilon: 0.16 against 0.04)
-  // while the pose tells them apart (0.16 against 1.08). The models are thus assumed in roughly
-  // the same orientation; --match pins branches otherwise.
-  double best = INFINITY, best_pose = INFINITY, best_total = INFINITY, second = INFINITY;
-  std::vector<int> map(nk, -1);
-  std::vector<char> taken(nk, 0);
-  const long limit = 2000000;
-
-  // Evaluates a complete key assignment: pairs chains (permuting parallel chains), aligns, scores.
-  auto evaluate = [&]() {
-    ++m.candidates;
-    std::vector<std::pair<int, bool>> chain_map(m.a.chains.size(), {-1, false});
-    for (const auto& [key, list_a] : between_a) {
-      const auto& list_b = between_b.at(std::minmax(map[key.first], map[key.second]));
-      std::vector<int> perm(list_b.begin(), list_b.end());
-      double best_perm = INFINITY;
-      std::vector<int> best_p;
-      std::sort(perm.begin(), perm.end());
-      do {
-        double e = 0;
-        for (size_t k = 0; k < list_a.size(); ++k) {
-          const double d = m.a.chains[list_a[k]].length / total_a - m.b.chains[perm[k]].length / total_b;
-          e += d * d;
-        }
-        if (e < best_perm) best_perm = e, best_p = perm;
-      } while (std::next_permutation(perm.begin(), perm.end()));
-      for (size_t k = 0; k < list_a.size(); ++k) {
-        const auto& ca = m.a.chains[list_a[k]];
-        const auto& cb = m.b.chains[best_p[k]];
-        bool reversed = !(map[ca.from] == cb.from && map[ca.to] == cb.to);
-        if (ca.from == ca.to) {  // a loop: its direction is chosen by geometry
-          const Eigen::Vector3d p = chain_point(na, ca, 0.25, false);
-          reversed = (chain_point(nb, cb, 0.25, true) - p).norm() < (chain_point(nb, cb, 0.25, false) - p).norm();
-        }
-        chain_map[list_a[k]] = {best_p[k], reversed};
-      }
-    }
-    std::vector<Eigen::Vector3d> A, B;
-    double length_term = 0;
-    for (size_t c = 0; c < chain_map.size(); ++c) {
-      const auto& ca = m.a.chains[c];
-      const auto& cb = m.b.chains[chain_map[c].first];
-      for (double f : {0.0, 0.25, 0.5, 0.75, 1.0}) {
-        A.push_back(chain_point(na, ca, f, false));
-        B.push_back(chain_point(nb, cb, f, chain_map[c].second));
-      }
-      const double d = ca.length / total_a - cb.length / total_b;
-      length_term += d * d;
-    }
-    Eigen::Matrix3d R;
-    const double shape = kabsch(A, B, R) + length_term;
-    double pose = 0;
-    for (size_t i = 0; i < A.size(); ++i) pose += (A[i] - B[i]).squaredNorm();
-    pose /= double(std::max<size_t>(1, A.size()));
-    const double total = shape + pose;
-    const bool better = total < best_total - 1e-12 || (total <= best_total + 1e-12 && shape < best);
-    if (better) {
-      if (std::isfinite(best)) second = std::min(second, best + best_pose);
-      best_total = total;
-      best = shape;
-      best_pose = pose;
-      m.key_a_to_b = map;
-      m.chain_a_to_b = chain_map;
-      m.rotation = R;
-      m.cost = shape;
-    } else {
-      second = std::min(second, total);
-    }
-  };
-
-  std::function<void(size_t)> assign = [&](size_t depth) {
-    if (m.candidates >= limit) return;
-    if (depth == order.size()) return evaluate();
-    const int i = order[depth];
-    for (int c = 0; c < nk; ++c) {
-      if (taken[c] || m.b.key_degree[c] != m.a.key_degree[i]) continue;
-      if (forced[i] >= 0 && forced[i] != c) continue;
-      bool ok = count(between_a, i, i) == count(between_b, c, c);
-      for (size_t d = 0; d < depth && ok; ++d) {
-        const int k = order[d];
-        ok = count(between_a, i, k) == count(between_b, c, map[k]);
-      }
-      if (!ok) continue;
-      map[i] = c;
-      taken[c] = 1;
-      assign(depth + 1);
-      taken[c] = 0;
-      map[i] = -1;
-    }
-  };
-  assign(0);
+  Matcher matcher(m, sa, sb, forced_keys(m, fixed));
+  matcher.assign(0);
   if (m.key_a_to_b.empty())
     throw InputError(fixed.empty() ? "the skeletons have the same junction degrees but are connected differently"
                                    : "no match of the skeletons satisfies the --match pairs");
+  const double second = matcher.second(), best_total = matcher.best_total();
   m.confidence = std::isfinite(second) && second > 0 ? std::clamp(1.0 - best_total / second, 0.0, 1.0) : 1.0;
   return m;
 }

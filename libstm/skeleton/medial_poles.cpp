@@ -62,4 +62,22 @@ Eigen::MatrixX3d medial_poles(const Eigen::MatrixX3d& V, const Eigen::MatrixX3i&
   return P;
 }
 
+Eigen::MatrixX3d smooth_poles(const Eigen::MatrixX3d& poles, const Eigen::MatrixX3i& F, int steps) {
+  Eigen::MatrixX3d smooth = poles;
+  std::vector<std::vector<int>> nb(poles.rows());
+  for (int f = 0; f < F.rows(); ++f)
+    for (int k = 0; k < 3; ++k) nb[F(f, k)].push_back(F(f, (k + 1) % 3)), nb[F(f, (k + 1) % 3)].push_back(F(f, k));
+  for (int step = 0; step < steps; ++step) {
+    Eigen::MatrixX3d next = smooth;
+    for (int i = 0; i < poles.rows(); ++i) {
+      if (nb[i].empty()) continue;
+      Eigen::RowVector3d c = Eigen::RowVector3d::Zero();
+      for (int j : nb[i]) c += smooth.row(j);
+      next.row(i) = 0.5 * smooth.row(i) + 0.5 * c / double(nb[i].size());
+    }
+    smooth = std::move(next);
+  }
+  return smooth;
+}
+
 }  // namespace sdm

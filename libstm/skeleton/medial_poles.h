@@ -35,4 +35,9 @@ class MedialPoles {
 // All n poles (n x 3 ball centres).
 Eigen::MatrixX3d medial_poles(const Eigen::MatrixX3d& V, const Eigen::MatrixX3i& F);
 
+// `steps` steps of umbrella smoothing of the poles (row i: the pole of vertex i) over the mesh's
+// connectivity F: each pole moves halfway to the mean of its neighbours' poles. The poles scatter
+// where the surface is noisy or flat; a few steps tidy them before a surgery.
+Eigen::MatrixX3d smooth_poles(const Eigen::MatrixX3d& poles, const Eigen::MatrixX3i& F, int steps);
+
 }  // namespace sdm

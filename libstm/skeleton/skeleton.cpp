@@ -2,8 +2,8 @@
 
 #include "libstm/core/atomic_file.h"
 #include "libstm/core/errors.h"
+#include "libstm/core/union_find.h"
 
-#include <numeric>
 #include <sstream>
 
 namespace sdm {
@@ -24,17 +24,9 @@ std::vector<int> Skeleton::degrees() const {
 }
 
 int Skeleton::components() const {
-  std::vector<int> p(nodes.size());
-  std::iota(p.begin(), p.end(), 0);
-  auto find = [&](int x) {
-    while (p[x] != x) x = p[x] = p[p[x]];
-    return x;
-  };
-  for (const auto& e : edges) p[find(e[0])] = find(e[1]);
-  int c = 0;
-  for (size_t i = 0; i < nodes.size(); ++i)
-    if (find(int(i)) == int(i)) ++c;
-  return c;
+  UnionFind sets(nodes.size());
+  for (const auto& e : edges) sets.unite(e[0], e[1]);
+  return sets.count();
 }
 
 int Skeleton::cycles() const { return int(edges.size()) - int(nodes.size()) + components(); }

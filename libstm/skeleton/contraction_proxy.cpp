@@ -1,0 +1,99 @@
+#include "libstm/skeleton/contraction_proxy.h"
+
+#include "libstm/geometry/differential_geometry.h"
+#include "libstm/geometry/triangle_bvh.h"
+#include "libstm/mesh/isotropic_remesh.h"
+#include "libstm/mesh/mesh.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace sdm {
+
+namespace {
+
+// Unit face normals into fn; returns the unit vertex normals (sum of the adjacent faces' area
+// vectors, normalised).
+Eigen::MatrixX3d normals(const Eigen::MatrixX3d& P, const Eigen::MatrixX3i& T, Eigen::MatrixX3d& fn) {
+  Eigen::MatrixX3d vn = Eigen::MatrixX3d::Zero(P.rows(), 3);
+  fn.resize(T.rows(), 3);
+  for (int f = 0; f < T.rows(); ++f) {
+    const Eigen::Vector3d n = (P.row(T(f, 1)) - P.row(T(f, 0))).cross(P.row(T(f, 2)) - P.row(T(f, 0)));
+    fn.row(f) = n.normalized();
+    for (int k = 0; k < 3; ++k) vn.row(T(f, k)) += n;
+  }
+  vn.rowwise().normalize();
+  return vn;
+}
+
+// Nodes that received no vertex take the nearest vertex of a node that owns several.
+void give_every_node_a_vertex(const Eigen::MatrixX3d& V, const SkeletonGraph& g, std::vector<int>& owner) {
+  std::vector<int> count(g.pos.size(), 0);
+  for (int o : owner) ++count[o];
+  for (size_t a = 0; a < g.pos.size(); ++a) {
+    if (count[a] > 0) continue;
+    int best = -1;
+    double d = INFINITY;
+    for (int i = 0; i < V.rows(); ++i) {
+      const double e = (V.row(i).transpose() - g.pos[a]).squaredNorm();
+      if (count[owner[i]] > 1 && e < d) d = e, best = i;
+    }
+    if (best < 0) continue;
+    --count[owner[best]];
+    owner[best] = int(a);
+    ++count[a];
+  }
+}
+
+}  // namespace
+
+void make_proxy(const Eigen::MatrixX3d& V, const Eigen::MatrixX3i& F, int target_vertices, Eigen::MatrixX3d& XV,
+                Eigen::MatrixX3i& XF) {
+  double area = 0;
+  for (int f = 0; f < F.rows(); ++f) area += triangle_area(V.row(F(f, 0)), V.row(F(f, 1)), V.row(F(f, 2)));
+  const int target = std::max(target_vertices, 4);
+  const double len = std::sqrt(2.0 * area / (std::sqrt(3.0) * target));
+  Mesh m;
+  std::vector<Mesh::VertexHandle> h(V.rows());
+  for (int i = 0; i < V.rows(); ++i) h[i] = m.add_vertex({V(i, 0), V(i, 1), V(i, 2)});
+  for (int f = 0; f < F.rows(); ++f) m.add_face(h[F(f, 0)], h[F(f, 1)], h[F(f, 2)]);
+  const TriangleBvh bvh(V, F);
+  isotropic_remesh(m, len, 8, [&](const Eigen::Vector3d& p) { return bvh.closest_point(p).point; });
+  XV = vertex_matrix(m);
+  XF = face_matrix(m);
+}
+
+std::vector<int> map_to_nodes(const Eigen::MatrixX3d& V, const Eigen::MatrixX3i& F, const Eigen::MatrixX3d& XV,
+                              const Eigen::MatrixX3i& XF, const SkeletonGraph& g) {
+  Eigen::MatrixX3d fn, xfn;
+  const Eigen::MatrixX3d vn = normals(V, F, fn), xvn = normals(XV, XF, xfn);
+  std::vector<int> xnode(XV.rows(), -1);
+  for (size_t a = 0; a < g.verts.size(); ++a)
+    for (int v : g.verts[a]) xnode[v] = int(a);
+  const TriangleBvh bvh(XV, XF);
+  std::vector<int> owner(V.rows());
+  for (int i = 0; i < V.rows(); ++i) {
+    const Eigen::Vector3d p = V.row(i), n = vn.row(i);
+    const auto c = bvh.closest_point(p);
+    int best = -1;
+    if (Eigen::Vector3d(xfn.row(c.face)).dot(n) > 0) {
+      double d = INFINITY;
+      for (int k = 0; k < 3; ++k) {
+        const double e = (XV.row(XF(c.face, k)).transpose() - c.point).squaredNorm();
+        if (e < d) d = e, best = XF(c.face, k);
+      }
+    } else {
+      double d = INFINITY;
+      for (int x = 0; x < XV.rows(); ++x) {
+        const double e = (XV.row(x).transpose() - p).squaredNorm();
+        if (Eigen::Vector3d(xvn.row(x)).dot(n) > 0 && e < d) d = e, best = x;
+      }
+      if (best < 0) best = XF(c.face, 0);
+    }
+    owner[i] = xnode[best];
+  }
+  give_every_node_a_vertex(V, g, owner);
+  return owner;
+}
+
+}  // namespace sdm
