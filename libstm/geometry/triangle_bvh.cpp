@@ -251,4 +251,26 @@ int TriangleBvh::count_hits(const Eigen::Vector3d& o, const Eigen::Vector3d& d) 
   return hits;
 }
 
+bool TriangleBvh::any_hit(const Eigen::Vector3d& o, const Eigen::Vector3d& d, double t_min, double t_max) const {
+  if (nodes_.empty()) return false;
+  const Eigen::Vector3d inv = d.cwiseInverse();
+  int stack[128];
+  int sp = 0;
+  stack[sp++] = 0;
+  while (sp) {
+    const Node& n = nodes_[stack[--sp]];
+    if (ray_box(o, inv, n.lo, n.hi, t_min, t_max) == INFINITY) continue;
+    if (n.left < 0) {
+      for (int i = n.begin; i < n.end; ++i) {
+        double t, u, v;
+        if (ray_triangle(o, d, tris_[i].a, tris_[i].b, tris_[i].c, t, u, v) && t >= t_min && t <= t_max) return true;
+      }
+      continue;
+    }
+    stack[sp++] = n.left;
+    stack[sp++] = n.right;
+  }
+  return false;
+}
+
 }  // namespace sdm

@@ -34,8 +34,11 @@ class TriangleBvh {
   // Nearest hit with t in (t_min, t_max); face == -1 when nothing is hit.
   Hit first_hit(const Eigen::Vector3d& origin, const Eigen::Vector3d& direction, double t_min = 0,
                 double t_max = INFINITY) const;
-  // Number of crossings of the ray with the surface (for parity inside tests).
+  // Number of crossings of the ray with the surface, hits with t > 0 (for parity inside tests).
   int count_hits(const Eigen::Vector3d& origin, const Eigen::Vector3d& direction) const;
+  // True when some triangle is hit with t in the closed range [t_min, t_max]; stops at the first
+  // one found. any_hit(a, b - a, 0, 1): the closed segment a-b meets the surface.
+  bool any_hit(const Eigen::Vector3d& origin, const Eigen::Vector3d& direction, double t_min, double t_max) const;
 
   bool empty() const { return tris_.empty(); }
 
