@@ -20,7 +20,8 @@ TEST_CASE("Every available sparse solver gives the supernodal contraction", "[co
 #endif
   // The raw options (uniform weights) and the proxy's (cotangent weights). The cotangent weights are
   // recomputed from the contracted shape each iteration, on triangles that degenerate, which
-  // amplifies the solvers' rounding differences (ypsilon, of the diagonal: about 1e-13 uniform, up to 1.3e-8 cotangent).
+  // amplifies the solvers' rounding differences (ypsilon, as a fraction of the diagonal: about
+  // 1e-13 uniform, up to 1.3e-8 cotangent).
   for (sdm::ContractOptions opt : {sdm::uniform_contraction(), sdm::ContractOptions{}}) {
     const double tolerance = opt.cotangent ? 1e-6 : 1e-10;
     const sdm::ContractResult ref = sdm::contract_mesh(m, opt);

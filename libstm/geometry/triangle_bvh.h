@@ -44,14 +44,15 @@ class TriangleBvh {
 
  private:
   struct Node {
+    // The box and the links first: the ray queries read only these (64 bytes).
     Eigen::Vector3d lo, hi;
+    int left = -1, right = -1;  // children, or -1 for a leaf
+    int begin = 0, end = 0;     // leaf range in tris_
     // A slab along the node's mean normal that holds its triangles: near the leaves a patch of
     // surface is nearly flat, so a ball tangent to it (the medial poles' queries) overlaps the
     // box but not the slab.
     Eigen::Vector3d axis = Eigen::Vector3d::Zero();
     double slab_lo = 0, slab_hi = 0;
-    int left = -1, right = -1;  // children, or -1 for a leaf
-    int begin = 0, end = 0;     // leaf range in tris_
   };
   // Lower bound of the squared distance from p to the node's triangles.
   static double node_distance2(const Eigen::Vector3d& p, const Node& n);
