@@ -1,17 +1,21 @@
 // sdm bench: per-stage timings beside the paper's Table I, coverage beside its Table II, SDM
-// encode/decode times, and a large real mesh. Figures, not pass/fail: speed is measured here and
-// written to docs/BENCHMARKS.md, never asserted by tests.
+// encode/decode times, and a large real mesh; with --solvers, the contraction's sparse Cholesky
+// solvers against each other. Figures, not pass/fail: speed is measured here and written to
+// docs/BENCHMARKS.md, never asserted by tests.
 #include "apps/commands.h"
 #include "libsdm/decode/decode_sdm.h"
 #include "libsdm/encode/encode_sdm.h"
-#include "libstm/skeleton/extract_skeleton.h"
-#include "libstm/render/gl_context.h"
+#include "libstm/core/stopwatch.h"
+#include "libstm/geometry/triangle_bvh.h"
 #include "libstm/layout/layout.h"
+#include "libstm/mesh/isotropic_remesh.h"
 #include "libstm/mesh/mesh.h"
 #include "libstm/mesh/primitives.h"
+#include "libstm/render/gl_context.h"
 #include "libstm/render/render_atlas.h"
+#include "libstm/skeleton/contract_mesh.h"
+#include "libstm/skeleton/extract_skeleton.h"
 
-#include <chrono>
 #include <filesystem>
 #include <fstream>
 #include <iomanip>
@@ -22,8 +26,12 @@
 namespace sdm::cli {
 namespace {
 
-using Clock = std::chrono::steady_clock;
-double since(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
+struct BenchOptions {
+  std::string bunny = "../shared/models/cgal/bunny00.off";
+  std::string spot = "examples/data/spot/spot_triangulated.obj";
+  int repeat = 3, size = 1024;
+  bool json = false, no_sdm = false, no_gl = false, solvers = false;
+};
 
 struct PaperRow {
   const char* name;
@@ -38,6 +46,20 @@ const PaperRow kPaper[] = {{"ypsilon", 480, 2.6, 7, 0.837},
                            {"triple-torus", 2256, 24.1, 24, 0.91},
                            {"crossed-cylinders", 3660, 84.7, 12, 0.743}};
 
+std::string cpu_model() {
+  std::ifstream in("/proc/cpuinfo");
+  std::string line;
+  while (std::getline(in, line))
+    if (line.rfind("model name", 0) == 0) return line.substr(line.find(':') + 2);
+  return "unknown CPU";
+}
+
+std::string machine_line() {
+  return cpu_model() + ", " + std::to_string(std::thread::hardware_concurrency()) + " threads";
+}
+
+// ---- Table I, Table II, SDM: every stage of the pipeline ----
+
 struct Row {
   std::string name;
   long vertices = 0;
@@ -50,163 +72,348 @@ struct Row {
   double stm_total() const { return skeleton_total() + packing + composing; }
 };
 
+// Keeps the fastest of the runs: `slot` holds the best time so far.
+void keep_fastest(double& slot, double seconds) { slot = std::min(slot, seconds); }
+
+sdm::Skeleton time_skeleton(const sdm::Mesh& mesh, Row& r) {
+  sdm::SkeletonStats st;
+  sdm::Skeleton sk = sdm::extract_skeleton(mesh, {}, nullptr, &st);
+  keep_fastest(r.contraction, st.contraction_seconds);
+  keep_fastest(r.surgery, st.surgery_seconds);
+  keep_fastest(r.refinement, st.refinement_seconds);
+  keep_fastest(r.skeleton_wall, st.seconds);
+  return sk;
+}
+
+// Texture composing (paper t4): the surface drawn into the atlas, here its positions as values.
+void time_composing(const sdm::Mesh& mesh, const sdm::Layout& layout, sdm::GlContext& gl, Row& r) {
+  std::vector<Eigen::Vector4f> values;
+  for (auto f : mesh.faces())
+    for (auto v : mesh.fv_range(f)) {
+      const auto& p = mesh.point(v);
+      values.emplace_back(float(p[0]), float(p[1]), float(p[2]), 1.0f);
+    }
+  const sdm::Stopwatch clock;
+  sdm::render_atlas_values(gl, mesh, layout, values);
+  keep_fastest(r.composing, clock.seconds());
+}
+
+// The SDM encoder on a 1024 map and the decoder at levels 3 and 5.
+void time_sdm(const sdm::Mesh& mesh, const sdm::Skeleton& sk, Row& r) {
+  sdm::LayoutOptions l1024;
+  l1024.size = 1024;
+  const sdm::Layout layout1024 = sdm::compute_layout(mesh, sk, l1024);
+  sdm::Stopwatch clock;
+  const sdm::SdmImage im = sdm::encode_sdm(mesh, layout1024);
+  keep_fastest(r.encode, clock.seconds());
+  for (int level : {3, 5}) {
+    sdm::DecodeOptions d;
+    d.level = level;
+    clock.restart();
+    sdm::decode_sdm(im, d);
+    keep_fastest(level == 3 ? r.decode3 : r.decode5, clock.seconds());
+  }
+}
+
 // Times every stage, keeping the fastest of `repeat` runs (the machine may be shared).
-Row measure(const std::string& name, const sdm::Mesh& mesh, int repeat, int size, bool sdm, sdm::GlContext* gl) {
+Row measure(const std::string& name, const sdm::Mesh& mesh, int repeat, int size, bool with_sdm, sdm::GlContext* gl) {
   Row r;
   r.name = name;
   r.vertices = long(mesh.n_vertices());
   for (int k = 0; k < repeat; ++k) {
-    sdm::SkeletonStats st;
-    const sdm::Skeleton sk = sdm::extract_skeleton(mesh, {}, nullptr, &st);
-    r.contraction = std::min(r.contraction, st.contraction_seconds);
-    r.surgery = std::min(r.surgery, st.surgery_seconds);
-    r.refinement = std::min(r.refinement, st.refinement_seconds);
-    r.skeleton_wall = std::min(r.skeleton_wall, st.seconds);
+    const sdm::Skeleton sk = time_skeleton(mesh, r);
     sdm::LayoutOptions lo;
     lo.size = size;
-    auto t = Clock::now();
+    const sdm::Stopwatch clock;
     const sdm::Layout layout = sdm::compute_layout(mesh, sk, lo);
-    r.packing = std::min(r.packing, since(t));
+    keep_fastest(r.packing, clock.seconds());
     r.segments = int(layout.segments.size());
     r.coverage = layout.coverage;
-    if (gl) {
-      // Texture composing (paper t4): the surface drawn into the atlas, here its positions as values.
-      std::vector<Eigen::Vector4f> values;
-      for (auto f : mesh.faces())
-        for (auto v : mesh.fv_range(f)) {
-          const auto& p = mesh.point(v);
-          values.emplace_back(float(p[0]), float(p[1]), float(p[2]), 1.0f);
-        }
-      t = Clock::now();
-      sdm::render_atlas_values(*gl, mesh, layout, values);
-      r.composing = std::min(r.composing, since(t));
-    }
-    if (sdm) {
-      sdm::LayoutOptions l1024;
-      l1024.size = 1024;
-      const sdm::Layout layout1024 = sdm::compute_layout(mesh, sk, l1024);
-      t = Clock::now();
-      const sdm::SdmImage im = sdm::encode_sdm(mesh, layout1024);
-      r.encode = std::min(r.encode, since(t));
-      for (int level : {3, 5}) {
-        sdm::DecodeOptions d;
-        d.level = level;
-        t = Clock::now();
-        sdm::decode_sdm(im, d);
-        double& slot = level == 3 ? r.decode3 : r.decode5;
-        slot = std::min(slot, since(t));
-      }
-    }
+    if (gl) time_composing(mesh, layout, *gl, r);
+    if (with_sdm) time_sdm(mesh, sk, r);
   }
   if (!gl) r.composing = 0;
   return r;
 }
 
-std::string cpu_model() {
-  std::ifstream in("/proc/cpuinfo");
-  std::string line;
-  while (std::getline(in, line))
-    if (line.rfind("model name", 0) == 0) return line.substr(line.find(':') + 2);
-  return "unknown CPU";
+nlohmann::json row_json(const Row& r) {
+  return nlohmann::json{{"name", r.name},
+                        {"vertices", r.vertices},
+                        {"contraction", r.contraction},
+                        {"surgery", r.surgery},
+                        {"refinement", r.refinement},
+                        {"packing", r.packing},
+                        {"composing", r.composing},
+                        {"skeleton_total", r.skeleton_total()},
+                        {"stm_total", r.stm_total()},
+                        {"segments", r.segments},
+                        {"coverage", r.coverage},
+                        {"encode_1024", r.encode},
+                        {"decode_level3", r.decode3},
+                        {"decode_level5", r.decode5}};
+}
+
+nlohmann::json stages_json(const std::vector<Row>& rows, const Row* bunny, const sdm::GlContext* gl) {
+  nlohmann::json j;
+  j["machine"] = machine_line();
+  j["renderer"] = gl ? gl->renderer() : "";
+  for (size_t i = 0; i < rows.size(); ++i) {
+    auto rj = row_json(rows[i]);
+    rj["paper_total"] = kPaper[i].total;
+    rj["paper_coverage"] = kPaper[i].coverage;
+    rj["speedup"] = kPaper[i].total / rows[i].stm_total();
+    rj["speedup_skeleton"] = kPaper[i].total / rows[i].skeleton_total();
+    j["shapes"].push_back(rj);
+  }
+  if (bunny) j["bunny"] = row_json(*bunny);
+  return j;
+}
+
+void print_table_one(std::ostream& s, const std::vector<Row>& rows, const Row* bunny, const BenchOptions& o) {
+  s << "Table I (seconds): t1 contraction (and medial poles), t2 skeleton construction (surgery +\n"
+    << "refinement), each summed over the two skeleton candidates, which run on two threads; t3 packing,\n"
+    << "t4 composing (surface drawn into the " << o.size << "^2 atlas). total: wall clock of the skeleton\n"
+    << "+ t3 + t4. Speed-up: the paper's total over ours, for the whole pipeline and for the skeleton\n"
+    << "alone (wall clock).\n";
+  s << std::left << std::setw(19) << "shape" << std::right << std::setw(7) << "verts" << std::setw(9) << "t1"
+    << std::setw(9) << "t2" << std::setw(9) << "t3" << std::setw(9) << "t4" << std::setw(9) << "total" << std::setw(9)
+    << "paper" << std::setw(10) << "speed-up" << std::setw(11) << "skeleton\n";
+  for (size_t i = 0; i < rows.size(); ++i) {
+    const Row& r = rows[i];
+    s << std::left << std::setw(19) << r.name << std::right << std::setw(7) << r.vertices << std::setprecision(4)
+      << std::setw(9) << r.contraction << std::setw(9) << r.surgery + r.refinement << std::setw(9) << r.packing
+      << std::setw(9) << r.composing << std::setw(9) << r.stm_total() << std::setprecision(1) << std::setw(9)
+      << kPaper[i].total << std::setprecision(0) << std::setw(9) << kPaper[i].total / r.stm_total() << "x"
+      << std::setw(10) << kPaper[i].total / r.skeleton_total() << "x\n";
+  }
+  if (bunny)
+    s << std::left << std::setw(19) << "bunny00" << std::right << std::setw(7) << bunny->vertices << std::setprecision(4)
+      << std::setw(9) << bunny->contraction << std::setw(9) << bunny->surgery + bunny->refinement << std::setw(9)
+      << bunny->packing << std::setw(9) << "-" << std::setw(9) << bunny->skeleton_total() + bunny->packing << "\n";
+  else
+    s << "bunny00: skipped, " << o.bunny << " not found (--bunny PATH)\n";
+}
+
+void print_table_two(std::ostream& s, const std::vector<Row>& rows) {
+  s << "\nTable II: coverage of the atlas\n";
+  s << std::left << std::setw(19) << "shape" << std::right << std::setw(10) << "segments" << std::setw(10) << "coverage"
+    << std::setw(16) << "paper segments" << std::setw(16) << "paper coverage\n";
+  for (size_t i = 0; i < rows.size(); ++i)
+    s << std::left << std::setw(19) << rows[i].name << std::right << std::setw(10) << rows[i].segments
+      << std::setprecision(1) << std::setw(9) << 100 * rows[i].coverage << "%" << std::setw(16) << kPaper[i].segments
+      << std::setw(15) << 100 * kPaper[i].coverage << "%\n";
+}
+
+void print_sdm_table(std::ostream& s, const std::vector<Row>& rows) {
+  s << "\nSDM (1024 map): encode, decode at level 3 and 5, seconds\n";
+  for (const auto& r : rows)
+    s << std::left << std::setw(19) << r.name << std::right << std::setprecision(3) << std::setw(9) << r.encode
+      << std::setw(9) << r.decode3 << std::setw(9) << r.decode5 << "\n";
+}
+
+int run_stages(const BenchOptions& o) {
+  std::unique_ptr<sdm::GlContext> gl;
+  if (!o.no_gl) gl = std::make_unique<sdm::GlContext>();
+  std::vector<Row> rows;
+  for (const auto& p : kPaper) {
+    progress("bench: " + std::string(p.name));
+    rows.push_back(measure(p.name, sdm::make_primitive(p.name), o.repeat, o.size, !o.no_sdm, gl.get()));
+  }
+  std::unique_ptr<Row> bunny;
+  if (std::filesystem::exists(o.bunny)) {
+    progress("bench: " + o.bunny);
+    bunny = std::make_unique<Row>(measure("bunny00", sdm::load_mesh(o.bunny), o.repeat, o.size, false, nullptr));
+  }
+  if (o.json) {
+    print_json(stages_json(rows, bunny.get(), gl.get()));
+    return 0;
+  }
+  std::ostringstream s;
+  s << std::fixed;
+  s << "Machine: " << machine_line() << (gl ? "; GL: " + gl->renderer() : "") << "\n\n";
+  print_table_one(s, rows, bunny.get(), o);
+  print_table_two(s, rows);
+  if (!o.no_sdm) print_sdm_table(s, rows);
+  std::cout << s.str();
+  return 0;
+}
+
+// ---- --solvers: the contraction's sparse Cholesky, supernodal against Eigen and CHOLMOD ----
+
+struct SolverCase {
+  std::string name;
+  Eigen::MatrixX3d V;
+  Eigen::MatrixX3i F;
+};
+
+struct SolverRun {
+  sdm::SparseSolver solver;
+  double seconds = INFINITY, factor_seconds = INFINITY;  // fastest of the runs
+  int iterations = 0;
+  double max_difference = 0;  // largest vertex distance to the supernodal result, / bounding-box diagonal
+};
+
+struct SolverRow {
+  std::string name;
+  long vertices = 0;
+  std::vector<SolverRun> runs;  // supernodal first
+};
+
+const char* solver_key(sdm::SparseSolver s) {
+  return s == sdm::SparseSolver::supernodal ? "supernodal" : s == sdm::SparseSolver::eigen ? "eigen" : "cholmod";
+}
+
+const char* solver_title(sdm::SparseSolver s) {
+  return s == sdm::SparseSolver::supernodal ? "supernodal LL^T"
+         : s == sdm::SparseSolver::eigen    ? "Eigen LDL^T"
+                                            : "CHOLMOD supernodal";
+}
+
+std::vector<sdm::SparseSolver> available_solvers() {
+  std::vector<sdm::SparseSolver> out;
+  for (auto s : {sdm::SparseSolver::supernodal, sdm::SparseSolver::eigen, sdm::SparseSolver::cholmod})
+    if (sdm::sparse_solver_available(s)) out.push_back(s);
+  return out;
+}
+
+// The contraction proxy of a large mesh, as extract_skeleton makes it (make_proxy there): the
+// mesh remeshed isotropically to about proxy_max_vertices vertices, projected onto its surface.
+sdm::Mesh contraction_proxy(const sdm::Mesh& mesh) {
+  const Eigen::MatrixX3d V = sdm::vertex_matrix(mesh);
+  const Eigen::MatrixX3i F = sdm::face_matrix(mesh);
+  double area = 0;
+  for (int f = 0; f < F.rows(); ++f)
+    area += 0.5 * (V.row(F(f, 1)) - V.row(F(f, 0))).cross(V.row(F(f, 2)) - V.row(F(f, 0))).norm();
+  const int target = sdm::SkeletonOptions{}.proxy_max_vertices;
+  const double len = std::sqrt(2.0 * area / (std::sqrt(3.0) * target));
+  sdm::Mesh proxy = mesh;
+  const sdm::TriangleBvh bvh(V, F);
+  sdm::isotropic_remesh(proxy, len, 8, [&](const Eigen::Vector3d& p) { return bvh.closest_point(p).point; });
+  return proxy;
+}
+
+// The paper's shapes, Spot and bunny00's contraction proxy (the meshes that are found).
+std::vector<SolverCase> solver_cases(const BenchOptions& o) {
+  std::vector<SolverCase> cases;
+  auto add = [&](const std::string& name, const sdm::Mesh& m) {
+    cases.push_back({name, sdm::vertex_matrix(m), sdm::face_matrix(m)});
+  };
+  for (const auto& p : kPaper) add(p.name, sdm::make_primitive(p.name));
+  if (std::filesystem::exists(o.spot))
+    add("Spot", sdm::load_mesh(o.spot));
+  else
+    progress("bench: Spot skipped, " + o.spot + " not found (--spot PATH)");
+  if (std::filesystem::exists(o.bunny))
+    add("bunny00 remeshed", contraction_proxy(sdm::load_mesh(o.bunny)));
+  else
+    progress("bench: bunny00 skipped, " + o.bunny + " not found (--bunny PATH)");
+  return cases;
+}
+
+// The same contraction (uniform weights, the raw options of extract_skeleton) with every
+// available solver, fastest of `repeat` runs each.
+SolverRow measure_solvers(const SolverCase& c, int repeat) {
+  SolverRow row;
+  row.name = c.name;
+  row.vertices = long(c.V.rows());
+  const double diagonal = (c.V.colwise().maxCoeff() - c.V.colwise().minCoeff()).norm();
+  Eigen::MatrixX3d reference;
+  for (auto solver : available_solvers()) {
+    sdm::ContractOptions opt = sdm::uniform_contraction();
+    opt.solver = solver;
+    SolverRun run;
+    run.solver = solver;
+    for (int k = 0; k < repeat; ++k) {
+      const sdm::Stopwatch clock;
+      const sdm::ContractResult res = sdm::contract_mesh(c.V, c.F, opt);
+      keep_fastest(run.seconds, clock.seconds());
+      keep_fastest(run.factor_seconds, res.factor_seconds);
+      run.iterations = res.iterations;
+      if (reference.size() == 0) reference = res.positions;
+      run.max_difference = (res.positions - reference).rowwise().norm().maxCoeff() / diagonal;
+    }
+    row.runs.push_back(run);
+  }
+  return row;
+}
+
+nlohmann::json solvers_json(const std::vector<SolverRow>& rows) {
+  nlohmann::json j;
+  j["machine"] = machine_line();
+  j["meshes"] = nlohmann::json::array();
+  for (const auto& r : rows) {
+    nlohmann::json rj{{"name", r.name}, {"vertices", r.vertices}};
+    for (const auto& run : r.runs)
+      rj[solver_key(run.solver)] = {{"seconds", run.seconds},
+                                    {"factor_seconds", run.factor_seconds},
+                                    {"iterations", run.iterations},
+                                    {"max_difference", run.max_difference}};
+    j["meshes"].push_back(rj);
+  }
+  return j;
+}
+
+// A Markdown table, the form of docs/BENCHMARKS.md: each solver's total seconds with the
+// factorisations' share in parentheses, then each other solver's largest difference to the
+// supernodal result. Iterations are the supernodal contraction's; a solver that took a different
+// number is marked with its own.
+void print_solver_table(std::ostream& s, const std::vector<SolverRow>& rows, int repeat) {
+  const auto solvers = available_solvers();
+  s << "Machine: " << machine_line() << "\n"
+    << "Contraction seconds (factorisations in parentheses), fastest of " << repeat
+    << "; max difference: largest vertex distance to the supernodal result / bounding-box diagonal.\n\n";
+  s << "| mesh | vertices |";
+  for (auto solver : solvers) s << " " << solver_title(solver) << " |";
+  for (size_t k = 1; k < solvers.size(); ++k) s << " max difference, " << solver_key(solvers[k]) << " |";
+  s << " iterations |\n|---|---|";
+  for (size_t k = 0; k < 2 * solvers.size(); ++k) s << "---|";
+  s << "\n";
+  for (const auto& r : rows) {
+    s << "| " << r.name << " | " << r.vertices << " |";
+    for (const auto& run : r.runs) {
+      s << std::fixed << std::setprecision(3) << " " << run.seconds << " (" << run.factor_seconds << ")";
+      if (run.iterations != r.runs[0].iterations) s << ", " << run.iterations << " iterations";
+      s << " |";
+    }
+    for (size_t k = 1; k < r.runs.size(); ++k) s << std::scientific << std::setprecision(1) << " " << r.runs[k].max_difference << " |";
+    s << " " << r.runs[0].iterations << " |\n";
+  }
+}
+
+int run_solvers(const BenchOptions& o) {
+  std::vector<SolverRow> rows;
+  for (const auto& c : solver_cases(o)) {
+    progress("bench --solvers: " + c.name);
+    rows.push_back(measure_solvers(c, o.repeat));
+  }
+  if (o.json) {
+    print_json(solvers_json(rows));
+    return 0;
+  }
+  std::ostringstream s;
+  print_solver_table(s, rows, o.repeat);
+  std::cout << s.str();
+  return 0;
 }
 
 }  // namespace
 
 Command add_bench_command(CLI::App& parent) {
-  struct Opts {
-    std::string bunny = "../shared/models/cgal/bunny00.off";
-    int repeat = 3, size = 1024;
-    bool json = false, no_sdm = false, no_gl = false;
-  };
-  auto o = std::make_shared<Opts>();
+  auto o = std::make_shared<BenchOptions>();
   auto* app = parent.add_subcommand(
       "bench", "Time every stage on the paper's five test shapes (beside its Table I and Table II), the SDM\n"
-               "encoder and decoder (1024 map; levels 3 and 5), and a large real mesh. Fastest of --repeat runs.");
+               "encoder and decoder (1024 map; levels 3 and 5), and a large real mesh. Fastest of --repeat runs.\n"
+               "With --solvers: the contraction with each sparse Cholesky (supernodal, Eigen, CHOLMOD where\n"
+               "built) on the five shapes, Spot and bunny00's contraction proxy, and how far their results differ.");
   app->add_option("--bunny", o->bunny, "Large mesh for the skeleton timing (skipped with a note when missing)")->capture_default_str();
+  app->add_option("--spot", o->spot, "Spot mesh for --solvers (skipped with a note when missing)")->capture_default_str();
   app->add_option("--repeat", o->repeat, "Runs per measurement; the fastest is kept")->capture_default_str()->check(CLI::Range(1, 20));
   app->add_option("--size", o->size, "Atlas size for packing and composing")->capture_default_str()->check(CLI::Range(64, 8192));
   app->add_flag("--no-sdm", o->no_sdm, "Skip the SDM encode/decode timings");
   app->add_flag("--no-gl", o->no_gl, "Skip the GL atlas composing timing");
+  app->add_flag("--solvers", o->solvers, "Compare the contraction's sparse Cholesky solvers instead (docs/BENCHMARKS.md)");
   app->add_flag("--json", o->json, "Print one JSON object instead of tables");
-  return {app, [o]() {
-            std::unique_ptr<sdm::GlContext> gl;
-            if (!o->no_gl) gl = std::make_unique<sdm::GlContext>();
-            std::vector<Row> rows;
-            for (const auto& p : kPaper) {
-              progress("bench: " + std::string(p.name));
-              rows.push_back(measure(p.name, sdm::make_primitive(p.name), o->repeat, o->size, !o->no_sdm, gl.get()));
-            }
-            Row bunny;
-            bool have_bunny = std::filesystem::exists(o->bunny);
-            if (have_bunny) {
-              progress("bench: " + o->bunny);
-              bunny = measure("bunny00", sdm::load_mesh(o->bunny), o->repeat, o->size, false, nullptr);
-            }
-            const std::string machine = cpu_model() + ", " + std::to_string(std::thread::hardware_concurrency()) + " threads";
-            if (o->json) {
-              nlohmann::json j;
-              j["machine"] = machine;
-              j["renderer"] = gl ? gl->renderer() : "";
-              auto row_json = [](const Row& r) {
-                return nlohmann::json{{"name", r.name}, {"vertices", r.vertices}, {"contraction", r.contraction},
-                                      {"surgery", r.surgery}, {"refinement", r.refinement}, {"packing", r.packing},
-                                      {"composing", r.composing}, {"skeleton_total", r.skeleton_total()},
-                                      {"stm_total", r.stm_total()}, {"segments", r.segments}, {"coverage", r.coverage},
-                                      {"encode_1024", r.encode}, {"decode_level3", r.decode3}, {"decode_level5", r.decode5}};
-              };
-              for (size_t i = 0; i < rows.size(); ++i) {
-                auto rj = row_json(rows[i]);
-                rj["paper_total"] = kPaper[i].total;
-                rj["paper_coverage"] = kPaper[i].coverage;
-                rj["speedup"] = kPaper[i].total / rows[i].stm_total();
-                rj["speedup_skeleton"] = kPaper[i].total / rows[i].skeleton_total();
-                j["shapes"].push_back(rj);
-              }
-              if (have_bunny) j["bunny"] = row_json(bunny);
-              print_json(j);
-              return 0;
-            }
-            std::ostringstream s;
-            s << std::fixed;
-            s << "Machine: " << machine << (gl ? "; GL: " + gl->renderer() : "") << "\n\n";
-            s << "Table I (seconds): t1 contraction (and medial poles), t2 skeleton construction (surgery +\n"
-              << "refinement), each summed over the two skeleton candidates, which run on two threads; t3 packing,\n"
-              << "t4 composing (surface drawn into the " << o->size << "^2 atlas). total: wall clock of the skeleton\n"
-              << "+ t3 + t4. Speed-up: the paper's total over ours, for the whole pipeline and for the skeleton\n"
-              << "alone (wall clock).\n";
-            s << std::left << std::setw(19) << "shape" << std::right << std::setw(7) << "verts" << std::setw(9) << "t1"
-              << std::setw(9) << "t2" << std::setw(9) << "t3" << std::setw(9) << "t4" << std::setw(9) << "total"
-              << std::setw(9) << "paper" << std::setw(10) << "speed-up" << std::setw(11) << "skeleton\n";
-            for (size_t i = 0; i < rows.size(); ++i) {
-              const Row& r = rows[i];
-              s << std::left << std::setw(19) << r.name << std::right << std::setw(7) << r.vertices << std::setprecision(4)
-                << std::setw(9) << r.contraction << std::setw(9) << r.surgery + r.refinement << std::setw(9) << r.packing
-                << std::setw(9) << r.composing << std::setw(9) << r.stm_total() << std::setprecision(1) << std::setw(9)
-                << kPaper[i].total << std::setprecision(0) << std::setw(9) << kPaper[i].total / r.stm_total() << "x"
-                << std::setw(10) << kPaper[i].total / r.skeleton_total() << "x\n";
-            }
-            if (have_bunny)
-              s << std::left << std::setw(19) << "bunny00" << std::right << std::setw(7) << bunny.vertices << std::setprecision(4)
-                << std::setw(9) << bunny.contraction << std::setw(9) << bunny.surgery + bunny.refinement << std::setw(9)
-                << bunny.packing << std::setw(9) << "-" << std::setw(9) << bunny.skeleton_total() + bunny.packing << "\n";
-            else
-              s << "bunny00: skipped, " << o->bunny << " not found (--bunny PATH)\n";
-            s << "\nTable II: coverage of the atlas\n";
-            s << std::left << std::setw(19) << "shape" << std::right << std::setw(10) << "segments" << std::setw(10)
-              << "coverage" << std::setw(16) << "paper segments" << std::setw(16) << "paper coverage\n";
-            for (size_t i = 0; i < rows.size(); ++i)
-              s << std::left << std::setw(19) << rows[i].name << std::right << std::setw(10) << rows[i].segments
-                << std::setprecision(1) << std::setw(9) << 100 * rows[i].coverage << "%" << std::setw(16) << kPaper[i].segments
-                << std::setw(15) << 100 * kPaper[i].coverage << "%\n";
-            if (!o->no_sdm) {
-              s << "\nSDM (1024 map): encode, decode at level 3 and 5, seconds\n";
-              for (const auto& r : rows)
-                s << std::left << std::setw(19) << r.name << std::right << std::setprecision(3) << std::setw(9) << r.encode
-                  << std::setw(9) << r.decode3 << std::setw(9) << r.decode5 << "\n";
-            }
-            std::cout << s.str();
-            return 0;
-          }};
+  return {app, [o]() { return o->solvers ? run_solvers(*o) : run_stages(*o); }};
 }
 
 }  // namespace sdm::cli

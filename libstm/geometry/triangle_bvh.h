@@ -34,21 +34,25 @@ class TriangleBvh {
   // Nearest hit with t in (t_min, t_max); face == -1 when nothing is hit.
   Hit first_hit(const Eigen::Vector3d& origin, const Eigen::Vector3d& direction, double t_min = 0,
                 double t_max = INFINITY) const;
-  // Number of crossings of the ray with the surface (for parity inside tests).
+  // Number of crossings of the ray with the surface, hits with t > 0 (for parity inside tests).
   int count_hits(const Eigen::Vector3d& origin, const Eigen::Vector3d& direction) const;
+  // True when some triangle is hit with t in the closed range [t_min, t_max]; stops at the first
+  // one found. any_hit(a, b - a, 0, 1): the closed segment a-b meets the surface.
+  bool any_hit(const Eigen::Vector3d& origin, const Eigen::Vector3d& direction, double t_min, double t_max) const;
 
   bool empty() const { return tris_.empty(); }
 
  private:
   struct Node {
+    // The box and the links first: the ray queries read only these (64 bytes).
     Eigen::Vector3d lo, hi;
+    int left = -1, right = -1;  // children, or -1 for a leaf
+    int begin = 0, end = 0;     // leaf range in tris_
     // A slab along the node's mean normal that holds its triangles: near the leaves a patch of
     // surface is nearly flat, so a ball tangent to it (the medial poles' queries) overlaps the
     // box but not the slab.
     Eigen::Vector3d axis = Eigen::Vector3d::Zero();
     double slab_lo = 0, slab_hi = 0;
-    int left = -1, right = -1;  // children, or -1 for a leaf
-    int begin = 0, end = 0;     // leaf range in tris_
   };
   // Lower bound of the squared distance from p to the node's triangles.
   static double node_distance2(const Eigen::Vector3d& p, const Node& n);

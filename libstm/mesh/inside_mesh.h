@@ -1,10 +1,11 @@
 #pragma once
-// Inside/outside queries against a closed triangle mesh, accelerated by a bounding-volume
-// hierarchy over its triangles. Used to keep skeleton nodes and segments inside the volume.
+// Inside/outside queries against a closed triangle mesh, accelerated by the bounding-volume
+// hierarchy over its triangles of triangle_bvh.h (ray parity, segment hits). Used to keep
+// skeleton nodes and segments inside the volume.
+#include "libstm/geometry/triangle_bvh.h"
 #include "libstm/mesh/mesh.h"
 
 #include <Eigen/Dense>
-#include <vector>
 
 namespace sdm {
 
@@ -30,16 +31,7 @@ class InsideMesh {
   bool triangle_crosses(const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eigen::Vector3d& c, int fan = 8) const;
 
  private:
-  struct Node {
-    Eigen::Vector3d lo, hi;
-    int first = 0, count = 0;  // leaf: triangles [first, first+count); inner: count == 0
-    int left = -1, right = -1;
-  };
-  int count_ray_hits(const Eigen::Vector3d& p, const Eigen::Vector3d& d) const;
-  int build(int first, int count);
-
-  std::vector<Eigen::Vector3d> a_, b_, c_;  // triangle corners, in BVH order
-  std::vector<Node> nodes_;
+  TriangleBvh bvh_;
 };
 
 }  // namespace sdm
