@@ -14,6 +14,7 @@
 #include "libstm/render/gl_context.h"
 #include "libstm/render/render_atlas.h"
 #include "libstm/skeleton/contract_mesh.h"
+#include "libstm/skeleton/contraction_proxy.h"
 #include "libstm/skeleton/extract_skeleton.h"
 
 #include <filesystem>
@@ -276,19 +277,11 @@ std::vector<sdm::SparseSolver> available_solvers() {
   return out;
 }
 
-// The contraction proxy of a large mesh, as extract_skeleton makes it (make_proxy there): the
-// mesh remeshed isotropically to about proxy_max_vertices vertices, projected onto its surface.
-sdm::Mesh contraction_proxy(const sdm::Mesh& mesh) {
-  const Eigen::MatrixX3d V = sdm::vertex_matrix(mesh);
-  const Eigen::MatrixX3i F = sdm::face_matrix(mesh);
-  double area = 0;
-  for (int f = 0; f < F.rows(); ++f)
-    area += 0.5 * (V.row(F(f, 1)) - V.row(F(f, 0))).cross(V.row(F(f, 2)) - V.row(F(f, 0))).norm();
-  const int target = sdm::SkeletonOptions{}.proxy_max_vertices;
-  const double len = std::sqrt(2.0 * area / (std::sqrt(3.0) * target));
-  sdm::Mesh proxy = mesh;
-  const sdm::TriangleBvh bvh(V, F);
-  sdm::isotropic_remesh(proxy, len, 8, [&](const Eigen::Vector3d& p) { return bvh.closest_point(p).point; });
+// The contraction proxy of a large mesh, as extract_skeleton makes it (make_proxy).
+std::pair<Eigen::MatrixX3d, Eigen::MatrixX3i> contraction_proxy(const sdm::Mesh& mesh) {
+  std::pair<Eigen::MatrixX3d, Eigen::MatrixX3i> proxy;
+  sdm::make_proxy(sdm::vertex_matrix(mesh), sdm::face_matrix(mesh), sdm::SkeletonOptions{}.proxy_max_vertices,
+                  proxy.first, proxy.second);
   return proxy;
 }
 
@@ -304,7 +297,8 @@ std::vector<SolverCase> solver_cases(const BenchOptions& o) {
   else
     progress("bench: Spot skipped, " + o.spot + " not found (--spot PATH)");
   if (std::filesystem::exists(o.bunny))
-    add("bunny00 remeshed", contraction_proxy(sdm::load_mesh(o.bunny)));
+    auto proxy = contraction_proxy(sdm::load_mesh(o.bunny));
+    cases.push_back({"bunny00 remeshed", std::move(proxy.first), std::move(proxy.second)});
   else
     progress("bench: bunny00 skipped, " + o.bunny + " not found (--bunny PATH)");
   return cases;

@@ -1,7 +1,7 @@
 // Inside/outside and segment crossings (InsideMesh, over TriangleBvh's tree) checked against
 // shapes whose volume is known in closed form: the cylinder and the capsule of radius 1 and the
 // donut (torus of major radius 1, minor radius 0.4).
-#include "libstm/geometry/inside_mesh.h"
+#include "libstm/mesh/inside_mesh.h"
 #include "libstm/geometry/triangle_bvh.h"
 #include "libstm/mesh/primitives.h"
 
