@@ -5,7 +5,7 @@
 
 #include <catch2/catch.hpp>
 
-TEST_CASE("--match texts parse into node pairs, in order", "[share_skeletons]") {
+TEST_CASE("node pairs parse from --match texts, in order", "[share_skeletons]") {
   CHECK(sdm::parse_node_pairs({}).empty());
   const auto p = sdm::parse_node_pairs({"3=5", "12=0", " 7=-1"});
   REQUIRE(p.size() == 3);
