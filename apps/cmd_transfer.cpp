@@ -18,26 +18,15 @@ namespace sdm::cli {
 
 namespace {
 
-std::vector<std::pair<int, int>> parse_match_pairs(const std::vector<std::string>& items) {
-  std::vector<std::pair<int, int>> out;
-  for (const auto& s : items) {
-    const auto eq = s.find('=');
-    try {
-      size_t used = 0;
-      if (eq == std::string::npos) throw std::invalid_argument("no =");
-      const int a = std::stoi(s.substr(0, eq), &used);
-      if (used != eq) throw std::invalid_argument("junk");
-      const std::string rhs = s.substr(eq + 1);
-      const int b = std::stoi(rhs, &used);
-      if (used != rhs.size()) throw std::invalid_argument("junk");
-      out.push_back({a, b});
-    } catch (const std::exception&) {
-      throw sdm::InputError("--match " + s + ": expected SOURCE_NODE=TARGET_NODE (two skeleton node indices)");
-    }
-  }
-  return out;
-}
+struct TransferArgs {
+  std::string source, texture, target, output, source_skeleton, target_skeleton, sdm;
+  std::vector<std::string> match;
+  int size = 2048, margin = 8, lod = 3;
+  bool json = false;
+};
 
+// The skeleton read from json_path (it must map mesh's vertices), or else extracted with the
+// transfer's options; `what` names the model in messages.
 sdm::Skeleton skeleton_for(const sdm::Mesh& mesh, const std::string& json_path, const std::string& what) {
   if (!json_path.empty()) {
     sdm::Skeleton s = sdm::read_skeleton_json(json_path);
@@ -50,11 +39,13 @@ sdm::Skeleton skeleton_for(const sdm::Mesh& mesh, const std::string& json_path, 
   return sdm::extract_skeleton(mesh, sdm::transfer_skeleton_options(), progress);
 }
 
+// path with its extension replaced by suffix (OUT.obj -> OUT_atlas.png).
 std::string sibling(const std::string& path, const std::string& suffix) {
   std::filesystem::path p(path);
   return (p.parent_path() / (p.stem().string() + suffix)).string();
 }
 
+// The match's chains as text lines, and as JSON objects into *chains.
 std::string match_text(const sdm::SkeletonMatch& m, nlohmann::json* chains) {
   std::ostringstream out;
   *chains = nlohmann::json::array();
@@ -74,8 +65,7 @@ std::string match_text(const sdm::SkeletonMatch& m, nlohmann::json* chains) {
 }
 
 // The geometry counterpart: the map decoded around a target skeleton with the same branching.
-template <class Opts>
-int run_sdm_transfer(const Opts& o) {
+int run_sdm_transfer(const TransferArgs& o) {
   if (!o.source.empty() || !o.target.empty())
     throw sdm::InputError("--sdm decodes a map around --target-skeleton; --source and --target belong to the texture transfer");
   if (o.target_skeleton.empty()) throw sdm::InputError("--sdm needs --target-skeleton SKEL.json (the skeleton to decode around)");
@@ -85,7 +75,7 @@ int run_sdm_transfer(const Opts& o) {
   sdm::SkeletonMatch m;
   sdm::DecodeOptions d;
   d.level = o.lod;
-  d.skeleton = sdm::skeleton_onto_graph(graph, target, parse_match_pairs(o.match), &m);
+  d.skeleton = sdm::skeleton_onto_graph(graph, target, sdm::parse_node_pairs(o.match), &m);
   const sdm::Mesh mesh = sdm::decode_sdm(im, d);
   sdm::write_mesh(mesh, o.output);
   nlohmann::json chains;
@@ -101,16 +91,174 @@ int run_sdm_transfer(const Opts& o) {
   return 0;
 }
 
+// The texture transfer's inputs, read and checked.
+struct TransferInputs {
+  sdm::Mesh source, target;
+  sdm::Image texture;
+  std::string texture_path;
+  sdm::Skeleton skeleton_a, skeleton_b;
+};
+
+// Throws InputError for a missing --source or --target, an output other than .obj, or a source
+// without texture or uv.
+TransferInputs read_inputs(const TransferArgs& o) {
+  if (o.source.empty() || o.target.empty())
+    throw sdm::InputError("transfer needs --source and --target (texture), or --sdm and --target-skeleton (geometry)");
+  if (std::filesystem::path(o.output).extension() != ".obj")
+    throw sdm::InputError("--output must be an .obj file (it carries the uv and names the atlas)");
+  TransferInputs in;
+  std::string material;
+  in.source = sdm::load_mesh(o.source, &material);
+  in.texture_path = o.texture.empty() ? material : o.texture;
+  if (in.texture_path.empty()) throw sdm::InputError("'" + o.source + "' names no texture in its material: pass --texture TEX.png");
+  if (!in.source.has_halfedge_texcoords2D())
+    throw sdm::InputError("'" + o.source + "' has no texture coordinates, so its texture cannot be transferred");
+  in.texture = sdm::read_png(in.texture_path);
+  in.target = sdm::load_mesh(o.target);
+  in.skeleton_a = skeleton_for(in.source, o.source_skeleton, "source");
+  in.skeleton_b = skeleton_for(in.target, o.target_skeleton, "target");
+  return in;
+}
+
+// Source (its own texture) and target (the transferred atlas) side by side, 512 x 512 each.
+sdm::Image render_preview(sdm::GlContext& gl, const TransferInputs& in, const sdm::TextureTransfer& r) {
+  progress("rendering the preview");
+  sdm::RenderOptions ro;
+  ro.width = ro.height = 512;
+  ro.texture = &in.texture;
+  const sdm::Image left = sdm::render_mesh(gl, in.source, ro);
+  ro.texture = &r.atlas;
+  const sdm::Image right = sdm::render_mesh(gl, r.target, ro);
+  return sdm::side_by_side({left, right});
+}
+
+// The output files' paths: OUT.obj with OUT.mtl, OUT_atlas.png and OUT_preview.png beside it.
+struct OutputPaths {
+  std::string mesh, atlas, preview, mtl;
+  explicit OutputPaths(const std::string& output)
+      : mesh(output), atlas(sibling(output, "_atlas.png")), preview(sibling(output, "_preview.png")), mtl(sibling(output, ".mtl")) {}
+};
+
+// Everything is computed; now the files, each atomically, removed again if a later one fails.
+void write_outputs(const sdm::TextureTransfer& r, const sdm::Image& preview, const OutputPaths& out) {
+  std::vector<std::string> written;
+  try {
+    sdm::write_png(r.atlas, out.atlas);
+    written.push_back(out.atlas);
+    sdm::write_png(preview, out.preview);
+    written.push_back(out.preview);
+    written.push_back(out.mtl);
+    sdm::write_mesh(r.target, out.mesh, std::filesystem::absolute(out.atlas).string());
+  } catch (...) {
+    std::error_code ec;
+    for (const auto& f : written) std::filesystem::remove(f, ec);
+    throw;
+  }
+}
+
+// x, or null when it is not finite (a stage that was not tried).
+nlohmann::json finite_or_null(double x) { return std::isfinite(x) ? nlohmann::json(x) : nlohmann::json(); }
+
+// The result as one JSON object (node numbers as in the given skeletons).
+void print_transfer_json(const TransferArgs& o, const TransferInputs& in, const sdm::TextureTransfer& r, const OutputPaths& out) {
+  const sdm::SkeletonMatch m = sdm::match_in_given_numbering(r.skeletons);
+  nlohmann::json chains;
+  match_text(m, &chains);
+  for (size_t c = 0; c < chains.size(); ++c) chains[c]["segments"] = r.skeletons.chain_edges[c].size();
+  nlohmann::json keys = nlohmann::json::array();
+  for (size_t k = 0; k < m.a.keys.size(); ++k)
+    keys.push_back({{"source", m.a.keys[k]}, {"target", m.b.keys[m.key_a_to_b[k]]}, {"degree", m.a.key_degree[k]}});
+  print_json({{"output", out.mesh},
+              {"atlas", out.atlas},
+              {"preview", out.preview},
+              {"texture", in.texture_path},
+              {"size", r.layout_a.size},
+              {"segments", r.layout_a.segments.size()},
+              {"confidence", m.confidence},
+              {"shape_cost", m.cost},
+              {"candidates", m.candidates},
+              {"keys", keys},
+              {"chains", chains},
+              {"pruned_source_ends", r.skeletons.pruned_a},
+              {"pruned_target_ends", r.skeletons.pruned_b},
+              {"target_skeleton", r.carried ? "carried" : r.fitted ? "bent" : o.target_skeleton.empty() ? "extracted" : "given"},
+              {"bent_rms", finite_or_null(r.fit_rms)},
+              {"registration_rms", finite_or_null(r.registration.rms)},
+              {"registration_p99", finite_or_null(r.registration.p99)},
+              {"stretch", r.stretch},
+              {"seam_faces", r.seam_faces}});
+}
+
+// The result as text (node numbers as in the given skeletons).
+void print_transfer_text(const TransferArgs& o, const TransferInputs& in, const sdm::TextureTransfer& r, const OutputPaths& out) {
+  const sdm::SkeletonMatch m = sdm::match_in_given_numbering(r.skeletons);
+  nlohmann::json chains;
+  const std::string text = match_text(m, &chains);
+  std::cout << out.mesh << ": " << in.target.n_vertices() << " vertices textured from " << o.source << "\n"
+            << "  atlas " << out.atlas << " (" << r.layout_a.size << "^2, " << r.layout_a.segments.size() << " segments), preview "
+            << out.preview << "\n"
+            << "  match confidence " << m.confidence << " (" << m.candidates << " candidates)\n";
+  if (r.carried)
+    std::cout << "  the target is the source's shape (registered to " << 100 * r.registration.rms
+              << " % of the diagonal, RMS): the source's skeleton carried over\n";
+  if (r.fitted)
+    std::cout << "  the target is the source in another pose (bent onto it to " << 100 * r.fit_rms
+              << " % of the diagonal, RMS): the source's skeleton bent along\n";
+  for (size_t k = 0; k < m.a.keys.size(); ++k)
+    std::cout << "  node " << m.a.keys[k] << " -> " << m.b.keys[m.key_a_to_b[k]] << " (degree " << m.a.key_degree[k] << ")\n";
+  std::cout << text;
+}
+
+// The texture transfer: inputs, transfer_texture, preview, files, report.
+int run_texture_transfer(const TransferArgs& o) {
+  const TransferInputs in = read_inputs(o);
+  sdm::GlContext gl;
+  progress("GL renderer: " + gl.renderer() + " (" + gl.version() + ", " + gl.platform() + ")");
+  sdm::TransferOptions to;
+  to.size = o.size;
+  to.margin = o.margin;
+  to.fixed = sdm::parse_node_pairs(o.match);
+  to.progress = progress;
+  // A skeleton the user gives is used as given; an extracted one gives way to the source's
+  // when the target turns out to be the source's shape (transfer_texture).
+  to.carry_same_shape = o.target_skeleton.empty();
+  const sdm::TextureTransfer r = sdm::transfer_texture(gl, in.source, in.texture, in.skeleton_a, in.target, in.skeleton_b, to);
+  for (int x : r.skeletons.pruned_a) progress("source end branch at node " + std::to_string(x) + " pruned: the target's skeleton has none there");
+  for (int x : r.skeletons.pruned_b) progress("target end branch at node " + std::to_string(x) + " pruned: the source's skeleton has none there");
+  const sdm::Image preview = render_preview(gl, in, r);
+  const OutputPaths out(o.output);
+  write_outputs(r, preview, out);
+  if (o.json) print_transfer_json(o, in, r, out);
+  else print_transfer_text(o, in, r, out);
+  return 0;
+}
+
+// The command's options, bound to o.
+void declare_options(CLI::App* app, TransferArgs& o) {
+  app->add_option("--source", o.source, "Source mesh with uv and a texture (.obj with its MTL)");
+  app->add_option("--texture", o.texture, "Source texture (.png); default: the map_Kd of the source's MTL");
+  app->add_option("--target", o.target, "Target mesh (.obj, .off, .ply, .stl), closed and manifold");
+  app->add_option("-o,--output", o.output,
+                  "Output mesh: .obj, the target with uv into OUT_atlas.png (with --sdm: the decoded mesh, any format)")
+      ->required();
+  app->add_option("--sdm", o.sdm, "Displacement map (.exr from 'sdm encode') to decode around --target-skeleton");
+  app->add_option("--lod", o.lod, "With --sdm: level of detail of the decode (every base edge cut into 2^L pieces)")
+      ->check(CLI::Range(0, 8))
+      ->capture_default_str();
+  app->add_option("--source-skeleton", o.source_skeleton, "Source skeleton (.json from 'sdm skeleton') instead of extracting one");
+  app->add_option("--target-skeleton", o.target_skeleton, "Target skeleton (.json from 'sdm skeleton') instead of extracting one");
+  app->add_option("--match", o.match,
+                  "Force a pair of junction or end nodes to correspond: SOURCE_NODE=TARGET_NODE (skeleton node\n"
+                  "indices; repeatable), for symmetric models whose pose does not tell the branches apart");
+  app->add_option("--size", o.size, "Atlas width and height in texels")->check(CLI::Range(16, 16384))->capture_default_str();
+  app->add_option("--margin", o.margin, "Texels of margin around every rectangle")->check(CLI::Range(0, 256))->capture_default_str();
+  app->add_flag("--json", o.json, "Print one JSON object instead of text");
+}
+
 }  // namespace
 
 Command add_transfer_command(CLI::App& parent) {
-  struct Opts {
-    std::string source, texture, target, output, source_skeleton, target_skeleton, sdm;
-    std::vector<std::string> match;
-    int size = 2048, margin = 8, lod = 3;
-    bool json = false;
-  };
-  auto o = std::make_shared<Opts>();
+  auto o = std::make_shared<TransferArgs>();
   auto* app = parent.add_subcommand(
       "transfer", "Transfer the texture of a source model to a target model with the same skeleton branching:\n"
                   "the skeletons' junctions, ends and chains are matched, matched chains resampled to the same\n"
@@ -124,130 +272,8 @@ Command add_transfer_command(CLI::App& parent) {
                   "of a skeleton's length) found in one skeleton only are pruned first.\n"
                   "With --sdm MAP.exr --target-skeleton SKEL.json instead: the geometry counterpart, the map decoded\n"
                   "around another skeleton with the same branching (matched and resampled onto the map's own).");
-  app->add_option("--source", o->source, "Source mesh with uv and a texture (.obj with its MTL)");
-  app->add_option("--texture", o->texture, "Source texture (.png); default: the map_Kd of the source's MTL");
-  app->add_option("--target", o->target, "Target mesh (.obj, .off, .ply, .stl), closed and manifold");
-  app->add_option("-o,--output", o->output,
-                  "Output mesh: .obj, the target with uv into OUT_atlas.png (with --sdm: the decoded mesh, any format)")
-      ->required();
-  app->add_option("--sdm", o->sdm, "Displacement map (.exr from 'sdm encode') to decode around --target-skeleton");
-  app->add_option("--lod", o->lod, "With --sdm: level of detail of the decode (every base edge cut into 2^L pieces)")
-      ->check(CLI::Range(0, 8))
-      ->capture_default_str();
-  app->add_option("--source-skeleton", o->source_skeleton, "Source skeleton (.json from 'sdm skeleton') instead of extracting one");
-  app->add_option("--target-skeleton", o->target_skeleton, "Target skeleton (.json from 'sdm skeleton') instead of extracting one");
-  app->add_option("--match", o->match,
-                  "Force a pair of junction or end nodes to correspond: SOURCE_NODE=TARGET_NODE (skeleton node\n"
-                  "indices; repeatable), for symmetric models whose pose does not tell the branches apart");
-  app->add_option("--size", o->size, "Atlas width and height in texels")->check(CLI::Range(16, 16384))->capture_default_str();
-  app->add_option("--margin", o->margin, "Texels of margin around every rectangle")->check(CLI::Range(0, 256))->capture_default_str();
-  app->add_flag("--json", o->json, "Print one JSON object instead of text");
-  return {app, [o]() {
-            if (!o->sdm.empty()) return run_sdm_transfer(*o);
-            if (o->source.empty() || o->target.empty())
-              throw sdm::InputError("transfer needs --source and --target (texture), or --sdm and --target-skeleton (geometry)");
-            if (std::filesystem::path(o->output).extension() != ".obj")
-              throw sdm::InputError("--output must be an .obj file (it carries the uv and names the atlas)");
-            std::string material;
-            const sdm::Mesh source = sdm::load_mesh(o->source, &material);
-            const std::string texture_path = o->texture.empty() ? material : o->texture;
-            if (texture_path.empty())
-              throw sdm::InputError("'" + o->source + "' names no texture in its material: pass --texture TEX.png");
-            if (!source.has_halfedge_texcoords2D())
-              throw sdm::InputError("'" + o->source + "' has no texture coordinates, so its texture cannot be transferred");
-            const sdm::Image texture = sdm::read_png(texture_path);
-            const sdm::Mesh target = sdm::load_mesh(o->target);
-            const sdm::Skeleton sa = skeleton_for(source, o->source_skeleton, "source");
-            const sdm::Skeleton sb = skeleton_for(target, o->target_skeleton, "target");
-            sdm::GlContext gl;
-            progress("GL renderer: " + gl.renderer() + " (" + gl.version() + ", " + gl.platform() + ")");
-            sdm::TransferOptions to;
-            to.size = o->size;
-            to.margin = o->margin;
-            to.fixed = parse_match_pairs(o->match);
-            to.progress = progress;
-            // A skeleton the user gives is used as given; an extracted one gives way to the source's
-            // when the target turns out to be the source's shape (transfer_texture).
-            to.carry_same_shape = o->target_skeleton.empty();
-            const sdm::TextureTransfer r = sdm::transfer_texture(gl, source, texture, sa, target, sb, to);
-            for (int x : r.skeletons.pruned_a) progress("source end branch at node " + std::to_string(x) + " pruned: the target's skeleton has none there");
-            for (int x : r.skeletons.pruned_b) progress("target end branch at node " + std::to_string(x) + " pruned: the source's skeleton has none there");
-
-            progress("rendering the preview");
-            sdm::RenderOptions ro;
-            ro.width = ro.height = 512;
-            ro.texture = &texture;
-            const sdm::Image left = sdm::render_mesh(gl, source, ro);
-            ro.texture = &r.atlas;
-            const sdm::Image right = sdm::render_mesh(gl, r.target, ro);
-            const sdm::Image preview = sdm::side_by_side({left, right});
-
-            // Everything is computed; now the files, each atomically, removed again if a later one fails.
-            const std::string atlas_path = sibling(o->output, "_atlas.png"), preview_path = sibling(o->output, "_preview.png");
-            const std::string mtl_path = sibling(o->output, ".mtl");
-            std::vector<std::string> written;
-            try {
-              sdm::write_png(r.atlas, atlas_path);
-              written.push_back(atlas_path);
-              sdm::write_png(preview, preview_path);
-              written.push_back(preview_path);
-              written.push_back(mtl_path);
-              sdm::write_mesh(r.target, o->output, std::filesystem::absolute(atlas_path).string());
-            } catch (...) {
-              std::error_code ec;
-              for (const auto& f : written) std::filesystem::remove(f, ec);
-              throw;
-            }
-
-            // Node numbers as in the given skeletons (the match numbers the pruned ones).
-            sdm::SkeletonMatch m = r.skeletons.match;
-            for (auto* red : {&m.a, &m.b}) {
-              const auto& orig = red == &m.a ? r.skeletons.node_a : r.skeletons.node_b;
-              for (int& k : red->keys) k = orig[k];
-            }
-            nlohmann::json chains;
-            const std::string text = match_text(m, &chains);
-            for (size_t c = 0; c < chains.size(); ++c) chains[c]["segments"] = r.skeletons.chain_edges[c].size();
-            nlohmann::json keys = nlohmann::json::array();
-            for (size_t k = 0; k < m.a.keys.size(); ++k)
-              keys.push_back({{"source", m.a.keys[k]}, {"target", m.b.keys[m.key_a_to_b[k]]}, {"degree", m.a.key_degree[k]}});
-            if (o->json) {
-              print_json({{"output", o->output},
-                          {"atlas", atlas_path},
-                          {"preview", preview_path},
-                          {"texture", texture_path},
-                          {"size", r.layout_a.size},
-                          {"segments", r.layout_a.segments.size()},
-                          {"confidence", m.confidence},
-                          {"shape_cost", m.cost},
-                          {"candidates", m.candidates},
-                          {"keys", keys},
-                          {"chains", chains},
-                          {"pruned_source_ends", r.skeletons.pruned_a},
-                          {"pruned_target_ends", r.skeletons.pruned_b},
-                          {"target_skeleton", r.carried ? "carried" : r.fitted ? "bent" : o->target_skeleton.empty() ? "extracted" : "given"},
-                          {"bent_rms", std::isfinite(r.fit_rms) ? nlohmann::json(r.fit_rms) : nlohmann::json()},
-                          {"registration_rms", std::isfinite(r.registration.rms) ? nlohmann::json(r.registration.rms) : nlohmann::json()},
-                          {"registration_p99", std::isfinite(r.registration.p99) ? nlohmann::json(r.registration.p99) : nlohmann::json()},
-                          {"stretch", r.stretch},
-                          {"seam_faces", r.seam_faces}});
-            } else {
-              std::cout << o->output << ": " << target.n_vertices() << " vertices textured from " << o->source << "\n"
-                        << "  atlas " << atlas_path << " (" << r.layout_a.size << "^2, " << r.layout_a.segments.size()
-                        << " segments), preview " << preview_path << "\n"
-                        << "  match confidence " << m.confidence << " (" << m.candidates << " candidates)\n";
-              if (r.carried)
-                std::cout << "  the target is the source's shape (registered to " << 100 * r.registration.rms
-                          << " % of the diagonal, RMS): the source's skeleton carried over\n";
-              if (r.fitted)
-                std::cout << "  the target is the source in another pose (bent onto it to " << 100 * r.fit_rms
-                          << " % of the diagonal, RMS): the source's skeleton bent along\n";
-              for (size_t k = 0; k < m.a.keys.size(); ++k)
-                std::cout << "  node " << m.a.keys[k] << " -> " << m.b.keys[m.key_a_to_b[k]] << " (degree " << m.a.key_degree[k] << ")\n";
-              std::cout << text;
-            }
-            return 0;
-          }};
+  declare_options(app, *o);
+  return {app, [o]() { return o->sdm.empty() ? run_texture_transfer(*o) : run_sdm_transfer(*o); }};
 }
 
 }  // namespace sdm::cli

@@ -19,10 +19,14 @@ namespace sdm {
 
 struct FitSkeletonOptions {
   // Weight of the neighbours' agreement (Sumner's E_reg) against the mean squared distance of the
-  // surfaces, from the first stiffness to the last, halved in between.
+  // surfaces: stiffness_start, halved stage by stage down to the first value at or below
+  // stiffness_end (1 -> 0.01: eight stages, the last at 1/128). A stage ends early when a step
+  // moves no node's translation by 1e-7 of the diagonal.
   double stiffness_start = 1.0, stiffness_end = 0.01;
   int iterations_per_stiffness = 6;
-  double rigidity = 0.1;   // weight of |A - s R|^2 per node (keeps the maps near rotations times a scale)
+  // Weight of |A - s R|^2 per node (R the rotation nearest to A, s its mean singular value clamped
+  // to [0.2, 5]): keeps the maps near rotations times a scale.
+  double rigidity = 0.1;
   bool articulated_start = true;  // without node_guess: every node's neighbourhood first registered on its own
   double outlier = 0.1;    // closest-point pairs further apart than this fraction of the diagonal are left out
 };
@@ -40,18 +44,20 @@ struct SkeletonFit {
   // before (the start's scale included): a pose moves ends apart or together by some, but limbs
   // squeezed onto one limb of the target (another branching) bring their ends together.
   double end_spread = 1;
-  int iterations = 0;
+  int iterations = 0;  // non-rigid steps completed, over every stage
 };
 
-// `skeleton` belongs to `source` (vertex_node has its vertex count). `start` registers source onto
-// target as a whole (register_surfaces); `node_guess`, when not empty, gives a first position in
-// the target for every node (e.g. the matched extracted skeleton of the target,
-// skeleton_onto_graph), from which each node's first map is taken; otherwise each node's
-// neighbourhood is first registered by a similarity of its own (articulated_start). The fitted
-// nodes are placed by the similarity that best moves their vertices to where the fit bent them. Every target vertex gets the node
-// of the bent source's corner nearest to it; a node left without a vertex takes the nearest target
-// vertex from a node that owns more than one. Deterministic. Throws InputError when vertex_node
-// does not match the source.
+/// `skeleton` belongs to `source` (vertex_node has its vertex count). `start` registers source onto
+/// target as a whole (register_surfaces). `node_guess`, when it has one position per node, gives a
+/// first place in the target for every node (e.g. the matched extracted skeleton of the target,
+/// skeleton_onto_graph), from which each node's first map is taken; otherwise (a guess of another
+/// size is ignored) each node's neighbourhood is first registered by a similarity of its own
+/// (articulated_start). Each fitted node is placed by the similarity that best moves the vertices
+/// it carries to where the fit bent them (by its own map when it carries fewer than three). Every
+/// target vertex takes the node of the corner of largest barycentric weight of its closest point
+/// on the bent source (vertex_nodes_through); a node left without a vertex takes the target vertex
+/// nearest to its fitted place from a node that owns more than one. Deterministic. Throws
+/// InputError when vertex_node does not match the source.
 SkeletonFit fit_skeleton(const Mesh& source, const Skeleton& skeleton, const Mesh& target, const Similarity& start,
                          const std::vector<Eigen::Vector3d>& node_guess = {}, const FitSkeletonOptions& options = {});
 

@@ -1,7 +1,7 @@
 #pragma once
 // Texture transfer between two models with the same skeleton branching (paper 1 and 5, DESIGN
 // 4.9): the skeletons' branches are matched, matched chains are resampled to the same number of
-// segments so both skeletons share one graph, the source's layout (its STM) is reused for the
+// segments so both skeletons share one graph (share_skeletons), the source's layout (its STM) is reused for the
 // target with the target's own capsules and frames carried from the source's, and the source's
 // texture, remapped into its STM atlas, textures the target through the target's STM coordinates.
 #include "libstm/core/progress.h"
@@ -10,9 +10,9 @@
 #include "libstm/render/gl_context.h"
 #include "libstm/core/image.h"
 #include "libstm/layout/layout.h"
-#include "libstm/skeleton/match_skeletons.h"
 #include "libstm/mesh/mesh.h"
 #include "libstm/registration/register_surfaces.h"
+#include "libstm/transfer/share_skeletons.h"
 #include "libstm/skeleton/skeleton.h"
 
 #include <functional>
@@ -27,36 +27,6 @@ namespace sdm {
 // shape get their junctions in the same place (ypsilon onto its remesh: 21-25 dB -> 31-33 dB).
 SkeletonOptions transfer_skeleton_options();
 
-// Two skeletons resampled onto one graph: a and b have the same node count and the same edge list,
-// so edge i of a corresponds to edge i of b, in the same direction. Node k of both is key k of the
-// match's reduced a (key_a_to_b[k] in b) for k < keys; then every chain's inner nodes, in order.
-struct SharedSkeletons {
-  Skeleton a, b;
-  SkeletonMatch match;
-  std::vector<std::vector<int>> chain_edges;  // per chain of match.a: its edges in the shared graph, in order
-  Eigen::Matrix3d rotation = Eigen::Matrix3d::Identity();  // best rotation of a's shared nodes onto b's
-  // common_branching: end nodes of the given skeletons whose short branches were pruned so that the
-  // branchings match, and match.a's / match.b's node numbering -> the given skeletons' nodes.
-  std::vector<int> pruned_a, pruned_b, node_a, node_b;
-};
-
-// Prunes a and b to their common branching (common_branching: at most two end branches, each
-// shorter than 8 % of its skeleton, go; `fixed` names nodes of the given skeletons), matches b to a
-// (match_skeletons with the `fixed` key node pairs) and resamples every matched pair
-// of chains at equal arc-length steps into n segments: n = the larger of the two chains' edge counts,
-// raised so that no segment of either model is longer than split_ratio times the chain's mean
-// radius (as LayoutOptions::split_ratio; <= 0: no such rule). Key nodes keep their positions.
-// A pure cycle (a ring with no junction) has no natural start: b's ring is restarted at the point
-// nearest to a's start placed on b by centres and sizes (the same pose assumed), as the ring's turn
-// about its axis cannot be told from shape. `rotation` is then fitted to the shared nodes.
-// Every vertex is reassigned by projecting it onto the chain of the nearest edge at its old node
-// (arc-length position, rounded to the nearest new node); a node left without vertices takes the
-// vertex of its chain nearest to it in arc length from a node that has more than one.
-// Throws InputError naming the difference when the branchings differ, or when a skeleton does not
-// fit its mesh.
-SharedSkeletons share_skeletons(const Mesh& mesh_a, const Skeleton& a, const Mesh& mesh_b, const Skeleton& b,
-                                const std::vector<std::pair<int, int>>& fixed = {}, double split_ratio = 2.0);
-
 // The target's layout: layout_a's atlas (size, margin, scale, every rectangle x, y, w, h, rotated,
 // d, neighbours, segment ends a -> b) around b's skeleton (the same graph as layout_a.skeleton), with
 // b's own segment geometry and frames carried from a's: axis_b = (b - a) of b's nodes,
@@ -66,15 +36,6 @@ SharedSkeletons share_skeletons(const Mesh& mesh_a, const Skeleton& a, const Mes
 // Throws InputError when the graphs differ or b does not fit mesh_b.
 Layout carry_layout(const Layout& layout_a, const Mesh& mesh_b, const Skeleton& b, const Eigen::Matrix3d& rotation,
                     const std::vector<Eigen::Matrix3d>& segment_rotation = {});
-
-// The geometry counterpart (decoding an SDM around another skeleton): `target` matched to `graph`
-// (match_skeletons(graph, target, fixed)) and resampled onto graph's own nodes and edges: key nodes
-// take the matched target key's position, every inner node of a chain the point of the matched
-// target chain at the same arc-length fraction. The result has graph's node count and edge list
-// (so decode_sdm's DecodeOptions::skeleton accepts it) and no vertex_node. `match`, when given,
-// receives the match. Throws InputError naming the difference when the branchings differ.
-Skeleton skeleton_onto_graph(const Skeleton& graph, const Skeleton& target, const std::vector<std::pair<int, int>>& fixed = {},
-                             SkeletonMatch* match = nullptr);
 
 struct TransferOptions {
   int size = 2048;            // atlas texels per side
