@@ -6,9 +6,7 @@
 #include "libsdm/decode/decode_sdm.h"
 #include "libsdm/encode/encode_sdm.h"
 #include "libstm/core/stopwatch.h"
-#include "libstm/geometry/triangle_bvh.h"
 #include "libstm/layout/layout.h"
-#include "libstm/mesh/isotropic_remesh.h"
 #include "libstm/mesh/mesh.h"
 #include "libstm/mesh/primitives.h"
 #include "libstm/render/gl_context.h"
@@ -296,11 +294,12 @@ std::vector<SolverCase> solver_cases(const BenchOptions& o) {
     add("Spot", sdm::load_mesh(o.spot));
   else
     progress("bench: Spot skipped, " + o.spot + " not found (--spot PATH)");
-  if (std::filesystem::exists(o.bunny))
+  if (std::filesystem::exists(o.bunny)) {
     auto proxy = contraction_proxy(sdm::load_mesh(o.bunny));
     cases.push_back({"bunny00 remeshed", std::move(proxy.first), std::move(proxy.second)});
-  else
+  } else {
     progress("bench: bunny00 skipped, " + o.bunny + " not found (--bunny PATH)");
+  }
   return cases;
 }
 
