@@ -5,10 +5,10 @@
 // depend on the scheduling: the callers give each thread its own outputs, and a shared loop's
 // iterations are independent.
 #include "libstm/core/progress.h"
+#include "libstm/core/stopwatch.h"
 
 #include <algorithm>
 #include <atomic>
-#include <chrono>
 #include <condition_variable>
 #include <exception>
 #include <functional>
@@ -80,7 +80,7 @@ class SharedLoop {
       : count_(count), chunk_(std::max(chunk, 1)), chunks_((count + chunk_ - 1) / chunk_), body_(std::move(body)) {}
 
   void work() {
-    const auto start = std::chrono::steady_clock::now();
+    const Stopwatch watch;
     int finished = 0;
     std::exception_ptr failure;
     for (int c; (c = next_chunk_++) < chunks_;) {
@@ -92,7 +92,7 @@ class SharedLoop {
       ++finished;
     }
     std::lock_guard<std::mutex> lock(mutex_);
-    seconds_ += std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    seconds_ += watch.seconds();
     if (failure && !failure_) failure_ = failure;
     chunks_done_ += finished;
     if (chunks_done_ == chunks_) done_.notify_all();
