@@ -9,7 +9,8 @@
 namespace {
 
 // A Y: junction at the origin, three arms of `n` edges and length 1 (stem down, arms up left and
-// right); optionally a spur of length `spur` along +z from the junction. One vertex per node.
+// right); optionally a spur of length `spur` along +z from the junction. Ten vertices per node of
+// the Y, one per node of the spur (a spur is thin: it owns few of the model's vertices).
 sdm::Skeleton y_skeleton(int n, double spur) {
   const Eigen::Vector3d dirs[3] = {{0, -1, 0}, Eigen::Vector3d(-1, 1, 0).normalized(), Eigen::Vector3d(1, 1, 0).normalized()};
   sdm::Skeleton s;
@@ -23,8 +24,9 @@ sdm::Skeleton y_skeleton(int n, double spur) {
     }
   };
   for (const auto& d : dirs) arm(d, 1.0, n);
+  for (size_t i = 0; i < s.nodes.size(); ++i) s.vertex_node.insert(s.vertex_node.end(), 10, int(i));
   if (spur > 0) arm(Eigen::Vector3d::UnitZ(), spur, 2);
-  for (size_t i = 0; i < s.nodes.size(); ++i) s.vertex_node.push_back(int(i));
+  for (size_t i = 3 * n + 1; i < s.nodes.size(); ++i) s.vertex_node.push_back(int(i));
   return s;
 }
 

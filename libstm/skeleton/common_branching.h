@@ -1,9 +1,14 @@
 #pragma once
 // Tolerance of branch matching to small branches one extraction finds and the other misses (a
-// tail, a horn: the extracted skeletons of one shape in two tessellations can differ by such a
-// branch). Both skeletons are pruned to a common branching by removing the fewest short end
-// branches; among the prunings that make the branchings equal, the one whose match
-// (match_skeletons) has the lowest shape cost is chosen. DESIGN 6.
+// tail, a horn, a thumb, a heel: the extracted skeletons of one shape, or of two bodies of one
+// kind, differ by such branches) and to junctions split in two (a shoulder found as two degree-3
+// junctions a few millimetres apart in one skeleton, as one degree-4 junction in the other).
+// Both skeletons are reduced to their largest common branching by removing the least significant
+// parts (in the spirit of Au et al. 2008's pruning of short branches, with significance measured
+// by length AND by the share of the model's vertices, i.e. its volume): insignificant end branches
+// are pruned, insignificant chains between two junctions are contracted into one junction. Among
+// the reductions that make the branchings equal, the one with the fewest operations, then the
+// least significance removed, then the lowest match cost (match_skeletons) is chosen. DESIGN 6.
 #include "libstm/skeleton/skeleton.h"
 
 #include <vector>
@@ -11,18 +16,24 @@
 namespace sdm {
 
 struct CommonBranching {
-  Skeleton a, b;                      // the pruned skeletons (the given ones when nothing was pruned)
-  std::vector<int> a_node, b_node;    // node of the given skeleton -> node of the pruned one (-1: pruned)
-  std::vector<int> a_original, b_original;  // node of the pruned skeleton -> node of the given one
+  Skeleton a, b;                      // the reduced skeletons (the given ones when nothing was changed)
+  std::vector<int> a_node, b_node;    // node of the given skeleton -> node of the reduced one (-1: pruned)
+  std::vector<int> a_original, b_original;  // node of the reduced skeleton -> node of the given one
+                                            // (a contracted chain: the junction it was merged into)
   std::vector<int> pruned_a, pruned_b;  // end nodes (of the given skeletons) whose branches were removed
+  std::vector<std::pair<int, int>> joined_a, joined_b;  // junction pairs (given numbering) contracted into one
 };
 
 // An end branch (the chain from an end node to a junction of degree >= 3) may be removed when its
-// length is at most max_branch times the total edge length of its skeleton, and at most
-// max_pruned branches are removed in all. The removed nodes' vertices go to the junction the branch
-// hung from, so every vertex keeps a node. Skeletons whose branchings are equal come back as they
-// are. Throws InputError naming the difference (branching_difference) when no such pruning makes
-// the branchings equal and matchable.
-CommonBranching common_branching(const Skeleton& a, const Skeleton& b, double max_branch = 0.08, int max_pruned = 2);
+// length is at most max_branch times the total edge length of its skeleton AND its nodes own at
+// most max_branch of the skeleton's vertices (a head is short but voluminous: kept). A chain
+// between two distinct junctions may be contracted when it is at most max_branch / 2 of the total
+// length and no other chain joins the same two junctions. At most max_changes operations in all
+// (the least significant candidates are tried, 14 per skeleton at most). The removed nodes'
+// vertices go to the junction the branch hung from (or was merged into), so every vertex keeps a
+// node. Skeletons whose branchings are equal come back as they are. Throws InputError naming the
+// difference (branching_difference) when no such reduction makes the branchings equal and
+// matchable: the major branchings differ.
+CommonBranching common_branching(const Skeleton& a, const Skeleton& b, double max_branch = 0.08, int max_changes = 8);
 
 }  // namespace sdm

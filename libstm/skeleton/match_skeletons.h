@@ -2,7 +2,9 @@
 // Branch matching between two skeletons with the same branching (paper 1 and 5, DESIGN 4.9):
 // each skeleton is reduced to its key nodes (junctions and ends) and the chains of degree-2 nodes
 // between them; the reduced graphs are matched by an isomorphism whose symmetric ties are broken
-// by geometry (positions after the best rigid alignment, relative chain lengths).
+// by geometry: relative chain lengths first (articulation-invariant), then the residual after the
+// best rigid alignment (Kabsch) and the pose, in the models' own orientation or after aligning the
+// skeletons' cores (junctions and their chains' first pieces) when the orientations differ.
 #include "libstm/skeleton/skeleton.h"
 
 #include <string>
@@ -42,8 +44,14 @@ struct SkeletonMatch {
 };
 
 // `fixed`: pairs (skeleton node of a, skeleton node of b) that must match (key nodes only).
+// `same_orientation`: the two skeletons are given in roughly the same orientation (then their own
+// pose breaks ties between symmetric branches); false when one may be turned arbitrarily (then
+// each candidate is scored after the rotation aligning its cores: junctions and the first part
+// of their chains). Either way the relative chain lengths weigh most, so that an articulated limb
+// is not confused with a head (see the source for the measurements).
 // Throws InputError naming the difference when the branchings differ, or when a fixed pair is
 // not a pair of key nodes or cannot be satisfied.
-SkeletonMatch match_skeletons(const Skeleton& a, const Skeleton& b, const std::vector<std::pair<int, int>>& fixed = {});
+SkeletonMatch match_skeletons(const Skeleton& a, const Skeleton& b, const std::vector<std::pair<int, int>>& fixed = {},
+                              bool same_orientation = true);
 
 }  // namespace sdm
