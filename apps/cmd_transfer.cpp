@@ -2,6 +2,7 @@
 #include "libsdm/decode/decode_sdm.h"
 #include "libsdm/map/sdm_exr.h"
 #include "libstm/transfer/transfer_texture.h"
+#include "libstm/core/atomic_file.h"
 #include "libstm/core/errors.h"
 #include "libstm/skeleton/extract_skeleton.h"
 #include "libstm/render/gl_context.h"
@@ -19,10 +20,10 @@ namespace sdm::cli {
 namespace {
 
 struct TransferArgs {
-  std::string source, texture, target, output, source_skeleton, target_skeleton, sdm;
+  std::string source, texture, target, output, source_skeleton, target_skeleton, sdm, correspondence;
   std::vector<std::string> match;
   int size = 2048, margin = 8, lod = 3;
-  bool json = false;
+  bool json = false, force = false;
 };
 
 // The skeleton read from json_path (it must map mesh's vertices), or else extracted with the
@@ -106,6 +107,9 @@ TransferInputs read_inputs(const TransferArgs& o) {
     throw sdm::InputError("transfer needs --source and --target (texture), or --sdm and --target-skeleton (geometry)");
   if (std::filesystem::path(o.output).extension() != ".obj")
     throw sdm::InputError("--output must be an .obj file (it carries the uv and names the atlas)");
+  const std::string cext = std::filesystem::path(o.correspondence).extension().string();
+  if (!o.correspondence.empty() && cext != ".txt" && cext != ".json")
+    throw sdm::InputError("--correspondence must name a .txt or .json file, not '" + o.correspondence + "'");
   TransferInputs in;
   std::string material;
   in.source = sdm::load_mesh(o.source, &material);
@@ -139,10 +143,31 @@ struct OutputPaths {
       : mesh(output), atlas(sibling(output, "_atlas.png")), preview(sibling(output, "_preview.png")), mtl(sibling(output, ".mtl")) {}
 };
 
+// The correspondence as text: per target vertex, in order, the source face and the barycentric
+// coordinates of the source point it shows; or as JSON with the same two arrays.
+std::string correspondence_text(const std::vector<sdm::SourcePoint>& c, bool json) {
+  std::ostringstream o;
+  o.precision(9);
+  if (json) {
+    nlohmann::json faces = nlohmann::json::array(), bary = nlohmann::json::array();
+    for (const auto& p : c) faces.push_back(p.face), bary.push_back({p.barycentric[0], p.barycentric[1], p.barycentric[2]});
+    o << nlohmann::json({{"target_vertices", c.size()}, {"source_face", faces}, {"barycentric", bary}}).dump() << "\n";
+    return o.str();
+  }
+  o << "# sdm transfer correspondence: one line per target vertex, in order: source face, then the\n"
+       "# barycentric coordinates of the source point on it (weights of the face's corners 0, 1, 2)\n";
+  for (const auto& p : c) o << p.face << " " << p.barycentric[0] << " " << p.barycentric[1] << " " << p.barycentric[2] << "\n";
+  return o.str();
+}
+
 // Everything is computed; now the files, each atomically, removed again if a later one fails.
-void write_outputs(const sdm::TextureTransfer& r, const sdm::Image& preview, const OutputPaths& out) {
+void write_outputs(const sdm::TextureTransfer& r, const sdm::Image& preview, const OutputPaths& out, const std::string& correspondence) {
   std::vector<std::string> written;
   try {
+    if (!correspondence.empty()) {
+      sdm::write_text_file(correspondence, correspondence_text(r.correspondence, std::filesystem::path(correspondence).extension() == ".json"));
+      written.push_back(correspondence);
+    }
     sdm::write_png(r.atlas, out.atlas);
     written.push_back(out.atlas);
     sdm::write_png(preview, out.preview);
@@ -158,6 +183,13 @@ void write_outputs(const sdm::TextureTransfer& r, const sdm::Image& preview, con
 
 // x, or null when it is not finite (a stage that was not tried).
 nlohmann::json finite_or_null(double x) { return std::isfinite(x) ? nlohmann::json(x) : nlohmann::json(); }
+
+// Per branch of a registered transfer: its source key nodes and how closely it fits.
+nlohmann::json branch_fit_json(const std::vector<sdm::BranchFit>& fits) {
+  nlohmann::json a = nlohmann::json::array();
+  for (const auto& b : fits) a.push_back({{"source", {b.source_from, b.source_to}}, {"rms", b.rms}, {"p99", b.p99}, {"vertices", b.vertices}});
+  return a;
+}
 
 // The result as one JSON object (node numbers as in the given skeletons).
 void print_transfer_json(const TransferArgs& o, const TransferInputs& in, const sdm::TextureTransfer& r, const OutputPaths& out) {
@@ -181,8 +213,16 @@ void print_transfer_json(const TransferArgs& o, const TransferInputs& in, const 
               {"chains", chains},
               {"pruned_source_ends", r.skeletons.pruned_a},
               {"pruned_target_ends", r.skeletons.pruned_b},
-              {"target_skeleton", r.carried ? "carried" : r.fitted ? "bent" : o.target_skeleton.empty() ? "extracted" : "given"},
-              {"bent_rms", finite_or_null(r.fit_rms)},
+              {"target_skeleton", r.carried      ? "carried"
+                                  : r.fitted     ? "bent"
+                                  : r.registered ? "registered"
+                                  : o.target_skeleton.empty() ? "extracted"
+                                                              : "given"},
+              {"bent_rms", finite_or_null(r.fitted ? r.fit_rms : INFINITY)},
+              {"fit_rms", finite_or_null(r.fit_rms)},
+              {"fit_p99", finite_or_null(r.fit_p99)},
+              {"branch_fit", branch_fit_json(r.branch_fit)},
+              {"correspondence", o.correspondence.empty() ? nlohmann::json() : nlohmann::json(o.correspondence)},
               {"registration_rms", finite_or_null(r.registration.rms)},
               {"registration_p99", finite_or_null(r.registration.p99)},
               {"stretch", r.stretch},
@@ -204,6 +244,12 @@ void print_transfer_text(const TransferArgs& o, const TransferInputs& in, const 
   if (r.fitted)
     std::cout << "  the target is the source in another pose (bent onto it to " << 100 * r.fit_rms
               << " % of the diagonal, RMS): the source's skeleton bent along\n";
+  if (r.registered) {
+    std::cout << "  the target is another body with the same branching: the source registered onto it along its skeleton, "
+              << 100 * r.fit_rms << " % of the diagonal (RMS), 99th percentile " << 100 * r.fit_p99 << " %\n";
+    for (const auto& b : r.branch_fit)
+      std::cout << "    branch " << b.source_from << "-" << b.source_to << ": RMS " << 100 * b.rms << " %, 99th percentile " << 100 * b.p99 << " %\n";
+  }
   for (size_t k = 0; k < m.a.keys.size(); ++k)
     std::cout << "  node " << m.a.keys[k] << " -> " << m.b.keys[m.key_a_to_b[k]] << " (degree " << m.a.key_degree[k] << ")\n";
   std::cout << text;
@@ -222,12 +268,18 @@ int run_texture_transfer(const TransferArgs& o) {
   // A skeleton the user gives is used as given; an extracted one gives way to the source's
   // when the target turns out to be the source's shape (transfer_texture).
   to.carry_same_shape = o.target_skeleton.empty();
+  to.force = o.force;
   const sdm::TextureTransfer r = sdm::transfer_texture(gl, in.source, in.texture, in.skeleton_a, in.target, in.skeleton_b, to);
+  if (!o.correspondence.empty() && r.correspondence.empty())
+    throw sdm::InputError("--correspondence: the target was matched by its extracted skeleton alone (neither the source's shape, nor "
+                          "the source in another pose, nor registered onto), so no point correspondence was computed");
+  if (r.registered && !(r.fit_rms <= to.registered_rms && r.fit_p99 <= to.registered_p99))
+    progress("warning: the source fits the target poorly (--force was given): the texture may be misplaced");
   for (int x : r.skeletons.pruned_a) progress("source end branch at node " + std::to_string(x) + " pruned: the target's skeleton has none there");
   for (int x : r.skeletons.pruned_b) progress("target end branch at node " + std::to_string(x) + " pruned: the source's skeleton has none there");
   const sdm::Image preview = render_preview(gl, in, r);
   const OutputPaths out(o.output);
-  write_outputs(r, preview, out);
+  write_outputs(r, preview, out, o.correspondence);
   if (o.json) print_transfer_json(o, in, r, out);
   else print_transfer_text(o, in, r, out);
   return 0;
@@ -252,6 +304,9 @@ void declare_options(CLI::App* app, TransferArgs& o) {
                   "indices; repeatable), for symmetric models whose pose does not tell the branches apart");
   app->add_option("--size", o.size, "Atlas width and height in texels")->check(CLI::Range(16, 16384))->capture_default_str();
   app->add_option("--margin", o.margin, "Texels of margin around every rectangle")->check(CLI::Range(0, 256))->capture_default_str();
+  app->add_option("--correspondence", o.correspondence,
+                  "Also write, per target vertex, the source face and barycentric coordinates it takes (.txt or .json)");
+  app->add_flag("--force", o.force, "Write the result even when the registered source fits the target poorly");
   app->add_flag("--json", o.json, "Print one JSON object instead of text");
 }
 
@@ -267,9 +322,11 @@ Command add_transfer_command(CLI::App& parent) {
                   "OUT_atlas.png (the texture it names) and OUT_preview.png (source and target side by side).\n"
                   "A target that is the source's shape (another tessellation, moved or scaled) takes the source's\n"
                   "skeleton carried over; one that is the source in another pose (limbs turned, bent, thickened)\n"
-                  "takes it bent along; otherwise the extracted skeletons are matched. A target whose branching\n"
-                  "differs is refused (exit code 2) and nothing is written; up to two short end branches (under 8 %\n"
-                  "of a skeleton's length) found in one skeleton only are pruned first.\n"
+                  "takes it bent along; another body with the same branching (another person, an animal of the\n"
+                  "same kind, in the same orientation) is registered: the source bent onto it along its matched\n"
+                  "skeleton, refused (exit code 2, nothing written) when the fit is poor unless --force. A target\n"
+                  "whose major branching differs is refused; small end branches (fingers, heels, tails: at most 8 %\n"
+                  "of a skeleton's length and of its vertices) found in one skeleton only are pruned first.\n"
                   "With --sdm MAP.exr --target-skeleton SKEL.json instead: the geometry counterpart, the map decoded\n"
                   "around another skeleton with the same branching (matched and resampled onto the map's own).");
   declare_options(app, *o);

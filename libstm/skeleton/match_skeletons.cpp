@@ -280,6 +280,9 @@ class Matcher {
  public:
   static constexpr double kLengths = 4;              // weight of the relative chain lengths
   void choose();
+  // Up to `count` candidates with distinct key maps: the best in the models' own orientation, then
+  // the best after aligning their cores, then the next by that score.
+  std::vector<SkeletonMatch> alternatives(size_t count) const;
 };
 
 Matcher::Matcher(SkeletonMatch& m, const Skeleton& sa, const Skeleton& sb, std::vector<int> forced, bool same_orientation)
@@ -424,7 +427,49 @@ void Matcher::choose() {
   m_.cost = best->shape;
 }
 
+std::vector<SkeletonMatch> Matcher::alternatives(size_t count) const {
+  std::vector<const Candidate*> order;
+  for (const auto& c : kept_) order.push_back(&c);
+  auto own = [](const Candidate* c) { return c->shape + kLengths * c->lengths + c->pose; };
+  auto core = [](const Candidate* c) { return c->shape + kLengths * c->lengths + c->core_pose; };
+  std::vector<SkeletonMatch> out;
+  auto add = [&](const Candidate* c) {
+    for (const auto& m : out)
+      if (m.key_a_to_b == c->map) return;
+    SkeletonMatch m = m_;
+    m.key_a_to_b = c->map, m.chain_a_to_b = c->chains, m.rotation = c->rotation, m.cost = c->shape;
+    out.push_back(std::move(m));
+  };
+  if (order.empty()) return out;
+  add(*std::min_element(order.begin(), order.end(), [&](auto x, auto y) { return own(x) < own(y); }));
+  std::stable_sort(order.begin(), order.end(), [&](auto x, auto y) { return core(x) < core(y); });
+  for (const Candidate* c : order) {
+    if (out.size() >= count) break;
+    add(c);
+  }
+  return out;
+}
+
 }  // namespace
+
+std::vector<SkeletonMatch> match_candidates(const Skeleton& sa, const Skeleton& sb, const std::vector<std::pair<int, int>>& fixed,
+                                            int count) {
+  const std::string diff = branching_difference(sa, sb);
+  if (!diff.empty()) throw InputError("the skeletons' branchings differ (source vs target): " + diff);
+  SkeletonMatch m;
+  m.a = reduce_skeleton(sa);
+  m.b = reduce_skeleton(sb);
+  if (m.a.keys.size() != m.b.keys.size() || m.a.chains.size() != m.b.chains.size())
+    throw InputError("the skeletons' branchings differ: " + std::to_string(m.a.keys.size()) + " vs " + std::to_string(m.b.keys.size()) +
+                     " junctions and ends");
+  Matcher matcher(m, sa, sb, forced_keys(m, fixed), true);
+  matcher.assign(0);
+  std::vector<SkeletonMatch> out = matcher.alternatives(size_t(std::max(count, 1)));
+  if (out.empty()) throw InputError(fixed.empty() ? "the skeletons have the same junction degrees but are connected differently"
+                                                  : "no match of the skeletons satisfies the --match pairs");
+  for (auto& x : out) x.candidates = m.candidates;
+  return out;
+}
 
 SkeletonMatch match_skeletons(const Skeleton& sa, const Skeleton& sb, const std::vector<std::pair<int, int>>& fixed,
                               bool same_orientation) {

@@ -54,4 +54,13 @@ struct SkeletonMatch {
 SkeletonMatch match_skeletons(const Skeleton& a, const Skeleton& b, const std::vector<std::pair<int, int>>& fixed = {},
                               bool same_orientation = true);
 
+/// The candidates a registration chooses among (texture transfer between different bodies: which is
+/// left and which right, front and back, only the surfaces tell): up to `count` matches with
+/// distinct key maps, first the one match_skeletons(a, b, fixed, true) returns, then the best after
+/// aligning the skeletons' cores (what match_skeletons(a, b, fixed, false) returns) and the next by
+/// that score (for a person: the other assignments of left and right limbs). Throws as
+/// match_skeletons.
+std::vector<SkeletonMatch> match_candidates(const Skeleton& a, const Skeleton& b, const std::vector<std::pair<int, int>>& fixed,
+                                            int count);
+
 }  // namespace sdm

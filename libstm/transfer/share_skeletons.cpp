@@ -301,17 +301,17 @@ Eigen::Matrix3d rotation_between(const std::vector<Eigen::Vector3d>& a, const st
 
 }  // namespace
 
-SharedSkeletons share_skeletons(const Mesh& mesh_a, const Skeleton& given_a, const Mesh& mesh_b, const Skeleton& given_b,
-                                const std::vector<std::pair<int, int>>& given_fixed, double split_ratio) {
+namespace {
+
+// The common branching's skeletons resampled onto one graph through the match `m` of them.
+SharedSkeletons share_through(const Mesh& mesh_a, const Mesh& mesh_b, const CommonBranching& common, SkeletonMatch match,
+                              double split_ratio) {
   SharedSkeletons r;
-  // Extracted skeletons of one shape can differ by a small branch (a tail found in one
-  // tessellation only): both are pruned to their common branching first.
-  const CommonBranching common = common_branching(given_a, given_b);
   const Skeleton& a = common.a;
   const Skeleton& b = common.b;
   r.pruned_a = common.pruned_a, r.pruned_b = common.pruned_b;
   r.node_a = common.a_original, r.node_b = common.b_original;
-  r.match = match_skeletons(a, b, fixed_in_common(common, given_fixed));
+  r.match = std::move(match);
   const SkeletonMatch& m = r.match;
   Side sa{&mesh_a, &a, {}, {}, {}, {}, {}, {}}, sb{&mesh_b, &b, {}, {}, {}, {}, {}, {}};
   set_keys(m, sa, sb);
@@ -324,6 +324,26 @@ SharedSkeletons share_skeletons(const Mesh& mesh_a, const Skeleton& given_a, con
   // The match's rotation, except around pure cycles lined up above.
   r.rotation = rotation_between(r.a.nodes, r.b.nodes, m.rotation);
   return r;
+}
+
+}  // namespace
+
+SharedSkeletons share_skeletons(const Mesh& mesh_a, const Skeleton& given_a, const Mesh& mesh_b, const Skeleton& given_b,
+                                const std::vector<std::pair<int, int>>& given_fixed, double split_ratio) {
+  // Extracted skeletons of one shape can differ by a small branch (a tail found in one
+  // tessellation only): both are pruned to their common branching first.
+  const CommonBranching common = common_branching(given_a, given_b);
+  return share_through(mesh_a, mesh_b, common, match_skeletons(common.a, common.b, fixed_in_common(common, given_fixed)), split_ratio);
+}
+
+std::vector<SharedSkeletons> share_skeletons_candidates(const Mesh& mesh_a, const Skeleton& given_a, const Mesh& mesh_b,
+                                                        const Skeleton& given_b, const std::vector<std::pair<int, int>>& given_fixed,
+                                                        double split_ratio, int count) {
+  const CommonBranching common = common_branching(given_a, given_b);
+  std::vector<SharedSkeletons> out;
+  for (SkeletonMatch& m : match_candidates(common.a, common.b, fixed_in_common(common, given_fixed), count))
+    out.push_back(share_through(mesh_a, mesh_b, common, std::move(m), split_ratio));
+  return out;
 }
 
 SkeletonMatch match_in_given_numbering(const SharedSkeletons& shared) {

@@ -45,6 +45,11 @@ struct SharedSkeletons {
 SharedSkeletons share_skeletons(const Mesh& mesh_a, const Skeleton& a, const Mesh& mesh_b, const Skeleton& b,
                                 const std::vector<std::pair<int, int>>& fixed = {}, double split_ratio = 2.0);
 
+/// share_skeletons through each of match_candidates(count) of the common branching: the candidates a
+/// registration of the surfaces chooses among (left and right limbs of a person turned around).
+std::vector<SharedSkeletons> share_skeletons_candidates(const Mesh& mesh_a, const Skeleton& a, const Mesh& mesh_b, const Skeleton& b,
+                                                        const std::vector<std::pair<int, int>>& fixed, double split_ratio, int count);
+
 /// The shared skeletons' match with its key nodes (match.a.keys, match.b.keys) numbered as in the
 /// skeletons given to share_skeletons, through node_a and node_b, instead of the pruned skeletons'
 /// numbering; everything else as in shared.match (chains' node and edge lists stay pruned). The

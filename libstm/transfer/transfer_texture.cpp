@@ -144,7 +144,7 @@ std::vector<Eigen::Matrix3d> segment_rotations(const Skeleton& shared_a, const S
 // put them (capsule coordinates near a cap's pole turn fast: the fitted skeleton's own capsules
 // tore the spots at the back of a turned Spot's head).
 StmCoordinates coordinates_through_source(const Mesh& source, const std::vector<Eigen::Vector3d>& placed, const Mesh& target,
-                                          const Skeleton& shared_a, const Layout& layout_a) {
+                                          const Skeleton& shared_a, const Layout& layout_a, std::vector<SourcePoint>& correspondence) {
   const std::vector<int> fa = assign_faces(source, shared_a);
   const Eigen::MatrixX3i F = face_matrix(source);
   // Source points under the target's vertices, then under its face centroids.
@@ -156,6 +156,7 @@ StmCoordinates coordinates_through_source(const Mesh& source, const std::vector<
     points.push_back(c);
   }
   const std::vector<SourcePoint> at = source_points_under(source, placed, points);
+  correspondence.assign(at.begin(), at.begin() + target.n_vertices());
   Mesh under = target;
   for (auto v : target.vertices()) {
     const SourcePoint& q = at[v.idx()];
@@ -221,8 +222,29 @@ TextureTransfer transfer_texture(GlContext& gl, const Mesh& source, const Image&
         if (deg[x] != 2) fixed.emplace_back(int(x), int(x));
     }
   }
-  report_progress(opt.progress, "matching the skeletons' branches");
-  r.skeletons = share_or_explain(source, skeleton_a, target, tb.skeleton, fixed, opt, r);
+  // A target skeleton the caller gives is used as given (carry_same_shape false); --match pairs
+  // steer the registration's match.
+  if (!r.carried && !r.fitted && opt.register_bodies && opt.carry_same_shape && euler_characteristic(source) == euler_characteristic(target)) {
+    BodyOptions bo;
+    bo.split_ratio = opt.split_ratio, bo.candidates = opt.candidates, bo.progress = opt.progress;
+    BodyRegistration reg = register_bodies(source, skeleton_a, target, skeleton_b, fixed, bo);
+    r.skeletons = std::move(reg.skeletons);
+    r.fit_rms = reg.rms, r.fit_p99 = reg.p99, r.registered = true;
+    r.candidate_rms = std::move(reg.candidate_rms), r.branch_fit = std::move(reg.branch_fit);
+    tb.placed = std::move(reg.placed);
+    const bool poor = !(r.fit_rms <= opt.registered_rms && r.fit_p99 <= opt.registered_p99);
+    report_progress(opt.progress, "registered: RMS " + std::to_string(100 * r.fit_rms) + " %, 99th percentile " +
+                                      std::to_string(100 * r.fit_p99) + " % of the diagonal" + (poor ? ": a poor fit" : ""));
+    if (poor && !opt.force)
+      throw InputError("the source does not fit the target: registered along its skeleton it lies " + std::to_string(100 * r.fit_rms) +
+                       " % of the diagonal from it (RMS; up to " + std::to_string(100 * opt.registered_rms) + " % is taken), 99th percentile " +
+                       std::to_string(100 * r.fit_p99) + " % (up to " + std::to_string(100 * opt.registered_p99) +
+                       " %); the transferred texture would be misplaced. Check that both models have the same branching, pin branches "
+                       "with --match, or pass --force to write it anyway");
+  } else {
+    report_progress(opt.progress, "matching the skeletons' branches");
+    r.skeletons = share_or_explain(source, skeleton_a, target, tb.skeleton, fixed, opt, r);
+  }
   report_progress(opt.progress, "shared graph: " + std::to_string(r.skeletons.a.nodes.size()) + " nodes, " +
                                     std::to_string(r.skeletons.a.edges.size()) + " segments");
   r.layout_a = source_layout(source, r.skeletons.a, opt);
@@ -234,7 +256,8 @@ TextureTransfer transfer_texture(GlContext& gl, const Mesh& source, const Image&
   ao.progress = opt.progress;
   r.atlas = render_atlas(gl, source, r.layout_a, texture, ao);
   report_progress(opt.progress, "target STM coordinates");
-  StmCoordinates sc = tb.placed.empty() ? stm_coordinates(target, r.layout_b) : coordinates_through_source(source, tb.placed, target, r.skeletons.a, r.layout_a);
+  StmCoordinates sc = tb.placed.empty() ? stm_coordinates(target, r.layout_b)
+                                        : coordinates_through_source(source, tb.placed, target, r.skeletons.a, r.layout_a, r.correspondence);
   r.target = std::move(sc.mesh);
   r.stretch = sc.stretch;
   r.seam_faces = sc.seam_faces;

@@ -6,12 +6,14 @@
 // texture, remapped into its STM atlas, textures the target through the target's STM coordinates.
 #include "libstm/core/progress.h"
 #include "libstm/skeleton/extract_skeleton.h"
+#include "libstm/registration/carry_skeleton.h"
 #include "libstm/registration/fit_skeleton.h"
 #include "libstm/render/gl_context.h"
 #include "libstm/core/image.h"
 #include "libstm/layout/layout.h"
 #include "libstm/mesh/mesh.h"
 #include "libstm/registration/register_surfaces.h"
+#include "libstm/transfer/register_bodies.h"
 #include "libstm/transfer/share_skeletons.h"
 #include "libstm/skeleton/skeleton.h"
 
@@ -56,6 +58,15 @@ struct TransferOptions {
   // legs, a bent arm 0.18-0.23 % RMS and 0.8-1.0 %; crossed cylinders bent onto a ypsilon 0.74 %
   // and 2.4 %. Both meshes must have the same Euler characteristic (genus) for either.
   double fit_rms = 0.004, fit_p99 = 0.016, fit_spread = 0.5;
+  // Otherwise, a target of another body with the same branching (another person or pose, an animal
+  // of the same kind) is registered: the source bent onto it along its skeleton from each of
+  // `candidates` matches of the extracted skeletons (articulated_registration), the closest kept.
+  // A fit worse than registered_rms (RMS) or registered_p99 (99th percentile), fractions of the
+  // target's diagonal, is refused unless `force`. Measured on FAUST bodies: 0.1-0.4 % RMS.
+  bool register_bodies = true;
+  int candidates = 1;
+  double registered_rms = 0.01, registered_p99 = 0.04;
+  bool force = false;
   Progress progress;
 };
 
@@ -70,6 +81,12 @@ struct TextureTransfer {
   bool carried = false;       // the target's skeleton is the source's, carried over
   double fit_rms = INFINITY, fit_p99 = INFINITY;  // the source's skeleton bent onto the target (when tried)
   bool fitted = false;        // the target's skeleton is the source's, bent onto it
+  bool registered = false;    // another body: the source registered onto it (fit_rms, fit_p99 its figures)
+  std::vector<double> candidate_rms;  // per candidate match, the short registration's RMS (registered)
+  std::vector<BranchFit> branch_fit;  // registered: per branch
+  // Carried, bent or registered: per target vertex, the source point it shows (source face and
+  // barycentric coordinates), through which any per-vertex attribute can be carried.
+  std::vector<SourcePoint> correspondence;
 };
 
 // `source` must have per-halfedge uv for `texture`; skeleton_a/b belong to source/target.

@@ -1,0 +1,75 @@
+#include "libstm/transfer/register_bodies.h"
+
+#include "libstm/geometry/triangle_bvh.h"
+#include "libstm/mesh/mesh_geometry.h"
+#include "libstm/registration/articulated_registration.h"
+
+#include <cmath>
+#include <string>
+
+namespace sdm {
+
+namespace {
+
+// Per branch of the shared match (chain of its reduced source skeleton), how far the placed source's
+// vertices on it lie from the target: RMS and 99th percentile, fractions of the target's diagonal.
+std::vector<BranchFit> branch_fits(const Mesh& source, const std::vector<Eigen::Vector3d>& placed, const Mesh& target,
+                                   const SharedSkeletons& sh) {
+  const SkeletonMatch m = match_in_given_numbering(sh);
+  std::vector<int> node_chain(sh.a.nodes.size(), -1);
+  for (size_t c = 0; c < sh.chain_edges.size(); ++c)
+    for (int e : sh.chain_edges[c])
+      for (int x : sh.a.edges[e])
+        if (node_chain[x] < 0) node_chain[x] = int(c);
+  const TriangleBvh bvh(vertex_matrix(target), face_matrix(target));
+  const std::vector<double> area = vertex_areas(source);
+  std::vector<std::vector<double>> d(sh.chain_edges.size()), w(sh.chain_edges.size());
+  for (auto v : source.vertices()) {
+    const int c = node_chain[sh.a.vertex_node[v.idx()]];
+    if (c < 0) continue;
+    d[c].push_back(bvh.closest_point(placed[v.idx()]).distance), w[c].push_back(area[v.idx()]);
+  }
+  const double diag = std::max(bounding_box_diagonal(target), 1e-300);
+  std::vector<BranchFit> out;
+  for (size_t c = 0; c < d.size(); ++c) {
+    BranchFit b;
+    b.source_from = m.a.keys[m.a.chains[c].from], b.source_to = m.a.keys[m.a.chains[c].to];
+    double sum = 0, W = 0;
+    for (size_t i = 0; i < d[c].size(); ++i) sum += w[c][i] * d[c][i] * d[c][i], W += w[c][i];
+    b.rms = W > 0 ? std::sqrt(sum / W) / diag : 0;
+    b.p99 = weighted_quantile(d[c], w[c], 0.99) / diag;
+    b.vertices = int(d[c].size());
+    out.push_back(b);
+  }
+  return out;
+}
+
+}  // namespace
+
+BodyRegistration register_bodies(const Mesh& source, const Skeleton& skeleton_a, const Mesh& target, const Skeleton& skeleton_b,
+                                 const std::vector<std::pair<int, int>>& fixed, const BodyOptions& opt) {
+  BodyRegistration r;
+  report_progress(opt.progress, "matching the skeletons' branches (candidates for the registration)");
+  std::vector<SharedSkeletons> cands = share_skeletons_candidates(source, skeleton_a, target, skeleton_b, fixed, opt.split_ratio,
+                                                                  std::max(opt.candidates, 1));
+  ArticulatedOptions quick;
+  quick.iterations = 8, quick.refine = false;
+  size_t best = 0;
+  for (size_t i = 0; i < cands.size(); ++i) {
+    const double rms = articulated_registration(source, cands[i].a, target, cands[i].b.nodes, quick).posed_rms;
+    r.candidate_rms.push_back(rms);
+    report_progress(opt.progress, "candidate match " + std::to_string(i + 1) + " of " + std::to_string(cands.size()) + ": RMS " +
+                                      std::to_string(100 * rms) + " % of the diagonal");
+    if (rms < r.candidate_rms[best]) best = i;
+  }
+  r.skeletons = std::move(cands[best]);
+  report_progress(opt.progress, "registering the source onto the target along its skeleton (articulated, then non-rigid)");
+  ArticulatedFit fit = articulated_registration(source, r.skeletons.a, target, r.skeletons.b.nodes);
+  r.rms = fit.rms, r.p99 = fit.p99;
+  r.branch_fit = branch_fits(source, fit.deformed, target, r.skeletons);
+  r.placed = std::move(fit.deformed);
+  return r;
+}
+
+
+}  // namespace sdm

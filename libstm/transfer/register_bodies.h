@@ -1,0 +1,54 @@
+#pragma once
+// The source bent onto a target of another body with the same skeleton branching (another person,
+// the same person in another pose, an animal of the same kind): the correspondence behind texture
+// transfer between different models (paper 1 and 5; issue 18). Both extracted skeletons are reduced
+// to their common branching, and every candidate match of them (match_candidates: which limb is
+// left and which right, which side is the front, only the surfaces tell) drives a short articulated
+// registration of the source onto the target (articulated_registration: per-node rigid motions, the
+// match's resampled target chains as the nodes' guesses); the closest fit (RMS) is registered in
+// full, with the non-rigid refinement. The placed source gives every target point its source point
+// (source_points_under).
+#include "libstm/core/progress.h"
+#include "libstm/mesh/mesh.h"
+#include "libstm/skeleton/skeleton.h"
+#include "libstm/transfer/share_skeletons.h"
+
+#include <Eigen/Dense>
+#include <cmath>
+#include <utility>
+#include <vector>
+
+namespace sdm {
+
+// How closely one branch of the source (a chain between two key nodes, numbered as in the given
+// source skeleton) lies on the target after the registration.
+struct BranchFit {
+  int source_from = -1, source_to = -1;
+  double rms = 0, p99 = 0;  // fractions of the target's bounding-box diagonal
+  int vertices = 0;         // source vertices on the branch
+};
+
+struct BodyOptions {
+  double split_ratio = 2.0;  // share_skeletons
+  int candidates = 1;        // candidate matches tried (see DESIGN 6: the fit cannot yet tell a swapped one)
+  Progress progress;
+};
+
+struct BodyRegistration {
+  SharedSkeletons skeletons;            // the chosen match, both skeletons resampled onto one graph
+  std::vector<Eigen::Vector3d> placed;  // the source's vertices bent onto the target (source order)
+  // Distances between the placed source and the target (closest points both ways, area-weighted),
+  // fractions of the target's diagonal.
+  double rms = INFINITY, p99 = INFINITY;
+  std::vector<double> candidate_rms;  // per candidate match, the RMS of its short articulated registration
+  std::vector<BranchFit> branch_fit;  // per chain of the chosen match
+};
+
+/// `skeleton_a` and `skeleton_b` belong to source and target (vertex_node of their vertex counts);
+/// `fixed` names key node pairs of them that must match (`sdm transfer --match`). Deterministic.
+/// Throws InputError when the branchings differ beyond small branches (common_branching) or a
+/// skeleton does not fit its mesh. It does not judge the fit: the caller reads rms and p99.
+BodyRegistration register_bodies(const Mesh& source, const Skeleton& skeleton_a, const Mesh& target, const Skeleton& skeleton_b,
+                                 const std::vector<std::pair<int, int>>& fixed, const BodyOptions& options = {});
+
+}  // namespace sdm
