@@ -40,7 +40,11 @@ Measured measure(const std::string& name, const sdm::Mesh& a, const sdm::Skeleto
 }  // namespace
 
 // Measured (Release): 007 -> 024 mean 2.05 %, p90 4.1 %, 5.5 % of the vertices beyond 5 %, fit RMS
-// 0.27 %; with the arm bent 2.7 %, 5.6 %, 15 %; 024 -> 007 2.3 %, 5.7 %, 13 %. The issue asks 1 %, 2.5 % and
+// 0.27 %; with the arm bent 2.7 %, 5.6 %, 15 %; 024 -> 007 2.3 %, 5.7 %, 13 %, turned and scaled 2.5 %,
+// 5.8 %, 16 % (the match with left and right swapped, chosen without the registration's twist, gave
+// 22 %). 007 -> 024 turned and scaled is not tested: the scaled target's extracted skeleton splits
+// the head into three prongs and the common branching goes wrong (the extraction changes under a
+// 1e-7 relative perturbation of the coordinates: DESIGN 6). The issue asks 1 %, 2.5 % and
 // 1 %: the thresholds hold what is reached, with a margin (before register_bodies, the transfer
 // matched the extracted skeletons and put 007 -> 024 6.4 % off, 024 -> 007 19.2 %).
 TEST_CASE("register_bodies: FAUST 007 onto 024 from the extracted skeletons", "[register_bodies]") {
@@ -81,6 +85,12 @@ TEST_CASE("register_bodies: FAUST 024 onto 007 from the extracted skeletons", "[
   CHECK(plain.error.mean < 2.9);
   CHECK(plain.error.p90 < 6.5);
   CHECK(plain.error.beyond5 < 16);
+  const Measured turned = measure("024 -> 007 turned 180 degrees and scaled 1.7", a, sa, faust::turned_scaled(b, 1.7));
+  std::fprintf(stderr, "%s\n", turned.text.c_str());
+  CHECK(turned.rms < 0.005);
+  CHECK(turned.error.mean < 2.9);
+  CHECK(turned.error.p90 < 6.5);
+  CHECK(turned.error.beyond5 < 19);
 }
 
 TEST_CASE("register_bodies refuses branchings that differ beyond small branches", "[register_bodies]") {
@@ -96,14 +106,23 @@ TEST_CASE("register_bodies refuses branchings that differ beyond small branches"
 #include "libstm/registration/articulated_registration.h"
 TEST_CASE("register_bodies: candidate matches against the FAUST ground truth", "[.][candidates_measure]") {
   if (!faust::have("tr_reg_007.off") || !faust::have("tr_reg_024.off")) return;
-  for (int dir = 0; dir < 2; ++dir) {
+  for (int dir = 0; dir < (std::getenv("DIR0") ? 1 : 2); ++dir) {
     const sdm::Mesh a = sdm::load_mesh(faust::humans_dir() + (dir ? "/tr_reg_024.off" : "/tr_reg_007.off"));
     const sdm::Mesh b0 = sdm::load_mesh(faust::humans_dir() + (dir ? "/tr_reg_007.off" : "/tr_reg_024.off"));
     const sdm::Skeleton sa = sdm::extract_skeleton(a, sdm::transfer_skeleton_options());
-    for (int turned = 0; turned < 2; ++turned) {
+    for (int turned = std::getenv("TURNED") ? 1 : 0; turned < 2; ++turned) {
       const sdm::Mesh b = turned ? faust::turned_scaled(b0, 1.7) : b0;
       const sdm::Skeleton sb = sdm::extract_skeleton(b, sdm::transfer_skeleton_options());
-      const auto cands = sdm::share_skeletons_candidates(a, sa, b, sb, {}, 2.0, 8);
+      const auto cands = sdm::share_skeletons_candidates(a, sa, b, sb, {}, 2.0, std::getenv("CANDS") ? std::atoi(std::getenv("CANDS")) : 8);
+      std::fprintf(stderr, "dir %d turned %d: pruned source ends %zu, target ends %zu; target skeleton %zu nodes\n", dir, turned, cands[0].pruned_a.size(), cands[0].pruned_b.size(), sb.nodes.size());
+      {
+        const auto adj = sb.adjacency();
+        std::vector<double> own(sb.nodes.size(), 0);
+        for (int n : sb.vertex_node) own[n] += 1;
+        for (size_t k = 0; k < adj.size(); ++k)
+          if (adj[k].size() != 2) std::fprintf(stderr, "  target key %zu deg %zu at %.2f %.2f %.2f owns %.0f%s\n", k, adj[k].size(), sb.nodes[k].x(), sb.nodes[k].y(), sb.nodes[k].z(), own[k],
+                                               std::find(cands[0].pruned_b.begin(), cands[0].pruned_b.end(), int(k)) != cands[0].pruned_b.end() ? " PRUNED" : "");
+      }
       const double diag = sdm::bounding_box_diagonal(b);
       for (size_t i = 0; i < cands.size(); ++i) {
         const auto truth = faust::true_guess(cands[i].a, b);
@@ -115,6 +134,15 @@ TEST_CASE("register_bodies: candidate matches against the FAUST ground truth", "
         q.iterations = 30;
         const auto f2 = sdm::articulated_registration(a, cands[i].a, b, cands[i].b.nodes, q);
         const auto e = faust::correspondence_error(a, sdm::source_points_under(a, f2.posed, faust::points_of(b)));
+        for (const auto* ff : {&f, &f2}) {
+          double twist = 0, worst = 0;
+          for (const auto& ed : cands[i].a.edges) {
+            const Eigen::Matrix3d D = ff->node_motion[ed[0]].rotation.transpose() * ff->node_motion[ed[1]].rotation;
+            const double ang = std::acos(std::clamp((D.trace() - 1) / 2, -1.0, 1.0)) * 180 / M_PI;
+            twist += ang, worst = std::max(worst, ang);
+          }
+          std::fprintf(stderr, "   relative rotations: mean %.1f deg, max %.0f deg\n", twist / cands[i].a.edges.size(), worst);
+        }
         std::fprintf(stderr, "dir %d turned %d cand %zu: guess error %.2f %%, quick rms %.3f %%, full rms %.3f %%, corr mean %.2f %%\n", dir, turned, i, 100 * ge,
                      100 * f.posed_rms, 100 * f2.posed_rms, e.mean);
       }

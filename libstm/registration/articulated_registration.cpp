@@ -46,7 +46,7 @@ struct Pair {
   double beta[3] = {1, 0, 0};
   int corners = 1;
   Eigen::Vector3d q, n;
-  double weight = 0, distance = 0;
+  double weight = 0, distance = 0, area = 0;  // weight: area, or 0 for a pair left out
 };
 
 std::vector<Eigen::Vector3d> vertex_normals_of(const Eigen::MatrixX3i& F, const std::vector<Eigen::Vector3d>& V) {
@@ -152,28 +152,29 @@ std::vector<Eigen::Vector3d> posed(const Problem& pr, const Motions& m) {
 // corners and barycentric weights). Pairs whose normals disagree by more than normal_angle or that lie
 // further apart than `outlier` of the diagonal get weight 0 (they still count in the distances).
 std::vector<Pair> make_pairs(const Problem& pr, const TriangleBvh& target_bvh, const std::vector<Eigen::Vector3d>& vd,
-                             const ArticulatedOptions& opt) {
+                             const ArticulatedOptions& opt, int stride = 1) {
   const double min_cos = std::cos(opt.normal_angle * M_PI / 180), cut = opt.outlier * pr.diag;
   const std::vector<Eigen::Vector3d> sn = vertex_normals_of(pr.F, vd);
-  std::vector<Pair> pairs(pr.ns + pr.nt);
-  for (int v = 0; v < pr.ns; ++v) {
+  std::vector<Pair> pairs;
+  pairs.reserve((pr.ns + pr.nt) / stride + 2);
+  for (int v = 0; v < pr.ns; v += stride) {
     const auto c = target_bvh.closest_point(vd[v]);
-    Pair& p = pairs[v];
-    p.vertex[0] = v, p.q = c.point, p.n = pr.tfn[c.face], p.weight = pr.area_s[v], p.distance = c.distance;
+    Pair& p = pairs.emplace_back();
+    p.vertex[0] = v, p.q = c.point, p.n = pr.tfn[c.face], p.weight = p.area = pr.area_s[v], p.distance = c.distance;
     if (sn[v].dot(p.n) < min_cos || c.distance > cut) p.weight = 0;
   }
   Eigen::MatrixX3d V(pr.ns, 3);
   for (int v = 0; v < pr.ns; ++v) V.row(v) = vd[v].transpose();
   const TriangleBvh bvh(V, pr.F);
-  for (int j = 0; j < pr.nt; ++j) {
+  for (int j = 0; j < pr.nt; j += stride) {
     const auto c = bvh.closest_point(pr.tp[j]);
-    Pair& p = pairs[pr.ns + j];
+    Pair& p = pairs.emplace_back();
     p.corners = 3;
     for (int i = 0; i < 3; ++i) p.vertex[i] = pr.F(c.face, i);
     const Eigen::Vector3d b = barycentric(c.point, vd[p.vertex[0]], vd[p.vertex[1]], vd[p.vertex[2]]);
     Eigen::Vector3d n = Eigen::Vector3d::Zero();
     for (int i = 0; i < 3; ++i) p.beta[i] = b[i], n += b[i] * sn[p.vertex[i]];
-    p.q = pr.tp[j], p.n = pr.tn[j], p.weight = pr.area_t[j], p.distance = c.distance;
+    p.q = pr.tp[j], p.n = pr.tn[j], p.weight = p.area = pr.area_t[j], p.distance = c.distance;
     if (n.normalized().dot(pr.tn[j]) < min_cos || c.distance > cut) p.weight = 0;
   }
   return pairs;
@@ -265,7 +266,7 @@ void add_guesses(const Problem& pr, const Motions& m, double weight, Eigen::Matr
 double articulated_step(const Problem& pr, const TriangleBvh& target_bvh, const ArticulatedOptions& opt, double guess_weight,
                         Motions& m) {
   const std::vector<Eigen::Vector3d> vd = posed(pr, m);
-  const std::vector<Pair> pairs = make_pairs(pr, target_bvh, vd, opt);
+  const std::vector<Pair> pairs = make_pairs(pr, target_bvh, vd, opt, std::max(opt.stride, 1));
   Eigen::MatrixXd M = Eigen::MatrixXd::Zero(6 * pr.N, 6 * pr.N);
   Eigen::VectorXd B = Eigen::VectorXd::Zero(6 * pr.N);
   add_data(pr, m, pairs, vd, std::clamp(opt.plane_weight, 0.0, 0.9), M, B);
@@ -292,7 +293,7 @@ void distances(const Problem& pr, const std::vector<Pair>& pairs, double& rms, d
   std::vector<double> d, w;
   double sum = 0, W = 0;
   for (size_t i = 0; i < pairs.size(); ++i) {
-    const double wi = i < size_t(pr.ns) ? pr.area_s[i] : pr.area_t[i - pr.ns];
+    const double wi = pairs[i].area;
     d.push_back(pairs[i].distance), w.push_back(wi), sum += wi * pairs[i].distance * pairs[i].distance, W += wi;
   }
   rms = W > 0 ? std::sqrt(sum / W) / pr.diag : INFINITY;
@@ -338,8 +339,13 @@ ArticulatedFit articulated_registration(const Mesh& source, const Skeleton& skel
     s.translation = m.R[k] * (start.translation - pr.g[k]) + pr.g[k] + m.t[k];
     fit.node_motion.push_back(s);
   }
-  double unused = 0;
-  distances(pr, make_pairs(pr, target_bvh, fit.posed, opt), fit.posed_rms, unused);
+  double unused = 0, turn = 0;
+  for (const auto& e : skeleton.edges) {
+    const Eigen::Matrix3d D = m.R[e[0]].transpose() * m.R[e[1]];
+    turn += std::acos(std::clamp((D.trace() - 1) / 2, -1.0, 1.0)) * 180 / M_PI;
+  }
+  fit.twist = skeleton.edges.empty() ? 0 : turn / double(skeleton.edges.size());
+  distances(pr, make_pairs(pr, target_bvh, fit.posed, opt, std::max(opt.stride, 1)), fit.posed_rms, unused);
   fit.deformed = opt.refine ? refine(source, fit.skeleton, target, fit.posed) : fit.posed;
   distances(pr, make_pairs(pr, target_bvh, fit.deformed, opt), fit.rms, fit.p99);
   if (opt.refine) {

@@ -31,6 +31,7 @@ struct ArticulatedOptions {
   double guess_floor = 0.3;      // the guesses' weight never falls below this
   double plane_weight = 0.5;      // point-to-plane share of a pair's error (at most 0.9); point-to-point gets the rest
   double normal_angle = 60;       // degrees: pairs whose normals disagree by more are left out
+  int stride = 1;                 // closest pairs of every stride-th vertex only, both ways (a quick screening)
   double outlier = 0.1;           // pairs further apart than this fraction of the target's diagonal are left out
   // Refine non-rigidly (fit_skeleton) twice, from the articulated pose and from the guesses alone
   // (fit_skeleton's own start), and keep the closer (smaller RMS distance): on FAUST 007 -> 024 the
@@ -47,6 +48,11 @@ struct ArticulatedFit {
   // Distances between the posed / deformed source and the target, both ways, area-weighted, as
   // fractions of the target's bounding-box diagonal.
   double posed_rms = INFINITY, rms = INFINITY, p99 = INFINITY;
+  // Mean angle, in degrees, between the rotations of neighbouring nodes after the articulated fit:
+  // a match with left and right (or front and back) swapped fits the surfaces about as closely, but
+  // only by turning some parts half around against their neighbours (FAUST 007/024: 25-38 degrees
+  // for the right match, 32-54 for swapped ones; register_bodies chooses by it).
+  double twist = 0;
   bool refined_from_guesses = false;     // the refinement kept started from the guesses, not the pose
   int iterations = 0;
 };

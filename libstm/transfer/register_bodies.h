@@ -5,8 +5,8 @@
 // to their common branching, and every candidate match of them (match_candidates: which limb is
 // left and which right, which side is the front, only the surfaces tell) drives a short articulated
 // registration of the source onto the target (articulated_registration: per-node rigid motions, the
-// match's resampled target chains as the nodes' guesses); the closest fit (RMS) is registered in
-// full, with the non-rigid refinement. The placed source gives every target point its source point
+// match's resampled target chains as the nodes' guesses); the one whose parts turn least against
+// their neighbours is registered in full, with the non-rigid refinement. The placed source gives every target point its source point
 // (source_points_under).
 #include "libstm/core/progress.h"
 #include "libstm/mesh/mesh.h"
@@ -30,7 +30,7 @@ struct BranchFit {
 
 struct BodyOptions {
   double split_ratio = 2.0;  // share_skeletons
-  int candidates = 1;        // candidate matches tried (see DESIGN 6: the fit cannot yet tell a swapped one)
+  int candidates = 4;        // candidate matches tried (match_candidates)
   Progress progress;
 };
 
@@ -40,7 +40,9 @@ struct BodyRegistration {
   // Distances between the placed source and the target (closest points both ways, area-weighted),
   // fractions of the target's diagonal.
   double rms = INFINITY, p99 = INFINITY;
-  std::vector<double> candidate_rms;  // per candidate match, the RMS of its short articulated registration
+  std::vector<double> candidate_rms;    // per candidate match, the RMS of its short articulated registration
+  std::vector<double> candidate_twist;  // and its ArticulatedFit::twist (degrees), by which one is chosen
+  int chosen = 0;                       // the candidate chosen
   std::vector<BranchFit> branch_fit;  // per chain of the chosen match
 };
 

@@ -60,11 +60,11 @@ struct TransferOptions {
   double fit_rms = 0.004, fit_p99 = 0.016, fit_spread = 0.5;
   // Otherwise, a target of another body with the same branching (another person or pose, an animal
   // of the same kind) is registered: the source bent onto it along its skeleton from each of
-  // `candidates` matches of the extracted skeletons (articulated_registration), the closest kept.
+  // `candidates` matches of the extracted skeletons (register_bodies).
   // A fit worse than registered_rms (RMS) or registered_p99 (99th percentile), fractions of the
   // target's diagonal, is refused unless `force`. Measured on FAUST bodies: 0.1-0.4 % RMS.
   bool register_bodies = true;
-  int candidates = 1;
+  int candidates = 4;
   double registered_rms = 0.01, registered_p99 = 0.04;
   bool force = false;
   Progress progress;
