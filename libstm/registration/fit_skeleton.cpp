@@ -191,18 +191,19 @@ std::vector<Eigen::Vector3d> deformed(const Frame& fr, const NodeMaps& maps) {
 // Closest points both ways between the bent source `vd` and the target: first one pair per source
 // vertex (weighted by its area), then one per target vertex (its closest point on the bent source
 // as a face and barycentric coordinates).
-std::vector<Pair> make_pairs(const Frame& fr, const TriangleBvh& target_bvh, const std::vector<Eigen::Vector3d>& vd) {
+std::vector<Pair> make_pairs(const Frame& fr, const TriangleBvh& target_bvh, const std::vector<Eigen::Vector3d>& vd, int stride = 1) {
   std::vector<Pair> pairs;
+  stride = std::max(stride, 1);
   Eigen::MatrixX3d V(fr.ns, 3);
   for (int v = 0; v < fr.ns; ++v) V.row(v) = vd[v].transpose();
   const TriangleBvh bvh(V, fr.F);
-  for (int v = 0; v < fr.ns; ++v) {
+  for (int v = 0; v < fr.ns; v += stride) {
     const auto c = target_bvh.closest_point(vd[v]);
     Pair p;
     p.vertex[0] = v, p.q = c.point, p.weight = fr.area_s[v], p.distance = c.distance;
     pairs.push_back(p);
   }
-  for (int j = 0; j < fr.nt; ++j) {
+  for (int j = 0; j < fr.nt; j += stride) {
     const auto c = bvh.closest_point(fr.tp[j]);
     Pair p;
     p.corners = 3;
@@ -314,7 +315,7 @@ double solve_maps(const Frame& fr, const NormalEquations& eq, NodeMaps& maps) {
 // the outlier distance; else `moved` is the largest change of a translation.
 bool nonrigid_step(const Frame& fr, const TriangleBvh& target_bvh, const FitSkeletonOptions& opt, double stiffness,
                    NodeMaps& maps, double& moved) {
-  const std::vector<Pair> pairs = make_pairs(fr, target_bvh, deformed(fr, maps));
+  const std::vector<Pair> pairs = make_pairs(fr, target_bvh, deformed(fr, maps), opt.stride);
   // Only gross outliers go: a limb still far from where it went must keep pulling (cutting at
   // three median distances left Spot's turned head behind: 1.0 % RMS against 0.27 %).
   const double cut = opt.outlier * fr.diag;

@@ -28,6 +28,8 @@ struct FitSkeletonOptions {
   // to [0.2, 5]): keeps the maps near rotations times a scale.
   double rigidity = 0.1;
   bool articulated_start = true;  // without node_guess: every node's neighbourhood first registered on its own
+  // The fitting steps pair every stride-th vertex of either surface (the final measures pair all).
+  int stride = 1;
   double outlier = 0.1;    // closest-point pairs further apart than this fraction of the diagonal are left out
 };
 

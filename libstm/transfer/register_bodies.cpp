@@ -3,6 +3,7 @@
 #include "libstm/geometry/triangle_bvh.h"
 #include "libstm/mesh/mesh_geometry.h"
 #include "libstm/registration/articulated_registration.h"
+#include "libstm/registration/fit_skeleton.h"
 
 #include <cmath>
 #include <string>
@@ -68,11 +69,20 @@ BodyRegistration register_bodies(const Mesh& source, const Skeleton& skeleton_a,
   }
   r.chosen = int(best);
   r.skeletons = std::move(cands[best]);
-  report_progress(opt.progress, "registering the source onto the target along its skeleton (articulated, then non-rigid)");
-  ArticulatedFit fit = articulated_registration(source, r.skeletons.a, target, r.skeletons.b.nodes);
+  // The chosen match's nodes start the non-rigid fit (fit_skeleton from the guesses). The full
+  // articulated registration before it (30 steps, then fit_skeleton from its pose and from the
+  // guesses, the closer kept) gave the same correspondence on FAUST (2.05-2.68 % against 2.05-2.68 %,
+  // 024 -> 007 2.34 % against 2.45 %) in twice the time.
+  report_progress(opt.progress, "bending the source onto the target along its skeleton");
+  std::vector<double> owned(r.skeletons.a.nodes.size(), 0.0);
+  for (int n : r.skeletons.a.vertex_node) owned[n] += 1;
+  const Similarity start = fit_similarity(r.skeletons.a.nodes, r.skeletons.b.nodes, owned);
+  FitSkeletonOptions fo;
+  fo.stride = 2;  // FAUST: the same correspondence (2.04-2.66 % against 2.05-2.68 %), 0.7 s less
+  SkeletonFit fit = fit_skeleton(source, r.skeletons.a, target, start, r.skeletons.b.nodes, fo);
   r.rms = fit.rms, r.p99 = fit.p99;
-  r.branch_fit = branch_fits(source, fit.deformed, target, r.skeletons);
-  r.placed = std::move(fit.deformed);
+  r.branch_fit = branch_fits(source, fit.bent, target, r.skeletons);
+  r.placed = std::move(fit.bent);
   return r;
 }
 

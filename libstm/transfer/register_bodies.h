@@ -6,7 +6,8 @@
 // left and which right, which side is the front, only the surfaces tell) drives a short articulated
 // registration of the source onto the target (articulated_registration: per-node rigid motions, the
 // match's resampled target chains as the nodes' guesses); the one whose parts turn least against
-// their neighbours is registered in full, with the non-rigid refinement. The placed source gives every target point its source point
+// their neighbours is kept, and its nodes start the non-rigid fit of the source's skeleton onto the
+// target (fit_skeleton: embedded deformation on the skeleton, stiffness lowered step by step). The placed source gives every target point its source point
 // (source_points_under).
 #include "libstm/core/progress.h"
 #include "libstm/mesh/mesh.h"
