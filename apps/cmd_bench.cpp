@@ -14,6 +14,7 @@
 #include "libstm/skeleton/contract_mesh.h"
 #include "libstm/skeleton/contraction_proxy.h"
 #include "libstm/skeleton/extract_skeleton.h"
+#include "libstm/transfer/transfer_texture.h"
 
 #include <filesystem>
 #include <fstream>
@@ -26,10 +27,11 @@ namespace sdm::cli {
 namespace {
 
 struct BenchOptions {
+  std::string humans = "../shared/models/humans";
   std::string bunny = "../shared/models/cgal/bunny00.off";
   std::string spot = "examples/data/spot/spot_triangulated.obj";
   int repeat = 3, size = 1024;
-  bool json = false, no_sdm = false, no_gl = false, solvers = false;
+  bool json = false, no_sdm = false, no_gl = false, solvers = false, transfer = false;
 };
 
 struct PaperRow {
@@ -389,6 +391,89 @@ int run_solvers(const BenchOptions& o) {
   return 0;
 }
 
+// ---- Texture transfer between different bodies ----
+
+// `m` with uv from a planar projection onto its two longest bounding-box axes (the bench's source
+// needs a texture; any will do for timing).
+Mesh with_planar_uv(const Mesh& m) {
+  Mesh out = m;
+  out.request_halfedge_texcoords2D();
+  Eigen::Vector3d lo = Eigen::Vector3d::Constant(INFINITY), hi = -lo;
+  for (auto v : m.vertices()) lo = lo.cwiseMin(point(m, v)), hi = hi.cwiseMax(point(m, v));
+  const Eigen::Vector3d ext = (hi - lo).cwiseMax(1e-300);
+  int a = 0, b = 1;
+  for (int k = 0; k < 3; ++k)
+    if (ext[k] < ext[a] && ext[k] < ext[b]) a = (k + 1) % 3, b = (k + 2) % 3;
+  for (auto h : out.halfedges()) {
+    if (out.is_boundary(h)) continue;
+    const Eigen::Vector3d p = point(out, out.to_vertex_handle(h));
+    out.set_texcoord2D(h, Mesh::TexCoord2D(float((p[a] - lo[a]) / ext[a]), float((p[b] - lo[b]) / ext[b])));
+  }
+  return out;
+}
+
+struct TransferRow {
+  std::string pair;
+  int vertices = 0;
+  double extract = INFINITY, transfer = INFINITY;  // seconds, fastest of the runs
+  std::string kind;
+  double rms = 0;
+};
+
+// Both extractions, then transfer_texture (recognition, registration, layout, atlas, coordinates)
+// with a 1024 atlas, as `sdm transfer` runs them; the fastest of `repeat` runs.
+TransferRow time_transfer(GlContext& gl, const std::string& a_path, const std::string& b_path, int repeat) {
+  const Mesh a = with_planar_uv(load_mesh(a_path)), b = load_mesh(b_path);
+  Image checker(64, 64, 4, 255);
+  for (int y = 0; y < 64; ++y)
+    for (int x = 0; x < 64; ++x) checker.pixels[4 * (64 * y + x)] = ((x / 8 + y / 8) % 2) ? 200 : 40;
+  TransferRow row;
+  row.pair = std::filesystem::path(a_path).stem().string() + " -> " + std::filesystem::path(b_path).stem().string();
+  row.vertices = int(a.n_vertices());
+  TransferOptions to;
+  to.size = 1024;
+  for (int r = 0; r < repeat; ++r) {
+    Stopwatch sw;
+    const Skeleton sa = extract_skeleton(a, transfer_skeleton_options()), sb = extract_skeleton(b, transfer_skeleton_options());
+    const double e = sw.lap();
+    const TextureTransfer t = transfer_texture(gl, a, checker, sa, b, sb, to);
+    row.extract = std::min(row.extract, e), row.transfer = std::min(row.transfer, sw.lap());
+    row.kind = t.carried ? "carried" : t.fitted ? "bent" : t.registered ? "registered" : "extracted";
+    row.rms = t.fit_rms;
+  }
+  return row;
+}
+
+int run_transfer_bench(const BenchOptions& o) {
+  const std::vector<std::pair<std::string, std::string>> pairs{
+      {"tr_reg_007.off", "tr_reg_024.off"}, {"tr_reg_024.off", "tr_reg_007.off"}, {"8_gorilla_01.off", "8_man_02.off"}};
+  GlContext gl;
+  std::vector<TransferRow> rows;
+  for (const auto& [a, b] : pairs) {
+    const std::string pa = o.humans + "/" + a, pb = o.humans + "/" + b;
+    if (!std::filesystem::exists(pa) || !std::filesystem::exists(pb)) {
+      std::cerr << "bench: " << pa << " or " << pb << " missing: skipped\n";
+      continue;
+    }
+    std::cerr << "bench: transfer " << a << " -> " << b << "\n";
+    rows.push_back(time_transfer(gl, pa, pb, o.repeat));
+  }
+  if (o.json) {
+    nlohmann::json j = nlohmann::json::array();
+    for (const auto& r : rows)
+      j.push_back({{"pair", r.pair}, {"vertices", r.vertices}, {"extract_s", r.extract}, {"transfer_s", r.transfer},
+                   {"total_s", r.extract + r.transfer}, {"target_skeleton", r.kind}, {"fit_rms", r.rms}});
+    print_json({{"machine", machine_line()}, {"transfers", j}});
+    return 0;
+  }
+  std::cout << "Texture transfer between different bodies (1024 atlas; fastest of " << o.repeat << "; " << machine_line() << ")\n"
+            << "| pair | vertices | both skeletons (s) | transfer (s) | total (s) | target | fit RMS |\n|---|---|---|---|---|---|---|\n";
+  for (const auto& r : rows)
+    std::cout << "| " << r.pair << " | " << r.vertices << " | " << std::fixed << std::setprecision(2) << r.extract << " | " << r.transfer
+              << " | " << r.extract + r.transfer << " | " << r.kind << " | " << std::setprecision(3) << 100 * r.rms << " % |\n";
+  return 0;
+}
+
 }  // namespace
 
 Command add_bench_command(CLI::App& parent) {
@@ -405,8 +490,11 @@ Command add_bench_command(CLI::App& parent) {
   app->add_flag("--no-sdm", o->no_sdm, "Skip the SDM encode/decode timings");
   app->add_flag("--no-gl", o->no_gl, "Skip the GL atlas composing timing");
   app->add_flag("--solvers", o->solvers, "Compare the contraction's sparse Cholesky solvers instead (docs/BENCHMARKS.md)");
+  app->add_flag("--transfer", o->transfer,
+                "Time texture transfer between different bodies instead (FAUST 007 <-> 024, TOSCA gorilla -> man, from --humans)");
+  app->add_option("--humans", o->humans, "Folder of the human meshes for --transfer (skipped with a note when missing)")->capture_default_str();
   app->add_flag("--json", o->json, "Print one JSON object instead of tables");
-  return {app, [o]() { return o->solvers ? run_solvers(*o) : run_stages(*o); }};
+  return {app, [o]() { return o->solvers ? run_solvers(*o) : o->transfer ? run_transfer_bench(*o) : run_stages(*o); }};
 }
 
 }  // namespace sdm::cli
