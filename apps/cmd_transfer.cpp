@@ -275,6 +275,10 @@ int run_texture_transfer(const TransferArgs& o) {
                           "the source in another pose, nor registered onto), so no point correspondence was computed");
   if (r.registered && !(r.fit_rms <= to.registered_rms && r.fit_p99 <= to.registered_p99))
     progress("warning: the source fits the target poorly (--force was given): the texture may be misplaced");
+  for (const auto& b : r.branch_fit)
+    if (b.p99 > to.registered_p99)
+      progress("warning: the source's branch " + std::to_string(b.source_from) + "-" + std::to_string(b.source_to) + " lies up to " +
+               std::to_string(100 * b.p99) + " % of the diagonal from the target (99th percentile): its texture may be misplaced");
   for (int x : r.skeletons.pruned_a) progress("source end branch at node " + std::to_string(x) + " pruned: the target's skeleton has none there");
   for (int x : r.skeletons.pruned_b) progress("target end branch at node " + std::to_string(x) + " pruned: the source's skeleton has none there");
   const sdm::Image preview = render_preview(gl, in, r);
