@@ -8,6 +8,7 @@
 #include "libstm/core/stopwatch.h"
 #include "libstm/layout/layout.h"
 #include "libstm/mesh/mesh.h"
+#include "libstm/mesh/mesh_geometry.h"
 #include "libstm/mesh/primitives.h"
 #include "libstm/render/gl_context.h"
 #include "libstm/render/render_atlas.h"
@@ -392,25 +393,6 @@ int run_solvers(const BenchOptions& o) {
 }
 
 // ---- Texture transfer between different bodies ----
-
-// `m` with uv from a planar projection onto its two longest bounding-box axes (the bench's source
-// needs a texture; any will do for timing).
-Mesh with_planar_uv(const Mesh& m) {
-  Mesh out = m;
-  out.request_halfedge_texcoords2D();
-  Eigen::Vector3d lo = Eigen::Vector3d::Constant(INFINITY), hi = -lo;
-  for (auto v : m.vertices()) lo = lo.cwiseMin(point(m, v)), hi = hi.cwiseMax(point(m, v));
-  const Eigen::Vector3d ext = (hi - lo).cwiseMax(1e-300);
-  int a = 0, b = 1;
-  for (int k = 0; k < 3; ++k)
-    if (ext[k] < ext[a] && ext[k] < ext[b]) a = (k + 1) % 3, b = (k + 2) % 3;
-  for (auto h : out.halfedges()) {
-    if (out.is_boundary(h)) continue;
-    const Eigen::Vector3d p = point(out, out.to_vertex_handle(h));
-    out.set_texcoord2D(h, Mesh::TexCoord2D(float((p[a] - lo[a]) / ext[a]), float((p[b] - lo[b]) / ext[b])));
-  }
-  return out;
-}
 
 struct TransferRow {
   std::string pair;

@@ -4,7 +4,11 @@
 // source point each target vertex gets and its true source point, in % of the diagonal.
 #include "faust_pairs.h"
 
+#include "test_util.h"
+
 #include "libstm/core/errors.h"
+#include "libstm/core/image.h"
+#include "libstm/mesh/mesh_geometry.h"
 #include "libstm/mesh/primitives.h"
 #include "libstm/skeleton/extract_skeleton.h"
 #include "libstm/transfer/register_bodies.h"
@@ -12,7 +16,10 @@
 
 #include <catch2/catch.hpp>
 
+#include <nlohmann/json.hpp>
+
 #include <cstdio>
+#include <fstream>
 #include <sstream>
 
 namespace {
@@ -99,6 +106,53 @@ TEST_CASE("register_bodies refuses branchings that differ beyond small branches"
   const sdm::Skeleton sa = sdm::extract_skeleton(a, sdm::transfer_skeleton_options());
   const sdm::Skeleton sb = sdm::extract_skeleton(b, sdm::transfer_skeleton_options());
   CHECK_THROWS_AS(sdm::register_bodies(a, sa, b, sb, {}), sdm::InputError);
+}
+
+// The command as a user runs it: a textured FAUST 007 onto 024; the correspondence file read back
+// gives the same error as the library (each line: source face and barycentric coordinates).
+TEST_CASE("sdm transfer --correspondence between two FAUST bodies", "[register_bodies]") {
+  if (!faust::have("tr_reg_007.off") || !faust::have("tr_reg_024.off")) {
+    WARN("no FAUST meshes at " << faust::humans_dir() << ": skipped");
+    return;
+  }
+  test_util::TempDir dir;
+  const sdm::Mesh a = sdm::with_planar_uv(sdm::load_mesh(faust::humans_dir() + "/tr_reg_007.off"));
+  sdm::Image tex(32, 32, 4, 255);
+  for (int i = 0; i < 32 * 32; ++i) tex.pixels[4 * i] = uint8_t(8 * (i % 32));
+  sdm::write_png(tex, dir / "a.png");
+  sdm::write_mesh(a, dir / "a.obj", dir / "a.png");
+  const std::string target = faust::humans_dir() + "/tr_reg_024.off";
+  const auto res = test_util::run_sdm("transfer --source " + (dir / "a.obj") + " --target " + target + " -o " + (dir / "b.obj") +
+                                      " --size 256 --correspondence " + (dir / "c.txt") + " --json");
+  INFO(res.output);
+  REQUIRE(res.exit_code == 0);
+  const auto j = nlohmann::json::parse(res.output.substr(res.output.find("{\n")));
+  CHECK(j.at("target_skeleton") == "registered");
+  CHECK(j.at("fit_rms").get<double>() < 0.005);
+  CHECK(j.at("branch_fit").size() >= 5);
+  std::ifstream in(dir / "c.txt");
+  std::string line;
+  std::vector<sdm::SourcePoint> under;
+  while (std::getline(in, line)) {
+    if (line.empty() || line[0] == '#') continue;
+    std::istringstream l(line);
+    sdm::SourcePoint p;
+    l >> p.face >> p.barycentric[0] >> p.barycentric[1] >> p.barycentric[2];
+    REQUIRE(l);
+    CHECK(std::abs(p.barycentric.sum() - 1) < 1e-6);
+    under.push_back(p);
+  }
+  REQUIRE(under.size() == a.n_vertices());
+  const faust::Error e = faust::correspondence_error(a, under);
+  INFO("mean " << e.mean << " %, p90 " << e.p90 << " %");
+  CHECK(e.mean < 2.6);
+  CHECK(e.p90 < 5.0);
+  // A correspondence file of another kind is refused before any work, and nothing is written.
+  const auto bad = test_util::run_sdm("transfer --source " + (dir / "a.obj") + " --target " + target + " -o " + (dir / "d.obj") +
+                                      " --correspondence " + (dir / "c.bin"));
+  CHECK(bad.exit_code == 2);
+  CHECK(bad.output.find(".txt or .json") != std::string::npos);
+  CHECK(!std::filesystem::exists(dir / "d.obj"));
 }
 
 // Which candidate match the short registration would choose, against the ground truth (hidden:

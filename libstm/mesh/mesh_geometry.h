@@ -18,4 +18,9 @@ inline double face_area(const Mesh& m, Mesh::FaceHandle f) {
 /// Per vertex, a third of the area of its faces (the barycentric dual area), times `factor`.
 std::vector<double> vertex_areas(const Mesh& mesh, double factor = 1.0);
 
+/// A copy of `m` with per-halfedge uv from the orthogonal projection onto its two longest
+/// bounding-box axes, each scaled to [0, 1] (a texture for a model without one: benchmarks, tests,
+/// the demo's textured humans). Overlapping front and back, as any planar projection.
+Mesh with_planar_uv(const Mesh& m);
+
 }  // namespace sdm
