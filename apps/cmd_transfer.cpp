@@ -140,14 +140,20 @@ TransferInputs read_inputs(const TransferArgs& o) {
   return in;
 }
 
-// Source (its own texture) and target (the transferred atlas) side by side, 512 x 512 each.
+// Source (its own texture) and target (the transferred atlas) side by side, 512 x 512 each, each
+// seen in its own principal frame (principal_view_frame): its longest axis vertical, looked at
+// along its shortest, so a person stands upright, seen from the front or back, whichever axis its
+// file has it along (TOSCA's lie along z).
 sdm::Image render_preview(sdm::GlContext& gl, const TransferInputs& in, const sdm::TextureTransfer& r) {
   progress("rendering the preview");
   sdm::RenderOptions ro;
   ro.width = ro.height = 512;
+  ro.azimuth_deg = ro.elevation_deg = 0;
   ro.texture = &in.texture;
+  ro.frame = sdm::principal_view_frame(in.source);
   const sdm::Image left = sdm::render_mesh(gl, in.source, ro);
   ro.texture = &r.atlas;
+  ro.frame = sdm::principal_view_frame(r.target);
   const sdm::Image right = sdm::render_mesh(gl, r.target, ro);
   return sdm::side_by_side({left, right});
 }
