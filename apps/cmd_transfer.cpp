@@ -141,9 +141,9 @@ TransferInputs read_inputs(const TransferArgs& o) {
 }
 
 // Source (its own texture) and target (the transferred atlas) side by side, 512 x 512 each, each
-// seen in its own principal frame (principal_view_frame): its longest axis vertical, looked at
-// along its shortest, so a person stands upright, seen from the front or back, whichever axis its
-// file has it along (TOSCA's lie along z).
+// seen in its own principal frame (principal_view_frame), looked at along its shortest axis: a
+// model lying down (TOSCA's lie along z) stood up along its longest axis, any other with +y up,
+// so a person is seen upright from the front or back and Spot from its side.
 sdm::Image render_preview(sdm::GlContext& gl, const TransferInputs& in, const sdm::TextureTransfer& r) {
   progress("rendering the preview");
   sdm::RenderOptions ro;
