@@ -1,6 +1,7 @@
 #include "apps/commands.h"
 #include "libsdm/decode/decode_sdm.h"
 #include "libsdm/map/sdm_exr.h"
+#include "libstm/transfer/carry_attributes.h"
 #include "libstm/transfer/transfer_texture.h"
 #include "libstm/core/atomic_file.h"
 #include "libstm/core/errors.h"
@@ -20,7 +21,7 @@ namespace sdm::cli {
 namespace {
 
 struct TransferArgs {
-  std::string source, texture, target, output, source_skeleton, target_skeleton, sdm, correspondence;
+  std::string source, texture, target, output, source_skeleton, target_skeleton, sdm, correspondence, vertex_colors;
   std::vector<std::string> match;
   int size = 2048, margin = 8, lod = 3;
   bool json = false, force = false;
@@ -95,14 +96,15 @@ int run_sdm_transfer(const TransferArgs& o) {
 // The texture transfer's inputs, read and checked.
 struct TransferInputs {
   sdm::Mesh source, target;
-  sdm::Image texture;
-  std::string texture_path;
+  sdm::Image texture;                         // empty until painted when the source has colours only
+  std::string texture_path;                   // empty when the texture is painted from the source's colours
+  std::vector<Eigen::Vector3f> source_colors;  // per source vertex, when its file has vertex colours
   sdm::Skeleton skeleton_a, skeleton_b;
 };
 
-// Throws InputError for a missing --source or --target, an output other than .obj, or a source
-// without texture or uv.
-TransferInputs read_inputs(const TransferArgs& o) {
+// Throws InputError for a missing --source or --target, or an output, --correspondence or
+// --vertex-colors path of the wrong kind: before any work.
+void check_output_paths(const TransferArgs& o) {
   if (o.source.empty() || o.target.empty())
     throw sdm::InputError("transfer needs --source and --target (texture), or --sdm and --target-skeleton (geometry)");
   if (std::filesystem::path(o.output).extension() != ".obj")
@@ -110,38 +112,81 @@ TransferInputs read_inputs(const TransferArgs& o) {
   const std::string cext = std::filesystem::path(o.correspondence).extension().string();
   if (!o.correspondence.empty() && cext != ".txt" && cext != ".json")
     throw sdm::InputError("--correspondence must name a .txt or .json file, not '" + o.correspondence + "'");
+  if (!o.vertex_colors.empty() && std::filesystem::path(o.vertex_colors).extension() != ".ply")
+    throw sdm::InputError("--vertex-colors must name a .ply file (the target with a colour per vertex), not '" + o.vertex_colors + "'");
+}
+
+// Throws InputError for a source with neither texture and uv nor vertex colours (a source with
+// colours only has its texture painted from them once the GL context exists).
+TransferInputs read_inputs(const TransferArgs& o) {
+  check_output_paths(o);
   TransferInputs in;
   std::string material;
-  in.source = sdm::load_mesh(o.source, &material);
+  in.source = sdm::load_mesh(o.source, &material, &in.source_colors);
   in.texture_path = o.texture.empty() ? material : o.texture;
-  if (in.texture_path.empty()) throw sdm::InputError("'" + o.source + "' names no texture in its material: pass --texture TEX.png");
-  if (!in.source.has_halfedge_texcoords2D())
-    throw sdm::InputError("'" + o.source + "' has no texture coordinates, so its texture cannot be transferred");
-  in.texture = sdm::read_png(in.texture_path);
+  const bool colored = !in.source_colors.empty();
+  if (!colored || (!in.texture_path.empty() && in.source.has_halfedge_texcoords2D())) {
+    if (in.texture_path.empty())
+      throw sdm::InputError("'" + o.source + "' names no texture in its material and has no vertex colours: pass --texture TEX.png");
+    if (!in.source.has_halfedge_texcoords2D())
+      throw sdm::InputError("'" + o.source + "' has no texture coordinates (nor vertex colours), so its texture cannot be transferred");
+    in.texture = sdm::read_png(in.texture_path);
+  } else {
+    in.texture_path.clear();
+  }
   in.target = sdm::load_mesh(o.target);
   in.skeleton_a = skeleton_for(in.source, o.source_skeleton, "source");
   in.skeleton_b = skeleton_for(in.target, o.target_skeleton, "target");
   return in;
 }
 
-// Source (its own texture) and target (the transferred atlas) side by side, 512 x 512 each.
+// Source (its own texture) and target (the transferred atlas) side by side, 512 x 512 each, each
+// seen in its own principal frame (principal_view_frame), looked at along its shortest axis: a
+// model lying down (TOSCA's lie along z) stood up along its longest axis, any other with +y up,
+// so a person is seen upright from the front or back and Spot from its side.
 sdm::Image render_preview(sdm::GlContext& gl, const TransferInputs& in, const sdm::TextureTransfer& r) {
   progress("rendering the preview");
   sdm::RenderOptions ro;
   ro.width = ro.height = 512;
+  ro.azimuth_deg = ro.elevation_deg = 0;
   ro.texture = &in.texture;
+  ro.frame = sdm::principal_view_frame(in.source);
   const sdm::Image left = sdm::render_mesh(gl, in.source, ro);
   ro.texture = &r.atlas;
+  ro.frame = sdm::principal_view_frame(r.target);
   const sdm::Image right = sdm::render_mesh(gl, r.target, ro);
   return sdm::side_by_side({left, right});
 }
 
-// The output files' paths: OUT.obj with OUT.mtl, OUT_atlas.png and OUT_preview.png beside it.
+// The output files' paths: OUT.obj with OUT.mtl, OUT_atlas.png and OUT_preview.png beside it;
+// the optional --correspondence and --vertex-colors files.
 struct OutputPaths {
-  std::string mesh, atlas, preview, mtl;
-  explicit OutputPaths(const std::string& output)
-      : mesh(output), atlas(sibling(output, "_atlas.png")), preview(sibling(output, "_preview.png")), mtl(sibling(output, ".mtl")) {}
+  std::string mesh, atlas, preview, mtl, correspondence, vertex_colors;
+  explicit OutputPaths(const TransferArgs& o)
+      : mesh(o.output),
+        atlas(sibling(o.output, "_atlas.png")),
+        preview(sibling(o.output, "_preview.png")),
+        mtl(sibling(o.output, ".mtl")),
+        correspondence(o.correspondence),
+        vertex_colors(o.vertex_colors) {}
 };
+
+// A source with vertex colours and no texture: its colours painted into an atlas over its own STM
+// (the transfer's size and margin), so it can be transferred like a textured one.
+void paint_source_texture(sdm::GlContext& gl, const TransferArgs& o, TransferInputs& in) {
+  progress("the source has vertex colours and no texture: painting them into its own STM atlas");
+  sdm::TexturedMesh t = sdm::texture_from_vertex_colors(gl, in.source, in.source_colors, in.skeleton_a, o.size, o.margin);
+  in.source = std::move(t.mesh);
+  in.texture = std::move(t.texture);
+}
+
+// The target's vertex colours: the source's vertex colours blended at each target vertex's source
+// point, or, for a source without them, its texture sampled there.
+std::vector<Eigen::Vector3f> target_vertex_colors(const TransferInputs& in, const sdm::TextureTransfer& r) {
+  progress("carrying the source's " + std::string(in.source_colors.empty() ? "texture" : "vertex colours") + " onto the target's vertices");
+  return in.source_colors.empty() ? sdm::carry_texture_colors(in.source, in.texture, r.correspondence)
+                                  : sdm::carry_vertex_colors(in.source, in.source_colors, r.correspondence);
+}
 
 // The correspondence as text: per target vertex, in order, the source face and the barycentric
 // coordinates of the source point it shows; or as JSON with the same two arrays.
@@ -161,12 +206,18 @@ std::string correspondence_text(const std::vector<sdm::SourcePoint>& c, bool jso
 }
 
 // Everything is computed; now the files, each atomically, removed again if a later one fails.
-void write_outputs(const sdm::TextureTransfer& r, const sdm::Image& preview, const OutputPaths& out, const std::string& correspondence) {
+void write_outputs(const sdm::TextureTransfer& r, const sdm::Image& preview, const OutputPaths& out,
+                   const std::vector<Eigen::Vector3f>& vertex_colors) {
   std::vector<std::string> written;
   try {
-    if (!correspondence.empty()) {
-      sdm::write_text_file(correspondence, correspondence_text(r.correspondence, std::filesystem::path(correspondence).extension() == ".json"));
-      written.push_back(correspondence);
+    if (!out.correspondence.empty()) {
+      sdm::write_text_file(out.correspondence,
+                           correspondence_text(r.correspondence, std::filesystem::path(out.correspondence).extension() == ".json"));
+      written.push_back(out.correspondence);
+    }
+    if (!out.vertex_colors.empty()) {
+      sdm::write_colored_ply(r.target, vertex_colors, out.vertex_colors);
+      written.push_back(out.vertex_colors);
     }
     sdm::write_png(r.atlas, out.atlas);
     written.push_back(out.atlas);
@@ -203,7 +254,7 @@ void print_transfer_json(const TransferArgs& o, const TransferInputs& in, const 
   print_json({{"output", out.mesh},
               {"atlas", out.atlas},
               {"preview", out.preview},
-              {"texture", in.texture_path},
+              {"texture", in.texture_path.empty() ? nlohmann::json() : nlohmann::json(in.texture_path)},
               {"size", r.layout_a.size},
               {"segments", r.layout_a.segments.size()},
               {"confidence", m.confidence},
@@ -223,6 +274,10 @@ void print_transfer_json(const TransferArgs& o, const TransferInputs& in, const 
               {"fit_p99", finite_or_null(r.fit_p99)},
               {"branch_fit", branch_fit_json(r.branch_fit)},
               {"correspondence", o.correspondence.empty() ? nlohmann::json() : nlohmann::json(o.correspondence)},
+              {"vertex_colors", o.vertex_colors.empty() ? nlohmann::json() : nlohmann::json(o.vertex_colors)},
+              {"vertex_colors_from", o.vertex_colors.empty()       ? nlohmann::json()
+                                     : in.source_colors.empty() ? nlohmann::json("texture")
+                                                                : nlohmann::json("vertex colours")},
               {"registration_rms", finite_or_null(r.registration.rms)},
               {"registration_p99", finite_or_null(r.registration.p99)},
               {"stretch", r.stretch},
@@ -234,10 +289,15 @@ void print_transfer_text(const TransferArgs& o, const TransferInputs& in, const 
   const sdm::SkeletonMatch m = sdm::match_in_given_numbering(r.skeletons);
   nlohmann::json chains;
   const std::string text = match_text(m, &chains);
-  std::cout << out.mesh << ": " << in.target.n_vertices() << " vertices textured from " << o.source << "\n"
+  std::cout << out.mesh << ": " << in.target.n_vertices() << " vertices textured from " << o.source
+            << (in.texture_path.empty() ? " (its vertex colours)" : "") << "\n"
             << "  atlas " << out.atlas << " (" << r.layout_a.size << "^2, " << r.layout_a.segments.size() << " segments), preview "
-            << out.preview << "\n"
-            << "  match confidence " << m.confidence << " (" << m.candidates << " candidates)\n";
+            << out.preview << "\n";
+  if (!out.vertex_colors.empty())
+    std::cout << "  vertex colours " << out.vertex_colors << " (from the source's "
+              << (in.source_colors.empty() ? "texture" : "vertex colours") << ")\n";
+  if (!out.correspondence.empty()) std::cout << "  correspondence " << out.correspondence << "\n";
+  std::cout << "  match confidence " << m.confidence << " (" << m.candidates << " candidates)\n";
   if (r.carried)
     std::cout << "  the target is the source's shape (registered to " << 100 * r.registration.rms
               << " % of the diagonal, RMS): the source's skeleton carried over\n";
@@ -257,9 +317,10 @@ void print_transfer_text(const TransferArgs& o, const TransferInputs& in, const 
 
 // The texture transfer: inputs, transfer_texture, preview, files, report.
 int run_texture_transfer(const TransferArgs& o) {
-  const TransferInputs in = read_inputs(o);
+  TransferInputs in = read_inputs(o);
   sdm::GlContext gl;
   progress("GL renderer: " + gl.renderer() + " (" + gl.version() + ", " + gl.platform() + ")");
+  if (in.texture.pixels.empty()) paint_source_texture(gl, o, in);
   sdm::TransferOptions to;
   to.size = o.size;
   to.margin = o.margin;
@@ -270,9 +331,11 @@ int run_texture_transfer(const TransferArgs& o) {
   to.carry_same_shape = o.target_skeleton.empty();
   to.force = o.force;
   const sdm::TextureTransfer r = sdm::transfer_texture(gl, in.source, in.texture, in.skeleton_a, in.target, in.skeleton_b, to);
-  if (!o.correspondence.empty() && r.correspondence.empty())
-    throw sdm::InputError("--correspondence: the target was matched by its extracted skeleton alone (neither the source's shape, nor "
-                          "the source in another pose, nor registered onto), so no point correspondence was computed");
+  if ((!o.correspondence.empty() || !o.vertex_colors.empty()) && r.correspondence.empty())
+    throw sdm::InputError(std::string(o.correspondence.empty() ? "--vertex-colors" : "--correspondence") +
+                          ": the target was matched by its skeleton alone (its skeleton was given with --target-skeleton, or its "
+                          "genus differs from the source's), so no point correspondence was computed. Fix: leave out "
+                          "--target-skeleton so that the source is registered onto the target");
   if (r.registered && !(r.fit_rms <= to.registered_rms && r.fit_p99 <= to.registered_p99))
     progress("warning: the source fits the target poorly (--force was given): the texture may be misplaced");
   for (const auto& b : r.branch_fit)
@@ -281,9 +344,10 @@ int run_texture_transfer(const TransferArgs& o) {
                std::to_string(100 * b.p99) + " % of the diagonal from the target (99th percentile): its texture may be misplaced");
   for (int x : r.skeletons.pruned_a) progress("source end branch at node " + std::to_string(x) + " pruned: the target's skeleton has none there");
   for (int x : r.skeletons.pruned_b) progress("target end branch at node " + std::to_string(x) + " pruned: the source's skeleton has none there");
+  const std::vector<Eigen::Vector3f> colors = o.vertex_colors.empty() ? std::vector<Eigen::Vector3f>() : target_vertex_colors(in, r);
   const sdm::Image preview = render_preview(gl, in, r);
-  const OutputPaths out(o.output);
-  write_outputs(r, preview, out, o.correspondence);
+  const OutputPaths out(o);
+  write_outputs(r, preview, out, colors);
   if (o.json) print_transfer_json(o, in, r, out);
   else print_transfer_text(o, in, r, out);
   return 0;
@@ -291,7 +355,8 @@ int run_texture_transfer(const TransferArgs& o) {
 
 // The command's options, bound to o.
 void declare_options(CLI::App* app, TransferArgs& o) {
-  app->add_option("--source", o.source, "Source mesh with uv and a texture (.obj with its MTL)");
+  app->add_option("--source", o.source,
+                  "Source mesh with uv and a texture (.obj with its MTL), or with vertex colours (e.g. .ply with red, green, blue)");
   app->add_option("--texture", o.texture, "Source texture (.png); default: the map_Kd of the source's MTL");
   app->add_option("--target", o.target, "Target mesh (.obj, .off, .ply, .stl), closed and manifold");
   app->add_option("-o,--output", o.output,
@@ -310,6 +375,9 @@ void declare_options(CLI::App* app, TransferArgs& o) {
   app->add_option("--margin", o.margin, "Texels of margin around every rectangle")->check(CLI::Range(0, 256))->capture_default_str();
   app->add_option("--correspondence", o.correspondence,
                   "Also write, per target vertex, the source face and barycentric coordinates it takes (.txt or .json)");
+  app->add_option("--vertex-colors", o.vertex_colors,
+                  "Also write the target with a colour per vertex (.ply, uchar red/green/blue): the source's vertex colours,\n"
+                  "or its texture, at the source point each target vertex corresponds to (needs a correspondence, as above)");
   app->add_flag("--force", o.force, "Write the result even when the registered source fits the target poorly");
   app->add_flag("--json", o.json, "Print one JSON object instead of text");
 }

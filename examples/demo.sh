@@ -105,5 +105,32 @@ for t in remeshed reposed thick-legs long-legs; do
   fi
 done
 
+step "7. Texture transfer between bodies (shared FAUST and TOSCA models): FAUST tr_reg_007 onto tr_reg_024, the gorilla onto the man"
+# The models are not bundled: they are read from ../shared/models/humans beside the repository
+# (SDM_HUMANS overrides), and the step is skipped without them. Each source is textured by sdm
+# itself: its STM uv (`sdm stm --uv-obj`) and the atlas drawing (`--atlas-png`, every skeleton
+# segment in its own colour) as texture, so the preview shows where each body part lands.
+HUMANS=${SDM_HUMANS:-$(cd "$HERE/.." && pwd)/../shared/models/humans}
+# bodies NAME SOURCE TARGET: textured SOURCE onto TARGET, with preview, correspondence and vertex colours.
+bodies() {
+  local name=$1 src=$2 tgt=$3
+  quiet "$SDM" stm "$HUMANS/$src.off" -o "$OUT/$src.stm.json" --uv-obj "$OUT/$src-textured.obj" --atlas-png "$OUT/$src-textured.png"
+  if "$SDM" transfer --source "$OUT/$src-textured.obj" --target "$HUMANS/$tgt.off" -o "$OUT/$name.obj" --size 1024 \
+    --correspondence "$OUT/$name.correspondence.txt" --vertex-colors "$OUT/$name.colors.ply" --json \
+    >"$OUT/$name.json" 2>"$OUT/$name.log"; then
+    awk -v n="$src -> $tgt" -v p="$name" '/"target_skeleton"/{gsub(/[",]/, "", $2); t=$2} /"fit_rms"/{r=$2} /"fit_p99"/{q=$2}
+      END{printf "  %-26s %s, fit %.2f %% RMS, %.2f %% p99; %s_preview.png, %s.correspondence.txt, %s.colors.ply\n",
+        n, t, 100*r, 100*q, p, p, p}' "$OUT/$name.json"
+  else
+    echo "  $src -> $tgt: refused: $(tail -1 "$OUT/$name.log" | sed 's/^sdm transfer: error: //')"
+  fi
+}
+if [ -d "$HUMANS" ]; then
+  bodies faust-007-to-024 tr_reg_007 tr_reg_024
+  bodies gorilla-to-man 8_gorilla_01 8_man_02
+else
+  echo "  skipped: no $HUMANS (FAUST and TOSCA models are not bundled with the repository)"
+fi
+
 echo
 echo "== demo finished: every file is in $OUT/"

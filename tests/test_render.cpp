@@ -11,6 +11,8 @@
 
 #include <sys/wait.h>
 
+#include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
@@ -382,4 +384,118 @@ TEST_CASE("sdm render writes a PNG of a mesh; missing input exits 2 with no outp
   CHECK(run("render " + (dir / "octa.off").string() + " -o " + out2 + " --texture " + (dir / "t.png").string()) == 2);
   CHECK(!fs::exists(out2));
   fs::remove_all(dir);
+}
+
+namespace {
+
+// A closed box with half extents h, turned by R about the origin and moved by t; every face cut
+// into n x n cells so that the vertices spread over the surface.
+sdm::Mesh box(const Eigen::Vector3d& h, const Eigen::Matrix3d& R, const Eigen::Vector3d& t, int n = 4) {
+  sdm::MeshSoup s;
+  for (int axis = 0; axis < 3; ++axis)
+    for (int side = -1; side <= 1; side += 2) {
+      const int u = (axis + 1) % 3, v = (axis + 2) % 3;
+      const int base = int(s.points.size());
+      for (int j = 0; j <= n; ++j)
+        for (int i = 0; i <= n; ++i) {
+          Eigen::Vector3d p;
+          p[axis] = side * h[axis];
+          p[u] = h[u] * (2.0 * i / n - 1), p[v] = h[v] * (2.0 * j / n - 1);
+          s.points.push_back(R * p + t);
+        }
+      auto id = [&](int i, int j) { return base + j * (n + 1) + i; };
+      for (int j = 0; j < n; ++j)
+        for (int i = 0; i < n; ++i) {
+          std::array<int, 3> t1{id(i, j), id(i + 1, j), id(i + 1, j + 1)}, t2{id(i, j), id(i + 1, j + 1), id(i, j + 1)};
+          if (side < 0) std::swap(t1[1], t1[2]), std::swap(t2[1], t2[2]);
+          s.triangles.push_back(t1), s.triangles.push_back(t2);
+        }
+    }
+  // Corners and edges are shared by two or three faces: weld equal points.
+  std::vector<int> remap(s.points.size());
+  sdm::MeshSoup w;
+  for (size_t i = 0; i < s.points.size(); ++i) {
+    int found = -1;
+    for (size_t k = 0; k < w.points.size() && found < 0; ++k)
+      if ((w.points[k] - s.points[i]).norm() < 1e-9) found = int(k);
+    if (found < 0) found = int(w.points.size()), w.points.push_back(s.points[i]);
+    remap[i] = found;
+  }
+  for (const auto& tri : s.triangles) w.triangles.push_back({remap[tri[0]], remap[tri[1]], remap[tri[2]]});
+  return sdm::build_mesh(w);
+}
+
+// Width and height in pixels of the covered pixels' bounding box.
+Eigen::Vector2i silhouette_size(const std::vector<uint8_t>& mask, int width, int height) {
+  int x0 = width, x1 = -1, y0 = height, y1 = -1;
+  for (int y = 0; y < height; ++y)
+    for (int x = 0; x < width; ++x)
+      if (mask[size_t(y) * width + x]) x0 = std::min(x0, x), x1 = std::max(x1, x), y0 = std::min(y0, y), y1 = std::max(y1, y);
+  return x1 < 0 ? Eigen::Vector2i(0, 0) : Eigen::Vector2i(x1 - x0 + 1, y1 - y0 + 1);
+}
+
+}  // namespace
+
+// Silhouette (width, height) in pixels of `mesh` rendered orthographically, 400 x 400, from
+// azimuth and elevation 0 in `frame`.
+Eigen::Vector2i principal_silhouette(const sdm::Mesh& mesh, const Eigen::Matrix3d& frame) {
+  sdm::RenderOptions o;
+  o.width = o.height = 400;
+  o.orthographic = true;
+  o.samples = 1;
+  o.azimuth_deg = o.elevation_deg = 0;
+  o.frame = frame;
+  std::vector<uint8_t> mask;
+  sdm::render_mesh(gl(), mesh, o, &mask);
+  return silhouette_size(mask, o.width, o.height);
+}
+
+// A box 4 long, 1 wide and 0.5 deep lying along z with its thin side along y (as TOSCA's people lie):
+// seen in its principal frame it stands upright and shows its broad side, so (orthographic) its
+// silhouette is 4 times as tall as wide; looked at along its middle axis it would be 8 times, along
+// its long axis shorter than wide. The same for a copy turned about y and tilted 10 degrees. The
+// default camera (world axes, +y up) sees the box foreshortened and wider than tall.
+TEST_CASE("principal_view_frame stands a box lying along z upright and shows its broad side", "[render]") {
+  const Eigen::Vector3d half(0.5, 0.25, 2.0);
+  const Eigen::Matrix3d turn = (Eigen::AngleAxisd(50 * M_PI / 180, Eigen::Vector3d::UnitY()) *
+                                Eigen::AngleAxisd(10 * M_PI / 180, Eigen::Vector3d::UnitX())).toRotationMatrix();
+  for (const Eigen::Matrix3d& R : {Eigen::Matrix3d(Eigen::Matrix3d::Identity()), turn}) {
+    const sdm::Mesh b = box(half, R, Eigen::Vector3d(3, -1, 7));
+    const Eigen::Matrix3d F = sdm::principal_view_frame(b);
+    CHECK((F.transpose() * F - Eigen::Matrix3d::Identity()).norm() < 1e-9);
+    CHECK(std::abs(F.determinant() - 1) < 1e-9);
+    CHECK(std::abs(F.col(1).dot(R.col(2))) > 1 - 1e-9);  // up: the long axis
+    CHECK(std::abs(F.col(2).dot(R.col(1))) > 1 - 1e-9);  // looked along: the shortest axis
+    const Eigen::Vector2i size = principal_silhouette(b, F);
+    const double ratio = double(size.y()) / size.x();
+    WARN("box along " << (R.isIdentity() ? "z" : "a turned axis") << ", principal view: silhouette " << size.x() << " x " << size.y()
+                      << " px (height / width " << ratio << ")");
+    CHECK(ratio > 3.8);
+    CHECK(ratio < 4.2);
+  }
+  const sdm::Mesh b = box(half, Eigen::Matrix3d::Identity(), Eigen::Vector3d(3, -1, 7));
+  CHECK(sdm::principal_view_frame(b).col(1).isApprox(Eigen::Vector3d(0, 0, 1)));  // the way of +z, the axis it lies along
+  sdm::RenderOptions d;
+  d.width = d.height = 400;
+  d.samples = 1;
+  std::vector<uint8_t> mask;
+  sdm::render_mesh(gl(), b, d, &mask);
+  const Eigen::Vector2i dsize = silhouette_size(mask, d.width, d.height);
+  WARN("default view of the box along z: silhouette " << dsize.x() << " x " << dsize.y() << " px");
+  CHECK(dsize.y() < dsize.x());
+}
+
+// The same box standing on its 1-wide side (y up, as Spot stands on its legs with its body along
+// z): y is not its thinnest dimension, so the file's up is kept and the box is seen from its broad
+// side, 4 times as wide as tall.
+TEST_CASE("principal_view_frame keeps +y up for a model not lying flat", "[render]") {
+  const sdm::Mesh b = box(Eigen::Vector3d(0.25, 0.5, 2.0), Eigen::Matrix3d::Identity(), Eigen::Vector3d(0, 0, 0));
+  const Eigen::Matrix3d F = sdm::principal_view_frame(b);
+  CHECK(F.col(1).isApprox(Eigen::Vector3d(0, 1, 0)));
+  CHECK(std::abs(F.col(2).x()) > 1 - 1e-9);  // looked at along x, the thinnest axis
+  const Eigen::Vector2i size = principal_silhouette(b, F);
+  const double ratio = double(size.x()) / size.y();
+  WARN("box standing along y, principal view: silhouette " << size.x() << " x " << size.y() << " px (width / height " << ratio << ")");
+  CHECK(ratio > 3.8);
+  CHECK(ratio < 4.2);
 }

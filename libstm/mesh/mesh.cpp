@@ -41,6 +41,7 @@ class SoupImporter : public OpenMesh::IO::BaseImporter {
   std::vector<std::vector<Eigen::Vector2d>> polygon_uv;  // per polygon corner, may be empty
   std::map<int, std::string> textures;
   std::map<int, int> texture_use;  // texture id -> faces using it
+  std::vector<Eigen::Vector3f> colors;  // per point, RGB in [0, 1]; empty until the reader gives one
 
   VH add_vertex(const Vec3f& p) override { return add_vertex(Vec3d(p[0], p[1], p[2])); }
   VH add_vertex(const Vec3d& p) override {
@@ -77,10 +78,10 @@ class SoupImporter : public OpenMesh::IO::BaseImporter {
   void set_halfedge(VH, HH) override {}
   void set_normal(VH, const Vec3f&) override {}
   void set_normal(VH, const Vec3d&) override {}
-  void set_color(VH, const Vec3uc&) override {}
-  void set_color(VH, const Vec4uc&) override {}
-  void set_color(VH, const Vec3f&) override {}
-  void set_color(VH, const Vec4f&) override {}
+  void set_color(VH v, const Vec3uc& c) override { set_vertex_color(v, Eigen::Vector3f(c[0], c[1], c[2]) / 255.f); }
+  void set_color(VH v, const Vec4uc& c) override { set_vertex_color(v, Eigen::Vector3f(c[0], c[1], c[2]) / 255.f); }
+  void set_color(VH v, const Vec3f& c) override { set_vertex_color(v, Eigen::Vector3f(c[0], c[1], c[2])); }
+  void set_color(VH v, const Vec4f& c) override { set_vertex_color(v, Eigen::Vector3f(c[0], c[1], c[2])); }
   void set_texcoord(VH, const Vec2f&) override {}
   void set_status(VH, const OpenMesh::Attributes::StatusInfo&) override {}
   void set_next(HH, HH) override {}
@@ -106,6 +107,14 @@ class SoupImporter : public OpenMesh::IO::BaseImporter {
   size_t n_vertices() const override { return points.size(); }
   size_t n_faces() const override { return polygons.size(); }
   size_t n_edges() const override { return 0; }
+
+ private:
+  // Vertices the reader gives no colour stay black once any vertex has one.
+  void set_vertex_color(VH v, const Eigen::Vector3f& c) {
+    if (!v.is_valid() || size_t(v.idx()) >= points.size()) return;
+    if (colors.size() < points.size()) colors.resize(points.size(), Eigen::Vector3f::Zero());
+    colors[v.idx()] = c.cwiseMax(0.f).cwiseMin(1.f);
+  }
 };
 
 std::string lower_extension(const std::string& path) {
@@ -232,6 +241,7 @@ MeshSoup read_mesh_soup(const std::string& path) {
 
   SoupImporter importer;
   OpenMesh::IO::Options opt = OpenMesh::IO::Options::FaceTexCoord;
+  opt += OpenMesh::IO::Options::VertexColor;  // the readers pass colours on only when asked
   // OpenMesh reports parse problems on its own streams; the validation report replaces them.
   omerr().disable();
   omlog().disable();
@@ -246,6 +256,10 @@ MeshSoup read_mesh_soup(const std::string& path) {
 
   MeshSoup soup;
   soup.points = std::move(importer.points);
+  if (!importer.colors.empty()) {
+    importer.colors.resize(soup.points.size(), Eigen::Vector3f::Zero());
+    soup.colors = std::move(importer.colors);
+  }
   bool any_uv = false;
   for (size_t f = 0; f < importer.polygons.size(); ++f)
     if (importer.polygon_uv[f].size() == importer.polygons[f].size()) any_uv = true;
@@ -274,14 +288,24 @@ MeshSoup read_mesh_soup(const std::string& path) {
   return soup;
 }
 
+namespace {
+
+// Per soup point, whether a triangle uses it: build_mesh keeps those points only, in order.
+std::vector<char> used_points(const MeshSoup& soup) {
+  std::vector<char> used(soup.points.size(), 0);
+  for (const auto& t : soup.triangles)
+    for (int v : t) used[v] = 1;
+  return used;
+}
+
+}  // namespace
+
 Mesh build_mesh(const MeshSoup& soup) {
   Mesh mesh;
-  std::vector<int> used(soup.points.size(), -1);
-  for (const auto& t : soup.triangles)
-    for (int v : t) used[v] = 0;
+  const std::vector<char> used = used_points(soup);
   std::vector<Mesh::VertexHandle> vh(soup.points.size());
   for (size_t i = 0; i < soup.points.size(); ++i) {
-    if (used[i] < 0) continue;  // isolated vertices are dropped; validation reports them
+    if (!used[i]) continue;  // isolated vertices are dropped; validation reports them
     const auto& p = soup.points[i];
     vh[i] = mesh.add_vertex(Mesh::Point(p.x(), p.y(), p.z()));
   }
@@ -319,12 +343,18 @@ MeshSoup mesh_to_soup(const Mesh& mesh) {
   return soup;
 }
 
-Mesh load_mesh(const std::string& path, std::string* texture) {
+Mesh load_mesh(const std::string& path, std::string* texture, std::vector<Eigen::Vector3f>* colors) {
   MeshSoup soup = read_mesh_soup(path);
   MeshReport report = validate_mesh(soup);
   if (!report.usable()) throw InputError(report.refusal(path));
   orient_outward(soup, report);
   if (texture) *texture = soup.texture;
+  if (colors) {
+    colors->clear();
+    const std::vector<char> used = used_points(soup);
+    for (size_t i = 0; i < soup.colors.size(); ++i)
+      if (used[i]) colors->push_back(soup.colors[i]);
+  }
   return build_mesh(soup);
 }
 
@@ -383,6 +413,26 @@ void write_mesh(const Mesh& mesh, const std::string& path, const std::string& te
     OpenMesh::IO::Options opt = ext == ".ply" || ext == ".stl" ? OpenMesh::IO::Options::Binary : OpenMesh::IO::Options::Default;
     omerr().disable();
     if (!OpenMesh::IO::write_mesh(mesh, tmp, opt, 17)) throw std::runtime_error("cannot write " + path);
+  });
+}
+
+void write_colored_ply(const Mesh& mesh, const std::vector<Eigen::Vector3f>& colors, const std::string& path) {
+  if (lower_extension(path) != ".ply")
+    throw InputError("cannot write vertex colours to " + path + ": they are written as PLY, so name a .ply file");
+  if (colors.size() != mesh.n_vertices())
+    throw InputError("cannot write " + path + ": " + std::to_string(colors.size()) + " colours for " + std::to_string(mesh.n_vertices()) +
+                     " vertices");
+  Mesh copy = mesh;
+  copy.request_vertex_colors();
+  for (auto v : copy.vertices()) {
+    const Eigen::Vector3f c = (255.f * colors[v.idx()].cwiseMax(0.f).cwiseMin(1.f)).array().round();
+    copy.set_color(v, Mesh::Color(uint8_t(c[0]), uint8_t(c[1]), uint8_t(c[2])));
+  }
+  write_atomically(path, [&](const std::string& tmp) {
+    OpenMesh::IO::Options opt = OpenMesh::IO::Options::Binary;
+    opt += OpenMesh::IO::Options::VertexColor;
+    omerr().disable();
+    if (!OpenMesh::IO::write_mesh(copy, tmp, opt, 17)) throw std::runtime_error("cannot write " + path);
   });
 }
 

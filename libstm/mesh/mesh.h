@@ -28,10 +28,12 @@ struct MeshSoup {
   std::vector<std::array<int, 3>> triangles;     // polygons are fan-triangulated on read
   std::vector<Eigen::Vector2d> uv;                // per triangle corner (3 per triangle), or empty
   std::string texture;                            // absolute path of the material's map_Kd, or empty
+  std::vector<Eigen::Vector3f> colors;            // per point, RGB in [0, 1], when the file has vertex colours; else empty
   int polygons_triangulated = 0;                  // input faces with more than three corners
 };
 
-// Reads OBJ (with uv and the MTL's map_Kd), OFF, PLY or STL through OpenMesh's readers.
+// Reads OBJ (with uv and the MTL's map_Kd), OFF, PLY or STL through OpenMesh's readers, with the
+// vertex colours the file has (PLY red/green/blue properties, COFF, OBJ `v x y z r g b`).
 // Throws InputError when the file is missing, empty, unreadable or of an unknown format.
 MeshSoup read_mesh_soup(const std::string& path);
 
@@ -44,12 +46,19 @@ MeshSoup mesh_to_soup(const Mesh& mesh);
 
 // Reads, validates and builds: the entry point every command uses. Throws InputError with the
 // validation report when the mesh cannot go through the pipeline (open, non-manifold, NaN, empty).
-// `texture` receives the material's texture path when there is one.
-Mesh load_mesh(const std::string& path, std::string* texture = nullptr);
+// `texture` receives the material's texture path when there is one; `colors`, when given, the
+// colours of the built mesh's vertices (in its vertex order, RGB in [0, 1]), or nothing when the
+// file has no vertex colours.
+Mesh load_mesh(const std::string& path, std::string* texture = nullptr, std::vector<Eigen::Vector3f>* colors = nullptr);
 
 // Writes OBJ (with uv and an MTL naming `texture` when the mesh has uv), PLY, OFF or STL, chosen by
 // extension. Written to a temporary name and renamed, so a failure leaves nothing behind.
 void write_mesh(const Mesh& mesh, const std::string& path, const std::string& texture = "");
+
+// Writes `mesh` as binary PLY with a colour per vertex (`colors`, RGB in [0, 1], clamped and
+// rounded to uchar red, green, blue properties), atomically. Throws InputError when `path` is not
+// .ply or the colour count differs from the vertex count.
+void write_colored_ply(const Mesh& mesh, const std::vector<Eigen::Vector3f>& colors, const std::string& path);
 
 // Helpers used throughout the pipeline.
 inline Eigen::Vector3d point(const Mesh& m, Mesh::VertexHandle v) {

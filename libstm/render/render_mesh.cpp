@@ -1,23 +1,26 @@
 #include "libstm/render/render_mesh.h"
 
 #include "libstm/core/errors.h"
+#include "libstm/geometry/differential_geometry.h"
 
 #include "libstm/render/gl_objects.h"  // GL prototypes and owning handles
 
+#include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
 
 namespace sdm {
 
 Camera frame_camera(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi, double azimuth_deg, double elevation_deg,
-                    int width, int height, bool orthographic) {
+                    int width, int height, bool orthographic, const Eigen::Matrix3d& frame) {
   if (!(lo.array() <= hi.array()).all() || !lo.allFinite() || !hi.allFinite())
     throw InputError("cannot frame an empty or invalid bounding box");
   if (width <= 0 || height <= 0) throw InputError("image size must be positive");
   const double radius = 0.5 * (hi - lo).norm();
   if (!(radius > 0)) throw InputError("cannot frame a bounding box of zero size");
   const double az = azimuth_deg * M_PI / 180.0, el = elevation_deg * M_PI / 180.0;
-  const Eigen::Vector3d dir(std::cos(el) * std::sin(az), std::sin(el), std::cos(el) * std::cos(az));
+  const Eigen::Vector3d local(std::cos(el) * std::sin(az), std::sin(el), std::cos(el) * std::cos(az));
+  const Eigen::Vector3d dir = frame * local;
 
   Camera cam;
   cam.orthographic = orthographic;
@@ -27,9 +30,10 @@ Camera frame_camera(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi, double
   const double distance = radius / std::sin(half_fov);
   cam.eye = cam.center + distance * dir;
 
-  // Look-at with +y up; straight above or below, +y is the view direction, so use -z / +z instead.
+  // Look-at with the frame's +y up; straight above or below, +y is the view direction, so use its
+  // -z / +z instead.
   const Eigen::Vector3d back = dir;  // camera z axis (camera looks down -z)
-  Eigen::Vector3d up = std::abs(dir.y()) > 0.999999 ? Eigen::Vector3d(0, 0, dir.y() > 0 ? -1 : 1) : Eigen::Vector3d(0, 1, 0);
+  Eigen::Vector3d up = frame * (std::abs(local.y()) > 0.999999 ? Eigen::Vector3d(0, 0, local.y() > 0 ? -1 : 1) : Eigen::Vector3d(0, 1, 0));
   const Eigen::Vector3d right = up.cross(back).normalized();
   up = back.cross(right);
   cam.view.setIdentity();
@@ -58,6 +62,46 @@ Camera frame_camera(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi, double
     cam.projection(3, 2) = -1.0;
   }
   return cam;
+}
+
+Eigen::Matrix3d principal_view_frame(const Mesh& mesh) {
+  // The surface's exact moments, face by face (a triangle's second moment about the origin is
+  // A / 12 (sum v v^T + (sum v)(sum v)^T)), so the axes do not depend on the tessellation; taken
+  // about the box centre, for precision far from the origin.
+  if (mesh.n_faces() == 0) return Eigen::Matrix3d::Identity();
+  Eigen::Vector3d lo, hi;
+  bounding_box(mesh, lo, hi);
+  const Eigen::Vector3d centre = 0.5 * (lo + hi);
+  double total = 0;
+  Eigen::Vector3d first = Eigen::Vector3d::Zero();
+  Eigen::Matrix3d second = Eigen::Matrix3d::Zero();
+  for (auto f : mesh.faces()) {
+    Eigen::Vector3d v[3];
+    int k = 0;
+    for (auto x : mesh.fv_range(f)) v[k++] = point(mesh, x) - centre;
+    const double area = triangle_area(v[0], v[1], v[2]);
+    const Eigen::Vector3d sum = v[0] + v[1] + v[2];
+    total += area;
+    first += area / 3 * sum;
+    second += area / 12 * (v[0] * v[0].transpose() + v[1] * v[1].transpose() + v[2] * v[2].transpose() + sum * sum.transpose());
+  }
+  if (!(total > 0)) return Eigen::Matrix3d::Identity();
+  const Eigen::Vector3d mean = first / total;
+  const Eigen::Matrix3d moment = second / total - mean * mean.transpose();
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(moment);  // eigenvalues ascending
+  const Eigen::Vector3d smallest = eig.eigenvectors().col(0), longest = eig.eigenvectors().col(2);
+  // Each axis points the way of the world axis it is closest to.
+  auto towards_world = [](Eigen::Vector3d a) {
+    Eigen::Index k;
+    a.cwiseAbs().maxCoeff(&k);
+    return a[k] < 0 ? Eigen::Vector3d(-a) : a;
+  };
+  const bool lying = std::abs(smallest.y()) > std::cos(45.0 * M_PI / 180.0);  // y through the model's thinnest dimension
+  Eigen::Matrix3d frame;
+  frame.col(1) = lying ? towards_world(longest) : Eigen::Vector3d::UnitY();
+  frame.col(2) = towards_world((smallest - smallest.dot(frame.col(1)) * frame.col(1)).normalized());
+  frame.col(0) = frame.col(1).cross(frame.col(2));
+  return frame;
 }
 
 namespace {
@@ -119,7 +163,7 @@ Image render_mesh(GlContext& gl, const Mesh& mesh, const RenderOptions& opt, std
 
   Eigen::Vector3d lo = opt.bbox_min, hi = opt.bbox_max;
   if (!(lo.array() <= hi.array()).all()) bounding_box(mesh, lo, hi);
-  const Camera cam = frame_camera(lo, hi, opt.azimuth_deg, opt.elevation_deg, opt.width, opt.height, opt.orthographic);
+  const Camera cam = frame_camera(lo, hi, opt.azimuth_deg, opt.elevation_deg, opt.width, opt.height, opt.orthographic, opt.frame);
 
   gl.make_current();
   const std::vector<float> verts = corner_vertices(mesh, cam.center, opt.flat_shading ? 0.0 : opt.crease_angle_deg, textured);

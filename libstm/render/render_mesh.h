@@ -24,18 +24,32 @@ struct Camera {
 };
 
 // Frames the box [lo, hi] for a width x height image. The camera looks at the box centre from
-// direction (cos(el) sin(az), sin(el), cos(el) cos(az)): +y is up, azimuth 0 / elevation 0 looks
-// along -z, positive azimuth moves the camera towards +x. The box's bounding sphere (radius half
+// direction frame * (cos(el) sin(az), sin(el), cos(el) cos(az)): frame's y column is up, azimuth 0
+// / elevation 0 looks along minus its z column, positive azimuth moves the camera towards its x
+// column. `frame` is a rotation (columns orthonormal, determinant 1); the identity gives the world's
+// axes: +y up, looking along -z. The box's bounding sphere (radius half
 // the diagonal) exactly fits the smaller image dimension: perspective with a 30 degree field of
 // view on that dimension, or orthographic. The framing depends only on the box, the angles and
 // the image size, so two meshes with the same box get the same camera.
 // Throws InputError when the box is empty or degenerate to a point.
 Camera frame_camera(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi, double azimuth_deg, double elevation_deg,
-                    int width, int height, bool orthographic = false);
+                    int width, int height, bool orthographic = false, const Eigen::Matrix3d& frame = Eigen::Matrix3d::Identity());
+
+// The axes a model is best seen along (a frame for RenderOptions::frame), from the principal axes
+// of its surface (the second moments of its area, exact per triangle). A model lying down, whose
+// file's +y is within 45 degrees of its shortest axis (TOSCA's people lie along z, y through the
+// chest), is stood up: its longest axis is up (y, vertical on screen). Any other keeps the file's
+// +y up: a person standing along y, but also Spot, whose longest axis runs diagonally from muzzle
+// to rump and would stand it on its head. Looked along (z, at azimuth and elevation 0): the
+// shortest axis, made square to up, so a person is seen from the front or back and a quadruped
+// from its side. Signs: up and z point the way of the world axis each is closest to; x = y cross z.
+Eigen::Matrix3d principal_view_frame(const Mesh& mesh);
 
 struct RenderOptions {
   int width = 800, height = 800;
   double azimuth_deg = 30, elevation_deg = 20;
+  // The axes the angles refer to (frame_camera): the identity keeps the world's, +y up.
+  Eigen::Matrix3d frame = Eigen::Matrix3d::Identity();
   bool orthographic = false;  // default: perspective, 30 degree field of view
   // Unlit draws the surface colour as it is (texture colour, or `color`): two tessellations of one
   // textured shape then give the same pixels, so PSNR measures only the texture mapping.

@@ -202,7 +202,7 @@ Image render_stm(GlContext& gl, const Mesh& mesh, const Layout& L, const Image& 
   check_stm_inputs(mesh, L, atlas, opt);
   Eigen::Vector3d lo = opt.bbox_min, hi = opt.bbox_max;
   if (!(lo.array() <= hi.array()).all()) bounding_box(mesh, lo, hi);
-  const Camera cam = frame_camera(lo, hi, opt.azimuth_deg, opt.elevation_deg, opt.width, opt.height, opt.orthographic);
+  const Camera cam = frame_camera(lo, hi, opt.azimuth_deg, opt.elevation_deg, opt.width, opt.height, opt.orthographic, opt.frame);
   const Eigen::Vector3d& o = cam.center;
   const StmVertices vertices = stm_vertices(mesh, L, o);
   const std::vector<float> seg = segment_texels(L, o);
