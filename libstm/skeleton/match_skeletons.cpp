@@ -450,10 +450,8 @@ std::vector<SkeletonMatch> Matcher::alternatives(size_t count) const {
   return out;
 }
 
-}  // namespace
-
-std::vector<SkeletonMatch> match_candidates(const Skeleton& sa, const Skeleton& sb, const std::vector<std::pair<int, int>>& fixed,
-                                            int count) {
+// Both skeletons reduced to keys and chains, or InputError naming how their branchings differ.
+SkeletonMatch reduced_pair(const Skeleton& sa, const Skeleton& sb) {
   const std::string diff = branching_difference(sa, sb);
   if (!diff.empty()) throw InputError("the skeletons' branchings differ (source vs target): " + diff);
   SkeletonMatch m;
@@ -461,34 +459,37 @@ std::vector<SkeletonMatch> match_candidates(const Skeleton& sa, const Skeleton& 
   m.b = reduce_skeleton(sb);
   if (m.a.keys.size() != m.b.keys.size() || m.a.chains.size() != m.b.chains.size())
     throw InputError("the skeletons' branchings differ: " + std::to_string(m.a.keys.size()) + " vs " + std::to_string(m.b.keys.size()) +
-                     " junctions and ends");
+                     " junctions and ends, " + std::to_string(m.a.chains.size()) + " vs " + std::to_string(m.b.chains.size()) +
+                     " chains");
+  return m;
+}
+
+// The refusal when the search found no isomorphism (none at all, or none keeping the `fixed` pairs).
+[[noreturn]] void throw_unmatched(const std::vector<std::pair<int, int>>& fixed) {
+  throw InputError(fixed.empty() ? "the skeletons have the same junction degrees but are connected differently"
+                                 : "no match of the skeletons satisfies the --match pairs");
+}
+
+}  // namespace
+
+std::vector<SkeletonMatch> match_candidates(const Skeleton& sa, const Skeleton& sb, const std::vector<std::pair<int, int>>& fixed,
+                                            int count) {
+  SkeletonMatch m = reduced_pair(sa, sb);
   Matcher matcher(m, sa, sb, forced_keys(m, fixed), true);
   matcher.assign(0);
   std::vector<SkeletonMatch> out = matcher.alternatives(size_t(std::max(count, 1)));
-  if (out.empty()) throw InputError(fixed.empty() ? "the skeletons have the same junction degrees but are connected differently"
-                                                  : "no match of the skeletons satisfies the --match pairs");
+  if (out.empty()) throw_unmatched(fixed);
   for (auto& x : out) x.candidates = m.candidates;
   return out;
 }
 
 SkeletonMatch match_skeletons(const Skeleton& sa, const Skeleton& sb, const std::vector<std::pair<int, int>>& fixed,
                               bool same_orientation) {
-  const std::string diff = branching_difference(sa, sb);
-  if (!diff.empty()) throw InputError("the skeletons' branchings differ (source vs target): " + diff);
-  SkeletonMatch m;
-  m.a = reduce_skeleton(sa);
-  m.b = reduce_skeleton(sb);
-  const int nk = int(m.a.keys.size());
-  if (nk != int(m.b.keys.size()) || m.a.chains.size() != m.b.chains.size())
-    throw InputError("the skeletons' branchings differ: " + std::to_string(nk) + " vs " + std::to_string(m.b.keys.size()) +
-                     " junctions and ends, " + std::to_string(m.a.chains.size()) + " vs " + std::to_string(m.b.chains.size()) +
-                     " chains");
+  SkeletonMatch m = reduced_pair(sa, sb);
   Matcher matcher(m, sa, sb, forced_keys(m, fixed), same_orientation);
   matcher.assign(0);
   matcher.choose();
-  if (m.key_a_to_b.empty())
-    throw InputError(fixed.empty() ? "the skeletons have the same junction degrees but are connected differently"
-                                   : "no match of the skeletons satisfies the --match pairs");
+  if (m.key_a_to_b.empty()) throw_unmatched(fixed);
   const double second = matcher.second(), best_total = matcher.best_total();
   m.confidence = std::isfinite(second) && second > 0 ? std::clamp(1.0 - best_total / second, 0.0, 1.0) : 1.0;
   return m;
