@@ -264,6 +264,9 @@ void print_transfer_json(const TransferArgs& o, const TransferInputs& in, const 
               {"chains", chains},
               {"pruned_source_ends", r.skeletons.pruned_a},
               {"pruned_target_ends", r.skeletons.pruned_b},
+              {"slid_source_branches", r.skeletons.slid_a},
+              {"slid_target_branches", r.skeletons.slid_b},
+              {"branch_length_disagreement", r.skeletons.length_disagreement},
               {"target_skeleton", r.carried      ? "carried"
                                   : r.fitted     ? "bent"
                                   : r.registered ? "registered"
@@ -344,6 +347,12 @@ int run_texture_transfer(const TransferArgs& o) {
                std::to_string(100 * b.p99) + " % of the diagonal from the target (99th percentile): its texture may be misplaced");
   for (int x : r.skeletons.pruned_a) progress("source end branch at node " + std::to_string(x) + " pruned: the target's skeleton has none there");
   for (int x : r.skeletons.pruned_b) progress("target end branch at node " + std::to_string(x) + " pruned: the source's skeleton has none there");
+  for (const auto& [node, from, to] : r.skeletons.slid_a)
+    progress("source branch at node " + std::to_string(node) + " moved from junction " + std::to_string(from) + " to junction " +
+             std::to_string(to) + ": the matched branches disagreed in length");
+  for (const auto& [node, from, to] : r.skeletons.slid_b)
+    progress("target branch at node " + std::to_string(node) + " moved from junction " + std::to_string(from) + " to junction " +
+             std::to_string(to) + ": the matched branches disagreed in length");
   const std::vector<Eigen::Vector3f> colors = o.vertex_colors.empty() ? std::vector<Eigen::Vector3f>() : target_vertex_colors(in, r);
   const sdm::Image preview = render_preview(gl, in, r);
   const OutputPaths out(o);

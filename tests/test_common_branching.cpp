@@ -69,3 +69,71 @@ TEST_CASE("a long fourth limb is not pruned and the mismatch is named", "[common
     CHECK(msg.find("ends 3 vs 4") != std::string::npos);
   }
 }
+
+namespace {
+
+// A stick person: pelvis at the origin, chest at (0, 1); legs of length 1 down from the pelvis,
+// a head of 0.3 up from the chest, arms of 0.8 out from the chest along +-x, every chain cut into
+// pieces of about 0.1, ten vertices per node. With `arm_from_pelvis`, the right arm's chain
+// starts at the pelvis instead and runs up the side of the torso (x = 0.15) to the shoulder
+// before going out: what an extraction of a flat torso sometimes returns.
+sdm::Skeleton stick_person(bool arm_from_pelvis) {
+  sdm::Skeleton s;
+  s.nodes = {Eigen::Vector3d::Zero(), Eigen::Vector3d(0, 1, 0)};
+  auto chain = [&](int from, std::vector<Eigen::Vector3d> way) {
+    int prev = from;
+    Eigen::Vector3d p = s.nodes[from];
+    for (const auto& q : way) {
+      const int pieces = std::max(1, int(std::round((q - p).norm() / 0.1)));
+      for (int i = 1; i <= pieces; ++i) {
+        s.nodes.push_back(p + (q - p) * double(i) / pieces);
+        s.edges.push_back({prev, int(s.nodes.size()) - 1});
+        prev = int(s.nodes.size()) - 1;
+      }
+      p = q;
+    }
+    return prev;
+  };
+  chain(0, {{-0.3, -1, 0}});
+  chain(0, {{0.3, -1, 0}});
+  const int spine_end = chain(0, {{0, 0.9, 0}});
+  s.edges.push_back({spine_end, 1});
+  chain(1, {{0, 1.3, 0}});
+  chain(1, {{-0.8, 1, 0}});
+  if (arm_from_pelvis) chain(0, {{0.15, 0.1, 0}, {0.15, 1, 0}, {0.8, 1, 0}});
+  else chain(1, {{0.8, 1, 0}});
+  for (size_t i = 0; i < s.nodes.size(); ++i) s.vertex_node.insert(s.vertex_node.end(), 10, int(i));
+  return s;
+}
+
+}  // namespace
+
+// The branchings are equal (a degree-4 and a degree-3 junction, five ends) but the match pairs the
+// pelvis with the chest, a leg with the head: length_disagreement shows it, and the arm is slid
+// from the pelvis to the chest, after which the chains agree.
+TEST_CASE("an arm hung from the pelvis is slid to the chest", "[common_branching]") {
+  const sdm::Skeleton good = stick_person(false), odd = stick_person(true);
+  REQUIRE(sdm::branching_difference(good, odd).empty());
+  CHECK(sdm::length_disagreement(sdm::match_skeletons(odd, good)) > 2.5);
+  CHECK(sdm::length_disagreement(sdm::match_skeletons(good, good)) < 1.0 + 1e-9);
+  for (bool odd_first : {true, false}) {
+    const sdm::CommonBranching c = odd_first ? sdm::common_branching(odd, good) : sdm::common_branching(good, odd);
+    const auto& slid = odd_first ? c.slid_a : c.slid_b;
+    const auto& other = odd_first ? c.slid_b : c.slid_a;
+    REQUIRE(slid.size() == 1);
+    CHECK(other.empty());
+    CHECK(slid[0][1] == 0);  // from the pelvis
+    CHECK(slid[0][2] == 1);  // to the chest
+    CHECK(c.length_disagreement < 1.3);
+    const sdm::Skeleton& s = odd_first ? c.a : c.b;
+    const auto adj = s.adjacency();
+    for (size_t k = 0; k < adj.size(); ++k)  // the degree-4 junction is the chest now
+      if (adj[k].size() == 4) CHECK((s.nodes[k] - Eigen::Vector3d(0, 1, 0)).norm() < 1e-12);
+    CHECK(s.vertex_node.size() == odd.vertex_node.size());
+    for (int n : s.vertex_node) CHECK((n >= 0 && n < int(s.nodes.size())));
+  }
+  // Skeletons that already agree are left alone.
+  const sdm::CommonBranching same = sdm::common_branching(good, good);
+  CHECK(same.slid_a.empty());
+  CHECK(same.slid_b.empty());
+}

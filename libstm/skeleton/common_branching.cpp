@@ -4,6 +4,7 @@
 #include "libstm/skeleton/match_skeletons.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <functional>
 #include <numeric>
@@ -12,12 +13,17 @@
 namespace sdm {
 namespace {
 
-// One reduction of a skeleton: an end branch pruned (its nodes go to `junction`), or a chain
-// between two junctions contracted (its inner nodes and `other` merge into `junction`).
+// One reduction of a skeleton: an end branch pruned (its nodes go to `junction`), a chain
+// between two junctions contracted (its inner nodes and `other` merge into `junction`), or a
+// branch slid from `junction` to the neighbouring junction `other`: its nodes up to `attach` (the
+// one nearest `other`) go, their vertices to the nearest node of the chain between the junctions,
+// and `attach` is joined to `other` (edge `dropped` is cut).
 struct Change {
-  bool join = false;
-  int end = -1, junction = -1, other = -1;
+  bool join = false, slide = false;
+  int end = -1, junction = -1, other = -1, attach = -1;
+  std::array<int, 2> dropped{-1, -1};
   std::vector<int> removed;  // pruned: the end node and the chain's inner nodes; joined: the inner nodes
+  std::vector<int> owner;    // slid: per removed node, the node that takes its vertices
   double significance = 0;   // share of the skeleton's length (and, for a branch, of its vertices)
 };
 
@@ -66,6 +72,49 @@ std::vector<Change> candidate_changes(const Skeleton& s, double max_branch, size
   return out;
 }
 
+// The slides small enough to be tried, the least significant first (at most `limit`): for every
+// chain S between two junctions J and K (no other chain joining them) and every other chain A at
+// J, A slid from J to K (and the same from K to J). A's nodes from J up to the one nearest K go;
+// the share of the skeleton's length they span is the slide's significance (at most max_share).
+std::vector<Change> candidate_slides(const Skeleton& s, double max_share, size_t limit) {
+  const double total = total_length(s);
+  const ReducedSkeleton r = reduce_skeleton(s);
+  std::vector<Change> out;
+  if (!(total > 0)) return out;
+  for (const auto& S : r.chains) {
+    if (S.from == S.to || r.key_degree[S.from] < 3 || r.key_degree[S.to] < 3) continue;
+    const int parallel = int(std::count_if(r.chains.begin(), r.chains.end(), [&](const ReducedSkeleton::Chain& d) {
+      return std::minmax(d.from, d.to) == std::minmax(S.from, S.to);
+    }));
+    if (parallel > 1) continue;
+    for (int side = 0; side < 2; ++side) {
+      const int J = side ? S.nodes.back() : S.nodes.front(), K = side ? S.nodes.front() : S.nodes.back();
+      for (const auto& A : r.chains) {
+        if (&A == &S || A.from == A.to || (A.nodes.front() != J && A.nodes.back() != J)) continue;
+        std::vector<int> walk = A.nodes;  // from J outwards
+        if (walk.front() != J) std::reverse(walk.begin(), walk.end());
+        size_t best = 1;
+        for (size_t i = 1; i < walk.size(); ++i)
+          if ((s.nodes[walk[i]] - s.nodes[K]).norm() < (s.nodes[walk[best]] - s.nodes[K]).norm()) best = i;
+        Change ch;
+        ch.slide = true, ch.junction = J, ch.other = K, ch.attach = walk[best], ch.dropped = {walk[best - 1], walk[best]};
+        for (size_t i = 1; i < best; ++i) {
+          ch.removed.push_back(walk[i]);
+          int near = S.nodes.front();
+          for (int x : S.nodes)
+            if ((s.nodes[x] - s.nodes[walk[i]]).norm() < (s.nodes[near] - s.nodes[walk[i]]).norm()) near = x;
+          ch.owner.push_back(near);
+        }
+        for (size_t i = 1; i <= best; ++i) ch.significance += (s.nodes[walk[i]] - s.nodes[walk[i - 1]]).norm() / total;
+        if (ch.significance <= max_share) out.push_back(std::move(ch));
+      }
+    }
+  }
+  std::stable_sort(out.begin(), out.end(), [](const Change& x, const Change& y) { return x.significance < y.significance; });
+  if (out.size() > limit) out.resize(limit);
+  return out;
+}
+
 // The skeleton after the given changes; `map` receives old node -> new node (-1: pruned; a merged
 // node: its junction's new node), `original` new node -> the old node it stands for.
 Skeleton apply_changes(const Skeleton& s, const std::vector<const Change*>& changes, std::vector<int>& map, std::vector<int>& original) {
@@ -80,7 +129,7 @@ Skeleton apply_changes(const Skeleton& s, const std::vector<const Change*>& chan
       const int x = find(c->junction), y = find(c->other);
       if (x != y) rep[std::max(x, y)] = std::min(x, y);
     }
-    for (int x : c->removed) owner[x] = c->junction, pruned[x] = !c->join;
+    for (size_t i = 0; i < c->removed.size(); ++i) owner[c->removed[i]] = c->slide ? c->owner[i] : c->junction, pruned[c->removed[i]] = !c->join;
   }
   auto target = [&](int x) { return find(owner[x] >= 0 ? owner[x] : x); };
   map.assign(n, -1);
@@ -97,13 +146,21 @@ Skeleton apply_changes(const Skeleton& s, const std::vector<const Change*>& chan
   for (size_t k = 0; k < out.nodes.size(); ++k) out.nodes[k] = sum[k] / double(count[k]);  // merged junctions: their mean
   for (int i = 0; i < n; ++i)
     if (!pruned[i] && map[i] < 0) map[i] = map[target(i)];
-  for (const auto& e : s.edges) {
-    if (pruned[e[0]] || pruned[e[1]]) continue;
-    const int x = map[target(e[0])], y = map[target(e[1])];
-    if (x == y) continue;
+  auto add_edge = [&](int a, int b) {
+    const int x = map[target(a)], y = map[target(b)];
+    if (x == y || x < 0 || y < 0) return;
     const std::array<int, 2> ne{std::min(x, y), std::max(x, y)};
     if (std::find(out.edges.begin(), out.edges.end(), ne) == out.edges.end()) out.edges.push_back(ne);
-  }
+  };
+  auto dropped = [&](const std::array<int, 2>& e) {
+    for (const Change* c : changes)
+      if (c->slide && std::minmax(c->dropped[0], c->dropped[1]) == std::minmax(e[0], e[1])) return true;
+    return false;
+  };
+  for (const auto& e : s.edges)
+    if (!pruned[e[0]] && !pruned[e[1]] && !dropped(e)) add_edge(e[0], e[1]);
+  for (const Change* c : changes)
+    if (c->slide) add_edge(c->attach, c->other);
   for (int x : s.vertex_node) out.vertex_node.push_back(map[target(x)]);
   return out;
 }
@@ -129,56 +186,112 @@ CommonBranching unchanged(const Skeleton& a, const Skeleton& b) {
   return r;
 }
 
-void record(const std::vector<const Change*>& changes, std::vector<int>& pruned, std::vector<std::pair<int, int>>& joined) {
-  pruned.clear(), joined.clear();
+void record(const std::vector<const Change*>& changes, std::vector<int>& pruned, std::vector<std::pair<int, int>>& joined,
+            std::vector<std::array<int, 3>>& slid) {
+  pruned.clear(), joined.clear(), slid.clear();
   for (const Change* c : changes)
     if (c->join) joined.push_back({c->junction, c->other});
+    else if (c->slide) slid.push_back({c->attach, c->junction, c->other});
     else pruned.push_back(c->end);
 }
 
-}  // namespace
-
-CommonBranching common_branching(const Skeleton& a, const Skeleton& b, double max_branch, int max_changes) {
-  const std::string diff = branching_difference(a, b);
-  if (diff.empty()) return unchanged(a, b);
+// The given changes applied to both skeletons, when that makes their branchings equal and
+// matchable: the result, its match's cost and length disagreement (length_disagreement).
+struct Tried {
+  bool ok = false;
   CommonBranching r;
-  const std::vector<Change> ca = candidate_changes(a, max_branch, 14), cb = candidate_changes(b, max_branch, 14);
+  double cost = INFINITY, disagreement = INFINITY;
+};
+Tried try_changes(const Skeleton& a, const Skeleton& b, const std::vector<const Change*>& xa, const std::vector<const Change*>& xb) {
+  Tried t;
+  std::vector<int> map_a, map_b, orig_a, orig_b;
+  const Skeleton pa = apply_changes(a, xa, map_a, orig_a), pb = apply_changes(b, xb, map_b, orig_b);
+  if (!branching_difference(pa, pb).empty()) return t;
+  try {
+    const SkeletonMatch m = match_skeletons(pa, pb);
+    t.cost = m.cost, t.disagreement = length_disagreement(m);
+  } catch (const InputError&) {
+    return t;  // same degrees, connected otherwise
+  }
+  t.ok = true;
+  t.r.a = pa, t.r.b = pb, t.r.a_node = map_a, t.r.b_node = map_b, t.r.a_original = orig_a, t.r.b_original = orig_b;
+  record(xa, t.r.pruned_a, t.r.joined_a, t.r.slid_a);
+  record(xb, t.r.pruned_b, t.r.joined_b, t.r.slid_b);
+  t.r.length_disagreement = t.disagreement;
+  return t;
+}
+
+// Prunes and joins only: the fewest changes, then the least significance removed, then the lowest
+// match cost. Not ok when none of at most max_changes makes the branchings equal.
+Tried reduce_by_pruning(const Skeleton& a, const Skeleton& b, const std::vector<Change>& ca, const std::vector<Change>& cb, int max_changes) {
   std::vector<const Change*> all;  // a's changes, then b's
   for (const auto& c : ca) all.push_back(&c);
   for (const auto& c : cb) all.push_back(&c);
-  // The fewest changes first; among equals, the least significance removed, then the best match.
-  double best_sig = INFINITY, best_cost = INFINITY;
-  for (int k = 1; k <= std::min<int>(max_changes, int(all.size())) && !std::isfinite(best_sig); ++k) {
+  Tried best;
+  double best_sig = INFINITY;
+  for (int k = 1; k <= std::min<int>(max_changes, int(all.size())) && !best.ok; ++k) {
     std::vector<int> pick;
     subsets(int(all.size()), k, pick, 0, [&](const std::vector<int>& chosen) {
       std::vector<const Change*> xa, xb;
       double sig = 0;
       for (int i : chosen) (i < int(ca.size()) ? xa : xb).push_back(all[i]), sig += all[i]->significance;
       if (sig > best_sig + 1e-9) return;
-      std::vector<int> map_a, map_b, orig_a, orig_b;
-      const Skeleton pa = apply_changes(a, xa, map_a, orig_a), pb = apply_changes(b, xb, map_b, orig_b);
-      if (!branching_difference(pa, pb).empty()) return;
-      double cost = INFINITY;
-      try {
-        cost = match_skeletons(pa, pb).cost;
-      } catch (const InputError&) {
-        return;  // same degrees, connected otherwise
-      }
-      if (sig >= best_sig - 1e-9 && !(cost < best_cost)) return;
-      best_sig = std::min(best_sig, sig), best_cost = cost;
-      r.a = pa, r.b = pb, r.a_node = map_a, r.b_node = map_b, r.a_original = orig_a, r.b_original = orig_b;
-      record(xa, r.pruned_a, r.joined_a);
-      record(xb, r.pruned_b, r.joined_b);
+      Tried t = try_changes(a, b, xa, xb);
+      if (!t.ok || (sig >= best_sig - 1e-9 && !(t.cost < best.cost))) return;
+      best_sig = std::min(best_sig, sig), best = std::move(t);
     });
   }
-  if (!std::isfinite(best_sig)) {
-    std::ostringstream msg;
-    msg << "the skeletons' branchings differ (source vs target): " << diff << " (and removing up to " << max_changes
-        << " end branches with at most " << 100 * max_branch << " % of a skeleton's length and vertices, or contracting"
-        << " chains between junctions under " << 50 * max_branch << " %, does not make them equal: the major branchings differ)";
-    throw InputError(msg.str());
-  }
-  return r;
+  return best;
+}
+
+// One slide (in either skeleton) with at most two prunes or joins: among the results whose
+// matched chains agree in length (length_disagreement at most `plausible`), the fewest changes,
+// then the lowest disagreement.
+Tried reduce_with_slide(const Skeleton& a, const Skeleton& b, const std::vector<Change>& ca, const std::vector<Change>& cb,
+                        const std::vector<Change>& sa, const std::vector<Change>& sb, double plausible) {
+  std::vector<const Change*> all;
+  for (const auto& c : ca) all.push_back(&c);
+  for (const auto& c : cb) all.push_back(&c);
+  Tried best;
+  size_t best_changes = SIZE_MAX;
+  for (int side = 0; side < 2; ++side)
+    for (const Change& slide : side ? sb : sa)
+      for (int k = 0; k <= std::min(2, int(all.size())); ++k) {
+        std::vector<int> pick;
+        subsets(int(all.size()), k, pick, 0, [&](const std::vector<int>& chosen) {
+          std::vector<const Change*> xa, xb;
+          (side ? xb : xa).push_back(&slide);
+          for (int i : chosen) (i < int(ca.size()) ? xa : xb).push_back(all[i]);
+          const size_t n = xa.size() + xb.size();
+          if (n > best_changes) return;
+          Tried t = try_changes(a, b, xa, xb);
+          if (!t.ok || t.disagreement > plausible || (n == best_changes && !(t.disagreement < best.disagreement))) return;
+          best_changes = n, best = std::move(t);
+        });
+      }
+  return best;
+}
+
+}  // namespace
+
+CommonBranching common_branching(const Skeleton& a, const Skeleton& b, double max_branch, int max_changes, double plausible) {
+  const std::string diff = branching_difference(a, b);
+  const std::vector<Change> ca = candidate_changes(a, max_branch, 14), cb = candidate_changes(b, max_branch, 14);
+  Tried first = diff.empty() ? try_changes(a, b, {}, {}) : reduce_by_pruning(a, b, ca, cb, max_changes);
+  if (first.ok && first.disagreement <= plausible) return first.r;
+  // The matched chains disagree in length (or no pruning makes the branchings equal): an
+  // extraction may have hung a branch from the neighbouring junction (an arm from the pelvis,
+  // its chain running down the side of a flat torso).
+  const std::vector<Change> sa = candidate_slides(a, 3 * max_branch, 8), sb = candidate_slides(b, 3 * max_branch, 8);
+  Tried slid = reduce_with_slide(a, b, ca, cb, sa, sb, plausible);
+  if (slid.ok) return slid.r;
+  if (first.ok) return first.r;
+  if (diff.empty()) return unchanged(a, b);  // connected otherwise: match_skeletons names it
+  std::ostringstream msg;
+  msg << "the skeletons' branchings differ (source vs target): " << diff << " (and removing up to " << max_changes
+      << " end branches with at most " << 100 * max_branch << " % of a skeleton's length and vertices, or contracting"
+      << " chains between junctions under " << 50 * max_branch << " %, does not make them equal: the major branchings differ)";
+  throw InputError(msg.str());
 }
 
 }  // namespace sdm

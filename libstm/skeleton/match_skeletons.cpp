@@ -70,6 +70,21 @@ double kabsch(const std::vector<Eigen::Vector3d>& a, const std::vector<Eigen::Ve
   return a.empty() ? 0.0 : e / double(a.size());
 }
 
+// length_disagreement of a chain map between two reduced skeletons.
+double chain_disagreement(const ReducedSkeleton& a, const ReducedSkeleton& b, const std::vector<std::pair<int, bool>>& chain_map,
+                          double min_share) {
+  double total_a = 0, total_b = 0, worst = 1;
+  for (const auto& c : a.chains) total_a += c.length;
+  for (const auto& c : b.chains) total_b += c.length;
+  if (!(total_a > 0) || !(total_b > 0) || chain_map.size() != a.chains.size()) return worst;
+  for (size_t c = 0; c < a.chains.size(); ++c) {
+    const double sa = a.chains[c].length / total_a, sb = b.chains[chain_map[c].first].length / total_b;
+    if (std::max(sa, sb) < min_share) continue;
+    worst = std::max(worst, std::max(sa, sb) / std::max(std::min(sa, sb), 1e-12));
+  }
+  return worst;
+}
+
 }  // namespace
 
 ReducedSkeleton reduce_skeleton(const Skeleton& s) {
@@ -279,6 +294,8 @@ class Matcher {
 
  public:
   static constexpr double kLengths = 4;              // weight of the relative chain lengths
+  static constexpr double kPlausible = 2;            // length_disagreement of a plausible candidate
+  double disagreement(const Candidate& c) const;
   void choose();
   // Up to `count` candidates with distinct key maps: the best in the models' own orientation, then
   // the best after aligning their cores, then the next by that score.
@@ -427,6 +444,8 @@ void Matcher::choose() {
   m_.cost = best->shape;
 }
 
+double Matcher::disagreement(const Candidate& c) const { return chain_disagreement(m_.a, m_.b, c.chains, 0.05); }
+
 std::vector<SkeletonMatch> Matcher::alternatives(size_t count) const {
   std::vector<const Candidate*> order;
   for (const auto& c : kept_) order.push_back(&c);
@@ -440,6 +459,12 @@ std::vector<SkeletonMatch> Matcher::alternatives(size_t count) const {
     m.key_a_to_b = c->map, m.chain_a_to_b = c->chains, m.rotation = c->rotation, m.cost = c->shape;
     out.push_back(std::move(m));
   };
+  // Candidates whose chains disagree in length (a head for an arm) take no place while others
+  // agree: on TOSCA man -> gorilla they filled three of the four places and left the feet swapped.
+  std::vector<const Candidate*> plausible;
+  for (const Candidate* c : order)
+    if (disagreement(*c) <= kPlausible) plausible.push_back(c);
+  if (!plausible.empty()) order = plausible;
   if (order.empty()) return out;
   add(*std::min_element(order.begin(), order.end(), [&](auto x, auto y) { return own(x) < own(y); }));
   std::stable_sort(order.begin(), order.end(), [&](auto x, auto y) { return core(x) < core(y); });
@@ -481,6 +506,10 @@ std::vector<SkeletonMatch> match_candidates(const Skeleton& sa, const Skeleton& 
   if (out.empty()) throw_unmatched(fixed);
   for (auto& x : out) x.candidates = m.candidates;
   return out;
+}
+
+double length_disagreement(const SkeletonMatch& m, double min_share) {
+  return chain_disagreement(m.a, m.b, m.chain_a_to_b, min_share);
 }
 
 SkeletonMatch match_skeletons(const Skeleton& sa, const Skeleton& sb, const std::vector<std::pair<int, int>>& fixed,

@@ -54,6 +54,14 @@ struct SkeletonMatch {
 SkeletonMatch match_skeletons(const Skeleton& a, const Skeleton& b, const std::vector<std::pair<int, int>>& fixed = {},
                               bool same_orientation = true);
 
+/// How far the matched chains disagree in length relative to their skeletons: the largest ratio
+/// (>= 1) between the shares of the total chain length of a chain of `m.a` and of its match in
+/// `m.b`, over the chains with a share of at least `min_share` in either. Pose does not change
+/// the shares, and two bodies of one kind keep them within a factor of about 1.5 (FAUST people,
+/// the TOSCA gorilla and man); a match that pairs a leg with a head or an arm whose extracted
+/// chain runs down the side of the torso gives 3 or more (DESIGN 6, common branching).
+double length_disagreement(const SkeletonMatch& m, double min_share = 0.05);
+
 /// The candidates a registration chooses among (texture transfer between different bodies: which is
 /// left and which right, front and back, only the surfaces tell): up to `count` matches with
 /// distinct key maps, first the one match_skeletons(a, b, fixed, true) returns, then the best after

@@ -310,6 +310,7 @@ SharedSkeletons share_through(const Mesh& mesh_a, const Mesh& mesh_b, const Comm
   const Skeleton& a = common.a;
   const Skeleton& b = common.b;
   r.pruned_a = common.pruned_a, r.pruned_b = common.pruned_b;
+  r.slid_a = common.slid_a, r.slid_b = common.slid_b, r.length_disagreement = common.length_disagreement;
   r.node_a = common.a_original, r.node_b = common.b_original;
   r.match = std::move(match);
   const SkeletonMatch& m = r.match;

@@ -11,6 +11,7 @@
 #include <Eigen/Dense>
 #include <string>
 #include <utility>
+#include <array>
 #include <vector>
 
 namespace sdm {
@@ -26,6 +27,8 @@ struct SharedSkeletons {
   // common_branching: end nodes of the given skeletons whose short branches were pruned so that the
   // branchings match, and match.a's / match.b's node numbering -> the given skeletons' nodes.
   std::vector<int> pruned_a, pruned_b, node_a, node_b;
+  std::vector<std::array<int, 3>> slid_a, slid_b;  // CommonBranching::slid_a / slid_b
+  double length_disagreement = 1;                  // CommonBranching::length_disagreement
 };
 
 // Prunes a and b to their common branching (common_branching: at most two end branches, each

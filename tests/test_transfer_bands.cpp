@@ -1,0 +1,154 @@
+// Texture transfer between different bodies as a user runs it (issue 18's band test): the source
+// is written as a PLY whose vertex colours paint five bands (head, left hand, right hand, left
+// foot, right foot: geodesic balls around annotated landmark vertices), `sdm transfer` carries
+// them onto another body (--vertex-colors), and on the target each band must lie on the same part
+// (a geodesic ball 1.6 times as large around the target's landmark) and cover its core. Measured
+// per target vertex, area-weighted (what the target's renders show, without the views' occlusion).
+//
+// Landmarks (vertex indices into the files of ../shared/models/humans). FAUST registrations have
+// SMPL's topology, so SMPL's vertex ids hold for tr_reg_007 and tr_reg_024: 411 the top of the
+// head, 2445 / 5905 the left / right middle fingertip, 3216 / 6617 the left / right big toe.
+// tr_reg_085 (remeshed) and the TOSCA models: the five geodesic extremities (farthest-point
+// sampling from the vertex nearest the centroid; the TOSCA heads as the frontmost vertex near the
+// symmetry plane, since a gorilla's head is close to its body), left and right told from the
+// side of the body their upper arm or thigh lies on, the model's facing direction read from
+// renders.
+#include "test_util.h"
+#include "faust_pairs.h"
+
+#include "libstm/mesh/mesh.h"
+#include "libstm/mesh/mesh_geometry.h"
+
+#include <catch2/catch.hpp>
+
+#include <array>
+#include <cstdio>
+#include <queue>
+
+namespace {
+
+struct Body {
+  const char* file;
+  std::array<int, 5> landmark;  // head, left hand, right hand, left foot, right foot
+};
+
+const Body kBodies[] = {{"tr_reg_007.off", {411, 2445, 5905, 3216, 6617}},
+                        {"tr_reg_024.off", {411, 2445, 5905, 3216, 6617}},
+                        {"tr_reg_085.off", {138, 1840, 4345, 2350, 4826}},
+                        {"8_gorilla_01.off", {889, 3401, 2374, 4976, 4179}},
+                        {"8_man_02.off", {2982, 962, 228, 4617, 513}}};
+const char* kPart[5] = {"head", "left hand", "right hand", "left foot", "right foot"};
+const double kRadius[5] = {0.10, 0.07, 0.07, 0.07, 0.07};  // band radii, fractions of the diagonal
+const Eigen::Vector3f kColour[5] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}, {1, 1, 0}, {1, 0, 1}};
+
+// Geodesic distance (along edges, Dijkstra) from vertex `from`, as a fraction of the diagonal.
+std::vector<double> geodesic(const sdm::Mesh& m, int from) {
+  std::vector<double> d(m.n_vertices(), INFINITY);
+  using Item = std::pair<double, int>;
+  std::priority_queue<Item, std::vector<Item>, std::greater<>> q;
+  d[from] = 0, q.push({0, from});
+  while (!q.empty()) {
+    const auto [dist, v] = q.top();
+    q.pop();
+    if (dist > d[v]) continue;
+    for (auto w : m.vv_range(m.vertex_handle(v))) {
+      const double nd = dist + (sdm::point(m, w) - sdm::point(m, m.vertex_handle(v))).norm();
+      if (nd < d[w.idx()]) d[w.idx()] = nd, q.push({nd, w.idx()});
+    }
+  }
+  const double diag = sdm::bounding_box_diagonal(m);
+  for (double& x : d) x /= diag;
+  return d;
+}
+
+struct Bands {
+  int exit_code = -1;
+  std::string output;
+  double on_part[5] = {0, 0, 0, 0, 0};  // share of each band's area on the target's part
+  double core[5] = {0, 0, 0, 0, 0};     // share of the part's core showing the band
+};
+
+Bands transfer_bands(const Body& src, const Body& tgt) {
+  Bands r;
+  test_util::TempDir dir;
+  const sdm::Mesh a = sdm::load_mesh(faust::humans_dir() + "/" + src.file);
+  std::vector<Eigen::Vector3f> colour(a.n_vertices(), Eigen::Vector3f(0.5f, 0.5f, 0.5f));
+  for (int k = 0; k < 5; ++k) {
+    const std::vector<double> g = geodesic(a, src.landmark[k]);
+    for (size_t v = 0; v < g.size(); ++v)
+      if (g[v] < kRadius[k]) colour[v] = kColour[k];
+  }
+  sdm::write_colored_ply(a, colour, dir / "source.ply");
+  const std::string target = faust::humans_dir() + "/" + tgt.file;
+  const auto res = test_util::run_sdm("transfer --source " + (dir / "source.ply") + " --target " + target + " -o " + (dir / "t.obj") +
+                                      " --size 512 --vertex-colors " + (dir / "t.ply"));
+  r.exit_code = res.exit_code, r.output = res.output;
+  if (res.exit_code != 0) return r;
+  std::vector<Eigen::Vector3f> got;
+  const sdm::Mesh b = sdm::load_mesh(dir / "t.ply", nullptr, &got);
+  const sdm::Mesh b0 = sdm::load_mesh(target);
+  REQUIRE(got.size() == b0.n_vertices());
+  const std::vector<double> area = sdm::vertex_areas(b0);
+  for (int k = 0; k < 5; ++k) {
+    const std::vector<double> g = geodesic(b0, tgt.landmark[k]);
+    double band = 0, on = 0, core = 0, core_band = 0;
+    for (size_t v = 0; v < got.size(); ++v) {
+      const bool in_band = (got[v] - kColour[k]).cwiseAbs().maxCoeff() < 0.25f;
+      band += in_band * area[v], on += (in_band && g[v] < 1.6 * kRadius[k]) * area[v];
+      if (g[v] < 0.5 * kRadius[k]) core += area[v], core_band += in_band * area[v];
+    }
+    r.on_part[k] = band > 0 ? on / band : 0, r.core[k] = core > 0 ? core_band / core : 0;
+  }
+  return r;
+}
+
+std::string describe(const Bands& r) {
+  std::string s;
+  char line[160];
+  for (int k = 0; k < 5; ++k) {
+    std::snprintf(line, sizeof line, "  %-10s %5.1f %% of the band on it, %5.1f %% of its core covered\n", kPart[k], 100 * r.on_part[k],
+                  100 * r.core[k]);
+    s += line;
+  }
+  return s;
+}
+
+void check_bands(const Body& src, const Body& tgt) {
+  if (!faust::have(src.file) || !faust::have(tgt.file)) {
+    WARN("no " << src.file << " or " << tgt.file << " at " << faust::humans_dir() << ": skipped");
+    return;
+  }
+  const Bands r = transfer_bands(src, tgt);
+  INFO(r.output);
+  REQUIRE(r.exit_code == 0);
+  std::fprintf(stderr, "%s -> %s:\n%s", src.file, tgt.file, describe(r).c_str());
+  for (int k = 0; k < 5; ++k) {
+    INFO(kPart[k]);
+    CHECK(r.on_part[k] >= 0.9);
+    CHECK(r.core[k] >= 0.3);
+  }
+}
+
+}  // namespace
+
+// Some extractions of tr_reg_007 (its torso is nearly a sheet) hang an arm from the pelvis; before
+// common_branching slid it to the chest, a source written like this one had its head's band
+// land on a foot of 024.
+TEST_CASE("sdm transfer: head, hands and feet land on head, hands and feet, FAUST 007 onto 024", "[transfer_bands]") {
+  check_bands(kBodies[0], kBodies[1]);
+}
+
+TEST_CASE("sdm transfer: head, hands and feet land on head, hands and feet, FAUST 024 onto 007", "[transfer_bands]") {
+  check_bands(kBodies[1], kBodies[0]);
+}
+
+// The pairs that do not hold yet (DESIGN 6): tr_reg_085's extracted skeleton has no head, and the
+// TOSCA pair's skeletons are matched wrongly or refused. Hidden: run with [bands_measure].
+TEST_CASE("band transfer on the other pairs, measured", "[.][bands_measure]") {
+  for (auto [s, t] : {std::pair<int, int>{0, 2}, {2, 0}, {3, 4}, {4, 3}}) {
+    if (!faust::have(kBodies[s].file) || !faust::have(kBodies[t].file)) continue;
+    const Bands r = transfer_bands(kBodies[s], kBodies[t]);
+    std::fprintf(stderr, "%s -> %s: exit %d\n%s", kBodies[s].file, kBodies[t].file, r.exit_code,
+                 r.exit_code == 0 ? describe(r).c_str() : (r.output.substr(r.output.rfind("error")) + "\n").c_str());
+  }
+}
