@@ -267,6 +267,9 @@ void print_transfer_json(const TransferArgs& o, const TransferInputs& in, const 
               {"slid_source_branches", r.skeletons.slid_a},
               {"slid_target_branches", r.skeletons.slid_b},
               {"branch_length_disagreement", r.skeletons.length_disagreement},
+              {"extremity_distortion", r.distortion},
+              {"candidate_twist", r.candidate_twist},
+              {"candidate_distortion", r.candidate_distortion},
               {"target_skeleton", r.carried      ? "carried"
                                   : r.fitted     ? "bent"
                                   : r.registered ? "registered"

@@ -23,7 +23,6 @@
 
 #include <array>
 #include <cstdio>
-#include <queue>
 
 namespace {
 
@@ -41,21 +40,9 @@ const char* kPart[5] = {"head", "left hand", "right hand", "left foot", "right f
 const double kRadius[5] = {0.10, 0.07, 0.07, 0.07, 0.07};  // band radii, fractions of the diagonal
 const Eigen::Vector3f kColour[5] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}, {1, 1, 0}, {1, 0, 1}};
 
-// Geodesic distance (along edges, Dijkstra) from vertex `from`, as a fraction of the diagonal.
+// Distance along edges from vertex `from`, as a fraction of the diagonal.
 std::vector<double> geodesic(const sdm::Mesh& m, int from) {
-  std::vector<double> d(m.n_vertices(), INFINITY);
-  using Item = std::pair<double, int>;
-  std::priority_queue<Item, std::vector<Item>, std::greater<>> q;
-  d[from] = 0, q.push({0, from});
-  while (!q.empty()) {
-    const auto [dist, v] = q.top();
-    q.pop();
-    if (dist > d[v]) continue;
-    for (auto w : m.vv_range(m.vertex_handle(v))) {
-      const double nd = dist + (sdm::point(m, w) - sdm::point(m, m.vertex_handle(v))).norm();
-      if (nd < d[w.idx()]) d[w.idx()] = nd, q.push({nd, w.idx()});
-    }
-  }
+  std::vector<double> d = sdm::edge_path_distances(m, from);
   const double diag = sdm::bounding_box_diagonal(m);
   for (double& x : d) x /= diag;
   return d;

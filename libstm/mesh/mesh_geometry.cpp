@@ -1,5 +1,9 @@
 #include "libstm/mesh/mesh_geometry.h"
 
+#include <cmath>
+#include <functional>
+#include <queue>
+
 namespace sdm {
 
 std::vector<double> vertex_areas(const Mesh& m, double factor) {
@@ -9,6 +13,25 @@ std::vector<double> vertex_areas(const Mesh& m, double factor) {
     for (auto v : m.fv_range(f)) a[v.idx()] += x;
   }
   return a;
+}
+
+std::vector<double> edge_path_distances(const Mesh& m, int from) {
+  std::vector<double> d(m.n_vertices(), INFINITY);
+  if (from < 0 || from >= int(m.n_vertices())) return d;
+  using Item = std::pair<double, int>;
+  std::priority_queue<Item, std::vector<Item>, std::greater<>> queue;
+  d[from] = 0, queue.push({0.0, from});
+  while (!queue.empty()) {
+    const auto [dist, v] = queue.top();
+    queue.pop();
+    if (dist > d[v]) continue;
+    const Mesh::VertexHandle vh = m.vertex_handle(v);
+    for (auto w : m.vv_range(vh)) {
+      const double nd = dist + (point(m, w) - point(m, vh)).norm();
+      if (nd < d[w.idx()]) d[w.idx()] = nd, queue.push({nd, w.idx()});
+    }
+  }
+  return d;
 }
 
 Mesh with_planar_uv(const Mesh& m) {

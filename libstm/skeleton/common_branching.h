@@ -48,6 +48,6 @@ struct CommonBranching {
 // plausible result with the fewest changes wins; without one, the first result stands and
 // `length_disagreement` says how poor it is.
 CommonBranching common_branching(const Skeleton& a, const Skeleton& b, double max_branch = 0.08, int max_changes = 8,
-                                 double plausible = 2.0);
+                                 double plausible = 3.0);
 
 }  // namespace sdm

@@ -294,7 +294,7 @@ class Matcher {
 
  public:
   static constexpr double kLengths = 4;              // weight of the relative chain lengths
-  static constexpr double kPlausible = 2;            // length_disagreement of a plausible candidate
+  static constexpr double kPlausible = 3;            // length_disagreement of a plausible candidate
   double disagreement(const Candidate& c) const;
   void choose();
   // Up to `count` candidates with distinct key maps: the best in the models' own orientation, then

@@ -5,12 +5,17 @@
 #include "libstm/registration/articulated_registration.h"
 #include "libstm/registration/fit_skeleton.h"
 
+#include <algorithm>
 #include <cmath>
 #include <string>
 
 namespace sdm {
 
 namespace {
+
+// Candidates whose extremity distortion is within this of the least are told apart by their twist
+// (left and right swapped keep the distances between the extremities: only the twist tells).
+constexpr double kDistortionTie = 0.05;
 
 // Per branch of the shared match (chain of its reduced source skeleton), how far the placed source's
 // vertices on it lie from the target: RMS and 99th percentile, fractions of the target's diagonal.
@@ -45,6 +50,50 @@ std::vector<BranchFit> branch_fits(const Mesh& source, const std::vector<Eigen::
   return out;
 }
 
+// The source's extremities: per end node of `s`, the vertex it owns farthest from its neighbour.
+std::vector<int> end_tips(const Mesh& source, const Skeleton& s) {
+  const auto adj = s.adjacency();
+  std::vector<int> tip(s.nodes.size(), -1);
+  std::vector<double> far(s.nodes.size(), -1);
+  for (auto v : source.vertices()) {
+    const int n = s.vertex_node[v.idx()];
+    if (adj[n].size() != 1) continue;
+    const double d = (point(source, v) - s.nodes[adj[n][0]]).norm();
+    if (d > far[n]) far[n] = d, tip[n] = v.idx();
+  }
+  std::vector<int> out;
+  for (int t : tip)
+    if (t >= 0) out.push_back(t);
+  return out;
+}
+
+// Distances along the surface between the source's extremities (`tips`, rows of source_paths:
+// edge_path_distances from each) against those between their images on the target (the target
+// vertex nearest each tip's placed position), both over the square root of their surface's area:
+// sum |difference| / sum source distance. Bending keeps such distances and other bodies of one
+// kind change them by their proportions; a map that puts a head on a foot changes them most.
+double extremity_distortion(const std::vector<std::vector<double>>& source_paths, const std::vector<int>& tips, double source_area,
+                            const std::vector<Eigen::Vector3d>& placed, const Mesh& target, const TriangleBvh& bvh, double target_area) {
+  std::vector<int> image;
+  for (int t : tips) {
+    const auto c = bvh.closest_point(placed[t]);
+    int best = -1;
+    for (auto v : target.fv_range(target.face_handle(c.face)))
+      if (best < 0 || (point(target, v) - c.point).norm() < (point(target, target.vertex_handle(best)) - c.point).norm()) best = v.idx();
+    image.push_back(best);
+  }
+  double diff = 0, sum = 0;
+  for (size_t i = 0; i < tips.size(); ++i) {
+    const std::vector<double> dt = edge_path_distances(target, image[i]);
+    for (size_t j = i + 1; j < tips.size(); ++j) {
+      const double s = source_paths[i][tips[j]] / std::sqrt(source_area), t = dt[image[j]] / std::sqrt(target_area);
+      if (!std::isfinite(s) || !std::isfinite(t)) continue;
+      diff += std::abs(t - s), sum += s;
+    }
+  }
+  return sum > 0 ? diff / sum : 0;
+}
+
 }  // namespace
 
 BodyRegistration register_bodies(const Mesh& source, const Skeleton& skeleton_a, const Mesh& target, const Skeleton& skeleton_b,
@@ -58,15 +107,28 @@ BodyRegistration register_bodies(const Mesh& source, const Skeleton& skeleton_a,
   // fits the surfaces about as closely (RMS within 0.5 % of the diagonal) by turning parts around.
   ArticulatedOptions quick;
   quick.iterations = 12, quick.refine = false, quick.stride = 4;
-  size_t best = 0;
+  const std::vector<int> tips = end_tips(source, cands[0].a);
+  std::vector<std::vector<double>> source_paths;
+  for (int t : tips) source_paths.push_back(edge_path_distances(source, t));
+  double source_area = 0, target_area = 0;
+  for (double a : vertex_areas(source)) source_area += a;
+  for (double a : vertex_areas(target)) target_area += a;
+  const TriangleBvh bvh(vertex_matrix(target), face_matrix(target));
   for (size_t i = 0; i < cands.size(); ++i) {
     const ArticulatedFit f = articulated_registration(source, cands[i].a, target, cands[i].b.nodes, quick);
     r.candidate_rms.push_back(f.posed_rms), r.candidate_twist.push_back(f.twist);
+    r.candidate_distortion.push_back(extremity_distortion(source_paths, tips, source_area, f.posed, target, bvh, target_area));
     report_progress(opt.progress, "candidate match " + std::to_string(i + 1) + " of " + std::to_string(cands.size()) + ": RMS " +
                                       std::to_string(100 * f.posed_rms) + " % of the diagonal, parts turned " + std::to_string(f.twist) +
-                                      " degrees against their neighbours");
-    if (f.twist < r.candidate_twist[best]) best = i;
+                                      " degrees against their neighbours, extremities' distances changed by " +
+                                      std::to_string(100 * r.candidate_distortion.back()) + " %");
   }
+  size_t best = 0;
+  const double least = *std::min_element(r.candidate_distortion.begin(), r.candidate_distortion.end());
+  for (size_t i = 0; i < cands.size(); ++i)
+    if (r.candidate_distortion[i] <= least + kDistortionTie &&
+        (r.candidate_distortion[best] > least + kDistortionTie || r.candidate_twist[i] < r.candidate_twist[best]))
+      best = i;
   r.chosen = int(best);
   r.skeletons = std::move(cands[best]);
   // The chosen match's nodes start the non-rigid fit (fit_skeleton from the guesses). The full
@@ -82,6 +144,7 @@ BodyRegistration register_bodies(const Mesh& source, const Skeleton& skeleton_a,
   SkeletonFit fit = fit_skeleton(source, r.skeletons.a, target, start, r.skeletons.b.nodes, fo);
   r.rms = fit.rms, r.p99 = fit.p99;
   r.branch_fit = branch_fits(source, fit.bent, target, r.skeletons);
+  r.distortion = extremity_distortion(source_paths, tips, source_area, fit.bent, target, bvh, target_area);
   r.placed = std::move(fit.bent);
   return r;
 }

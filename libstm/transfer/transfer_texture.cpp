@@ -196,10 +196,17 @@ void take_registered(BodyRegistration reg, const TransferOptions& opt, TextureTr
   r.skeletons = std::move(reg.skeletons);
   r.fit_rms = reg.rms, r.fit_p99 = reg.p99, r.registered = true;
   r.candidate_rms = std::move(reg.candidate_rms), r.branch_fit = std::move(reg.branch_fit);
+  r.candidate_twist = std::move(reg.candidate_twist), r.candidate_distortion = std::move(reg.candidate_distortion);
+  r.distortion = reg.distortion;
   tb.placed = std::move(reg.placed);
   const bool poor = !(r.fit_rms <= opt.registered_rms && r.fit_p99 <= opt.registered_p99);
   report_progress(opt.progress, "registered: RMS " + std::to_string(100 * r.fit_rms) + " %, 99th percentile " +
                                     std::to_string(100 * r.fit_p99) + " % of the diagonal" + (poor ? ": a poor fit" : ""));
+  if (r.skeletons.length_disagreement > opt.registered_disagreement && !opt.force)
+    throw InputError("the skeletons do not correspond branch for branch: a matched branch is " +
+                     std::to_string(r.skeletons.length_disagreement) + " times longer, relative to its skeleton, than its match (up to " +
+                     std::to_string(opt.registered_disagreement) + " is taken), so the texture would land on other parts. An extraction "
+                     "may have missed a branch (check both with 'sdm skeleton'); pin branches with --match, or pass --force to write it anyway");
   if (poor && !opt.force)
     throw InputError("the source does not fit the target: registered along its skeleton it lies " + std::to_string(100 * r.fit_rms) +
                      " % of the diagonal from it (RMS; up to " + std::to_string(100 * opt.registered_rms) + " % is taken), 99th percentile " +

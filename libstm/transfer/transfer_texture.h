@@ -66,6 +66,11 @@ struct TransferOptions {
   bool register_bodies = true;
   int candidates = 4;
   double registered_rms = 0.01, registered_p99 = 0.04;
+  // A match whose branches disagree in relative length by more than this factor
+  // (length_disagreement) is refused unless `force`: the surfaces then fit closely while the
+  // texture lands on other parts (FAUST 007 -> 085, whose extracted skeleton lacks the head: 25.9;
+  // right matches 1.2-2.0).
+  double registered_disagreement = 3.0;
   bool force = false;
   Progress progress;
 };
@@ -83,6 +88,8 @@ struct TextureTransfer {
   bool fitted = false;        // the target's skeleton is the source's, bent onto it
   bool registered = false;    // another body: the source registered onto it (fit_rms, fit_p99 its figures)
   std::vector<double> candidate_rms;  // per candidate match, the short registration's RMS (registered)
+  std::vector<double> candidate_twist, candidate_distortion;  // and BodyRegistration's other measures
+  double distortion = 0;              // registered: BodyRegistration::distortion
   std::vector<BranchFit> branch_fit;  // registered: per branch
   // Carried, bent or registered: per target vertex, the source point it shows (source face and
   // barycentric coordinates), through which any per-vertex attribute can be carried.
