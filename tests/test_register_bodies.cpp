@@ -47,8 +47,8 @@ Measured measure(const std::string& name, const sdm::Mesh& a, const sdm::Skeleto
 }  // namespace
 
 // Measured (Release): 007 -> 024 mean 2.05 %, p90 4.1 %, 5.5 % of the vertices beyond 5 %, fit RMS
-// 0.27 %; with the arm bent 2.05 %, 4.5 %, 6.5 % (2.7 %, 5.6 %, 15 % before the extremity distortion
-// took part in choosing the candidate match); 024 -> 007 2.3 %, 5.7 %, 13 %, turned and scaled 2.5 %,
+// 0.27 %; with the arm bent 2.05 %, 4.5 %, 6.5 % (2.7 %, 5.6 %, 15 % before the length filter of the
+// candidate matches and the slides of common_branching); 024 -> 007 2.3 %, 5.7 %, 13 %, turned and scaled 2.5 %,
 // 5.8 %, 16 % (the match with left and right swapped, chosen without the registration's twist, gave
 // 22 %). 007 -> 024 turned and scaled is not tested: the scaled target's extracted skeleton splits
 // the head into three prongs and the common branching goes wrong (the extraction changes under a
