@@ -8,6 +8,7 @@
 #include "libstm/skeleton/common_branching.h"
 #include "libstm/skeleton/extract_skeleton.h"
 #include "libstm/skeleton/match_skeletons.h"
+#include "libstm/transfer/register_bodies.h"
 #include "libstm/transfer/transfer_texture.h"
 
 #include <catch2/catch.hpp>
@@ -117,8 +118,8 @@ TEST_CASE("gorilla and man: head, hands and feet match head, hands and feet", "[
   for (int way = 0; way < 2; ++way) {
     const sdm::Skeleton& a = way ? sh : sg;
     const sdm::Skeleton& b = way ? sg : sh;
-    const sdm::CommonBranching c = sdm::common_branching(a, b);
-    const sdm::SkeletonMatch m = sdm::match_skeletons(c.a, c.b);
+    const sdm::BodyRegistration reg = sdm::register_bodies(way ? h : g, a, way ? g : h, b, {});
+    const sdm::SkeletonMatch& m = reg.skeletons.match;
     const std::vector<std::string> ra = roles(m.a), rb = roles(m.b);
     REQUIRE(std::count(ra.begin(), ra.end(), "head") == 1);
     REQUIRE(std::count(ra.begin(), ra.end(), "foot") == 2);

@@ -78,6 +78,7 @@ double chain_disagreement(const ReducedSkeleton& a, const ReducedSkeleton& b, co
   for (const auto& c : b.chains) total_b += c.length;
   if (!(total_a > 0) || !(total_b > 0) || chain_map.size() != a.chains.size()) return worst;
   for (size_t c = 0; c < a.chains.size(); ++c) {
+    if (a.key_degree[a.chains[c].from] != 1 && a.key_degree[a.chains[c].to] != 1) continue;  // between junctions
     const double sa = a.chains[c].length / total_a, sb = b.chains[chain_map[c].first].length / total_b;
     if (std::max(sa, sb) < min_share) continue;
     worst = std::max(worst, std::max(sa, sb) / std::max(std::min(sa, sb), 1e-12));

@@ -19,6 +19,7 @@ namespace sdm {
 SkeletonOptions transfer_skeleton_options() {
   SkeletonOptions o;
   o.centre_junctions = 1e9;  // wherever in the cluster the widest ball is
+  o.method = SkeletonMethod::medial;
   return o;
 }
 
