@@ -66,6 +66,9 @@ Bands transfer_bands(const Body& src, const Body& tgt) {
       if (g[v] < kRadius[k]) colour[v] = kColour[k];
   }
   sdm::write_colored_ply(a, colour, dir / "source.ply");
+  if (const char* dump = std::getenv("SDM_TEST_DUMP"))  // the painted source, to run sdm transfer on by hand
+    std::filesystem::copy_file(dir / "source.ply", std::string(dump) + "/bands_" + src.file + ".ply",
+                               std::filesystem::copy_options::overwrite_existing);
   const std::string target = faust::humans_dir() + "/" + tgt.file;
   const auto res = test_util::run_sdm("transfer --source " + (dir / "source.ply") + " --target " + target + " -o " + (dir / "t.obj") +
                                       " --size 512 --vertex-colors " + (dir / "t.ply"));

@@ -6,6 +6,7 @@
 #include "libstm/registration/fit_skeleton.h"
 
 #include <algorithm>
+#include <map>
 #include <cmath>
 #include <string>
 
@@ -16,6 +17,8 @@ namespace {
 // Candidates whose extremity distortion is within this of the least are told apart by their twist
 // (left and right swapped keep the distances between the extremities: only the twist tells).
 constexpr double kDistortionTie = 0.05;
+// Candidate matches examined for the distortion of their ends' distances, per one registered.
+constexpr int kCandidateFactor = 4;
 
 // Per branch of the shared match (chain of its reduced source skeleton), how far the placed source's
 // vertices on it lie from the target: RMS and 99th percentile, fractions of the target's diagonal.
@@ -50,21 +53,55 @@ std::vector<BranchFit> branch_fits(const Mesh& source, const std::vector<Eigen::
   return out;
 }
 
-// The source's extremities: per end node of `s`, the vertex it owns farthest from its neighbour.
-std::vector<int> end_tips(const Mesh& source, const Skeleton& s) {
+// Per end node of `s` (in node order), the vertex of `mesh` it owns farthest from its neighbour
+// (-1 when it owns none).
+std::vector<int> end_tips(const Mesh& mesh, const Skeleton& s) {
   const auto adj = s.adjacency();
-  std::vector<int> tip(s.nodes.size(), -1);
+  std::vector<int> tip(s.nodes.size(), -1), out;
   std::vector<double> far(s.nodes.size(), -1);
-  for (auto v : source.vertices()) {
+  for (auto v : mesh.vertices()) {
     const int n = s.vertex_node[v.idx()];
     if (adj[n].size() != 1) continue;
-    const double d = (point(source, v) - s.nodes[adj[n][0]]).norm();
+    const double d = (point(mesh, v) - s.nodes[adj[n][0]]).norm();
     if (d > far[n]) far[n] = d, tip[n] = v.idx();
   }
-  std::vector<int> out;
-  for (int t : tip)
-    if (t >= 0) out.push_back(t);
+  for (size_t n = 0; n < adj.size(); ++n)
+    if (adj[n].size() == 1) out.push_back(tip[n]);
   return out;
+}
+
+// Distances along a mesh's surface from given vertices, computed once each.
+class PathCache {
+ public:
+  explicit PathCache(const Mesh& mesh) : mesh_(mesh) {}
+  const std::vector<double>& from(int v) {
+    auto it = cache_.find(v);
+    if (it == cache_.end()) it = cache_.emplace(v, edge_path_distances(mesh_, v)).first;
+    return it->second;
+  }
+
+ private:
+  const Mesh& mesh_;
+  std::map<int, std::vector<double>> cache_;
+};
+
+// How much a candidate match changes the distances along the surfaces between matched ends (each
+// end's tip on either model, end_tips of the shared graph), over the square root of each surface's
+// area: sum |difference| / sum source distance. Intrinsic, so blind to left and right, but a match
+// that swaps hands and feet (a gorilla's arms are longer than its legs, a man's shorter) changes
+// the distances from the head.
+double ends_distortion(const SharedSkeletons& c, const Mesh& source, const Mesh& target, PathCache& ps, PathCache& pt, double sa, double ta) {
+  const std::vector<int> ea = end_tips(source, c.a), eb = end_tips(target, c.b);
+  double diff = 0, sum = 0;
+  for (size_t i = 0; i < ea.size() && i < eb.size(); ++i) {
+    if (ea[i] < 0 || eb[i] < 0) continue;
+    for (size_t j = i + 1; j < ea.size() && j < eb.size(); ++j) {
+      if (ea[j] < 0 || eb[j] < 0) continue;
+      const double x = ps.from(ea[i])[ea[j]] / std::sqrt(sa), y = pt.from(eb[i])[eb[j]] / std::sqrt(ta);
+      if (std::isfinite(x) && std::isfinite(y)) diff += std::abs(x - y), sum += x;
+    }
+  }
+  return sum > 0 ? diff / sum : 0;
 }
 
 // Distances along the surface between the source's extremities (`tips`, rows of source_paths:
@@ -101,18 +138,31 @@ BodyRegistration register_bodies(const Mesh& source, const Skeleton& skeleton_a,
   BodyRegistration r;
   report_progress(opt.progress, "matching the skeletons' branches (candidates for the registration)");
   std::vector<SharedSkeletons> cands = share_skeletons_candidates(source, skeleton_a, target, skeleton_b, fixed, opt.split_ratio,
-                                                                  std::max(opt.candidates, 1));
+                                                                  std::max(opt.candidates, 1) * kCandidateFactor);
   // Each candidate's short articulated registration (every 4th vertex paired): the match whose
   // parts turn least against their neighbours wins (ArticulatedFit::twist), since a swapped match
   // fits the surfaces about as closely (RMS within 0.5 % of the diagonal) by turning parts around.
   ArticulatedOptions quick;
   quick.iterations = 12, quick.refine = false, quick.stride = 4;
-  const std::vector<int> tips = end_tips(source, cands[0].a);
-  std::vector<std::vector<double>> source_paths;
-  for (int t : tips) source_paths.push_back(edge_path_distances(source, t));
   double source_area = 0, target_area = 0;
   for (double a : vertex_areas(source)) source_area += a;
   for (double a : vertex_areas(target)) target_area += a;
+  // The candidates whose matched ends keep the distances along the surfaces best go on.
+  PathCache source_cache(source), target_cache(target);
+  std::vector<std::pair<double, size_t>> order;
+  for (size_t i = 0; i < cands.size(); ++i)
+    order.push_back({ends_distortion(cands[i], source, target, source_cache, target_cache, source_area, target_area), i});
+  std::stable_sort(order.begin(), order.end());
+  report_progress(opt.progress, std::to_string(cands.size()) + " candidate matches: the distances between their matched ends change by " +
+                                    std::to_string(100 * order.front().first) + " to " + std::to_string(100 * order.back().first) + " %");
+  std::vector<SharedSkeletons> kept;
+  for (size_t i = 0; i < order.size() && int(kept.size()) < std::max(opt.candidates, 1); ++i) kept.push_back(std::move(cands[order[i].second]));
+  cands = std::move(kept);
+  std::vector<int> tips;
+  for (int t : end_tips(source, cands[0].a))
+    if (t >= 0) tips.push_back(t);
+  std::vector<std::vector<double>> source_paths;
+  for (int t : tips) source_paths.push_back(source_cache.from(t));
   const TriangleBvh bvh(vertex_matrix(target), face_matrix(target));
   for (size_t i = 0; i < cands.size(); ++i) {
     const ArticulatedFit f = articulated_registration(source, cands[i].a, target, cands[i].b.nodes, quick);
