@@ -210,6 +210,10 @@ Tried try_changes(const Skeleton& a, const Skeleton& b, const std::vector<const 
   try {
     const SkeletonMatch m = match_skeletons(pa, pb);
     t.cost = m.cost, t.disagreement = length_disagreement(m);
+    // The best match on shape and pose may pair a head with an arm where another pairing agrees:
+    // the branching is as plausible as its most plausible match (match_candidates keeps those).
+    if (t.disagreement > 1.5)
+      for (const SkeletonMatch& c : match_candidates(pa, pb, {}, 4)) t.disagreement = std::min(t.disagreement, length_disagreement(c));
   } catch (const InputError&) {
     return t;  // same degrees, connected otherwise
   }
