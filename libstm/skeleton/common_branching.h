@@ -44,7 +44,7 @@ struct CommonBranching {
 // `plausible`: a leg matched to a head), or no pruning works, one branch of either skeleton may
 // also be slid from its junction to a neighbouring one (its part between them, at most 3
 // max_branch of the length, goes): extractions of a flat torso hang an arm from the pelvis as
-// often as from the shoulders (FAUST tr_reg_007 written with 6 decimals instead of 9). The
+// often as from the shoulders (one writing of FAUST tr_reg_007 as a PLY). The
 // plausible result with the fewest changes wins; without one, the first result stands and
 // `length_disagreement` says how poor it is.
 CommonBranching common_branching(const Skeleton& a, const Skeleton& b, double max_branch = 0.08, int max_changes = 8,
