@@ -2,6 +2,7 @@
 #include "apps/commands.h"
 #include "libstm/layout/draw_atlas.h"
 #include "libstm/core/errors.h"
+#include "libstm/core/limits.h"
 #include "libstm/layout/layout.h"
 #include "libstm/mesh/mesh.h"
 #include "libstm/skeleton/skeleton.h"
@@ -29,7 +30,7 @@ Command add_stm_command(CLI::App& parent) {
   app->add_option("--skeleton", o->skeleton,
                   "Use this skeleton (JSON, format sdm-skeleton, made for this mesh) instead of extracting one\n"
                   "with the default options of `sdm skeleton`");
-  app->add_option("--size", o->size, "Atlas width and height in texels")->check(CLI::Range(16, 32768))->capture_default_str();
+  app->add_option("--size", o->size, "Atlas width and height in texels")->check(CLI::Range(16, sdm::kMaxImageSide))->capture_default_str();
   app->add_option("--margin", o->margin, "Texels of margin around every rectangle")->check(CLI::Range(0, 256))->capture_default_str();
   app->add_option("--uv-obj", o->uv_obj, "Also write the mesh with its STM coordinates as uv (OBJ; seam vertices duplicated)");
   app->add_option("--atlas-png", o->atlas_png, "Also draw the atlas: rectangles and each segment's triangles in its colour (PNG)");

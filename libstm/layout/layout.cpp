@@ -2,6 +2,7 @@
 
 #include "libstm/core/atomic_file.h"
 #include "libstm/core/errors.h"
+#include "libstm/core/limits.h"
 #include "libstm/geometry/differential_geometry.h"
 #include "libstm/layout/pack_rectangles.h"
 #include "libstm/layout/segment_frames.h"
@@ -10,6 +11,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 
 namespace sdm {
 
@@ -121,6 +123,51 @@ nlohmann::json layout_to_json(const Layout& L) {
   return j;
 }
 
+namespace {
+
+std::string segment_problem(const Layout& L, size_t s) {
+  const LayoutSegment& g = L.segments[s];
+  const auto& e = L.skeleton.edges[s];
+  const int nn = int(L.skeleton.nodes.size()), ns = int(L.segments.size());
+  const bool ends_ok = g.a >= 0 && g.a < nn && g.b >= 0 && g.b < nn && ((g.a == e[0] && g.b == e[1]) || (g.a == e[1] && g.b == e[0]));
+  if (!ends_ok || g.edge != int(s)) return "does not match its skeleton edge";
+  // 64-bit sums: a rectangle near INT_MAX must not wrap around into the atlas.
+  const int64_t right = int64_t(g.x) + (g.rotated ? g.h : g.w), top = int64_t(g.y) + (g.rotated ? g.w : g.h);
+  if (g.w <= 0 || g.h <= 0 || g.x < 0 || g.y < 0 || right > L.size || top > L.size) return "lies outside the atlas";
+  for (const Eigen::Vector3d* v : {&g.axis, &g.e1, &g.e2})
+    if (!v->allFinite() || std::abs(v->norm() - 1) > 1e-6) return "has a frame that is not made of unit vectors";
+  if (std::abs(g.axis.dot(g.e1)) > 1e-6 || std::abs(g.axis.dot(g.e2)) > 1e-6 || std::abs(g.e1.dot(g.e2)) > 1e-6)
+    return "has a frame that is not orthogonal";
+  if (!(g.radius > 0) || !std::isfinite(g.radius)) return "has radius " + number(g.radius) + " (it must be positive)";
+  if (!(g.cap >= 0) || !std::isfinite(g.cap) || !(g.length >= 0) || !std::isfinite(g.length))
+    return "has a negative or non-finite cap or length";
+  if (!(g.weight > 0) || !std::isfinite(g.weight)) return "has a weight that is not positive";
+  if (!(g.d >= 0) || !(g.d <= 0.5 * g.w + 1e-9)) return "has a cap of " + number(g.d) + " texels outside 0..w/2";
+  for (const auto* nb : {&g.neighbours_a, &g.neighbours_b})
+    for (int o : *nb)
+      if (o < 0 || o >= ns) return "names neighbour segment " + std::to_string(o) + " of " + std::to_string(ns);
+  return "";
+}
+
+// Checks what compute_layout guarantees, so that a crafted file is refused before anything indexes
+// the atlas with its numbers (see layout.h).
+void check_layout(const Layout& L) {
+  if (L.size < 1 || L.size > kMaxImageSide)
+    throw InputError("not a valid sdm layout: atlas size " + std::to_string(L.size) + " is outside 1.." + std::to_string(kMaxImageSide));
+  if (L.margin < 0 || L.margin > L.size)
+    throw InputError("not a valid sdm layout: margin " + std::to_string(L.margin) + " is outside 0.." + std::to_string(L.size));
+  if (!(L.scale > 0) || !std::isfinite(L.scale)) throw InputError("not a valid sdm layout: scale must be positive");
+  if (L.segments.size() != L.skeleton.edges.size())
+    throw InputError("not a valid sdm layout: " + std::to_string(L.segments.size()) + " segments for " +
+                     std::to_string(L.skeleton.edges.size()) + " skeleton edges");
+  for (size_t s = 0; s < L.segments.size(); ++s) {
+    const std::string why = segment_problem(L, s);
+    if (!why.empty()) throw InputError("not a valid sdm layout: segment " + std::to_string(s) + " " + why);
+  }
+}
+
+}  // namespace
+
 Layout layout_from_json(const nlohmann::json& j) {
   Layout L;
   try {
@@ -157,20 +204,7 @@ Layout layout_from_json(const nlohmann::json& j) {
   } catch (const nlohmann::json::exception& e) {
     throw InputError(std::string("not a valid sdm layout: ") + e.what());
   }
-  const int nn = int(L.skeleton.nodes.size());
-  if (L.segments.size() != L.skeleton.edges.size())
-    throw InputError("not a valid sdm layout: " + std::to_string(L.segments.size()) + " segments for " +
-                     std::to_string(L.skeleton.edges.size()) + " skeleton edges");
-  for (size_t s = 0; s < L.segments.size(); ++s) {
-    const auto& g = L.segments[s];
-    const auto& e = L.skeleton.edges[s];
-    const bool ends_ok = g.a >= 0 && g.a < nn && g.b >= 0 && g.b < nn &&
-                         ((g.a == e[0] && g.b == e[1]) || (g.a == e[1] && g.b == e[0]));
-    const bool rect_ok = g.w > 0 && g.h > 0 && g.x >= 0 && g.y >= 0 &&
-                         (g.rotated ? g.x + g.h <= L.size && g.y + g.w <= L.size : g.x + g.w <= L.size && g.y + g.h <= L.size);
-    if (!ends_ok || !rect_ok || g.edge != int(s))
-      throw InputError("not a valid sdm layout: segment " + std::to_string(s) + (ends_ok ? " lies outside the atlas" : " does not match its skeleton edge"));
-  }
+  check_layout(L);
   return L;
 }
 

@@ -1,0 +1,269 @@
+// Hostile and odd input (issue 15): crafted mesh headers, companion files (layout, skeleton, SDM
+// header) and outputs. Every case is refused by name with exit code 2 (1 for a failing disk),
+// within a small memory limit, and leaves no file behind. The inputs are made here, small.
+#include "libsdm/map/sdm_exr.h"
+#include "tests/test_util.h"
+
+#include <catch2/catch.hpp>
+#include <cstdint>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+
+namespace fs = std::filesystem;
+using test_util::run_sdm;
+using test_util::TempDir;
+using test_util::write_file;
+
+namespace {
+
+// Runs `sdm ARGS` through sh with `limits` (ulimit lines) applied first, e.g. a memory cap.
+test_util::RunResult run_sdm_limited(const std::string& limits, const std::string& args) {
+  test_util::RunResult r;
+  const std::string cmd = "sh -c '" + limits + "; exec " + std::string(SDM_BINARY) + " " + args + "' 2>&1";
+  FILE* p = popen(cmd.c_str(), "r");
+  if (!p) return r;
+  char buf[4096];
+  size_t n;
+  while ((n = fread(buf, 1, sizeof buf, p)) > 0) r.output.append(buf, n);
+  const int status = pclose(p);
+  r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  return r;
+}
+
+// 1 GB of address space: a reader that trusted a hostile header would fail with bad_alloc (exit 1).
+// The sanitizers reserve terabytes of shadow memory, so the cap applies to plain builds only.
+std::string memory_cap() {
+#if defined(__SANITIZE_ADDRESS__)
+  return "true";
+#elif defined(__has_feature)
+#if __has_feature(address_sanitizer)
+  return "true";
+#else
+  return "ulimit -v 1048576";
+#endif
+#else
+  return "ulimit -v 1048576";
+#endif
+}
+
+bool has_temporary(const fs::path& dir) {
+  for (const auto& e : fs::directory_iterator(dir))
+    if (e.path().filename().string().find(".tmp") != std::string::npos) return true;
+  return false;
+}
+
+std::string binary_stl(const std::vector<std::array<float, 9>>& triangles, uint32_t announced) {
+  std::string b(80, '\0');
+  b.append(reinterpret_cast<const char*>(&announced), 4);
+  for (const auto& t : triangles) {
+    const float normal[3] = {0, 0, 0};
+    b.append(reinterpret_cast<const char*>(normal), 12);
+    b.append(reinterpret_cast<const char*>(t.data()), 36);
+    b.append(2, '\0');
+  }
+  return b;
+}
+
+const char* kTetraObjFaces = "f 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n";
+
+// A capsule with its skeleton, layout (256^2) and SDM, made once per test case.
+struct Capsule {
+  TempDir dir;
+  std::string mesh = dir / "cap.obj", skeleton = dir / "sk.json", layout = dir / "layout.json", sdm = dir / "cap.exr";
+  Capsule() {
+    REQUIRE(run_sdm("primitive capsule -o " + mesh).exit_code == 0);
+    REQUIRE(run_sdm("skeleton " + mesh + " -o " + skeleton).exit_code == 0);
+    REQUIRE(run_sdm("stm " + mesh + " --skeleton " + skeleton + " --size 256 -o " + layout).exit_code == 0);
+    REQUIRE(run_sdm("encode " + mesh + " --layout " + layout + " -o " + sdm).exit_code == 0);
+  }
+  nlohmann::json read_json(const std::string& path) const { return nlohmann::json::parse(std::ifstream(path)); }
+  std::string write_json(const std::string& name, const nlohmann::json& j) const {
+    write_file(dir / name, j.dump());
+    return dir / name;
+  }
+};
+
+void expect_refused(const test_util::RunResult& r, const std::string& message) {
+  INFO(r.output);
+  CHECK(r.exit_code == 2);
+  CHECK(r.output.find(message) != std::string::npos);
+}
+
+}  // namespace
+
+TEST_CASE("Mesh files whose headers or tokens lie are refused by name with exit 2, in under 1 GB, writing nothing", "[hostile]") {
+  TempDir dir;
+  const std::string tetra_points = "0 0 0\n1 0 0\n0 1 0\n0 0 1\n";
+  const std::string off_faces = "3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\n";
+  const std::string ply_head = "ply\nformat ascii 1.0\nelement vertex 2000000000\nproperty float x\nproperty float y\nproperty float z\n"
+                               "element face 4\nproperty list uchar int vertex_indices\nend_header\n";
+  std::vector<std::array<float, 9>> tris = {{0, 0, 0, 0, 1, 0, 1, 0, 0}, {0, 0, 0, 1, 0, 0, 0, 0, 1},
+                                            {0, 0, 0, 0, 0, 1, 0, 1, 0}, {1, 0, 0, 0, 1, 0, 0, 0, NAN}};
+  struct Case {
+    std::string name, file, content, message;
+  };
+  const std::vector<Case> cases = {
+      {"negative OFF counts", "neg.off", "OFF\n-5 -1 0\n", "cannot be negative"},
+      {"OFF announcing 2e9 vertices", "v.off", "OFF\n2000000000 4 0\n" + tetra_points + off_faces, "more than a file of"},
+      {"OFF announcing 2e9 faces", "f.off", "OFF\n4 2000000000 0\n" + tetra_points + off_faces, "more than a file of"},
+      {"PLY announcing 2e9 vertices", "v.ply", ply_head + tetra_points + "3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\n", "more than a file of"},
+      {"truncated OFF", "cut.off", "OFF\n4 4 0\n" + tetra_points + "3 0 2 1\n3 0 1 3\n", "truncated at line 8"},
+      {"OBJ corner without a vertex index", "slash.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf /1 /2 /3\n", "has no vertex index"},
+      {"OBJ face naming a missing vertex", "missing.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 2 9\n", "names vertex 9"},
+      {"OBJ coordinates beyond float range", "huge.obj", "v 0 0 0\nv 1 0 0\nv 0 1e39 0\nv 0 0 1\n" + std::string(kTetraObjFaces),
+       "beyond the single-precision range"},
+      {"NaN in a binary STL", "nan.stl", binary_stl(tris, 4), "NaN"},
+      {"binary STL shorter than its triangle count", "cut.stl", binary_stl(tris, 9), "neither binary STL"},
+  };
+  for (const auto& c : cases) {
+    SECTION(c.name) {
+      write_file(dir / c.file, c.content);
+      expect_refused(run_sdm_limited(memory_cap(), "info " + dir / c.file), c.message);
+      expect_refused(run_sdm_limited(memory_cap(), "convert " + dir / c.file + " -o " + dir / "out.obj"), c.message);
+      CHECK_FALSE(fs::exists(dir / "out.obj"));
+    }
+  }
+}
+
+TEST_CASE("Crafted layout and skeleton files are refused by name with exit 2", "[hostile]") {
+  Capsule cap;
+  const std::string out = cap.dir / "out.exr";
+  const nlohmann::json layout = cap.read_json(cap.layout), skeleton = cap.read_json(cap.skeleton);
+  SECTION("a rectangle near INT_MAX, where x + w wraps around") {
+    nlohmann::json j = layout;
+    j["segments"][0]["rect"] = {2147483600, 0, 100, 100};
+    expect_refused(run_sdm("encode " + cap.mesh + " --layout " + cap.write_json("l.json", j) + " -o " + out), "lies outside the atlas");
+  }
+  SECTION("an atlas size beyond the 16384 the command line allows") {
+    nlohmann::json j = layout;
+    j["size"] = 100000;
+    expect_refused(run_sdm("encode " + cap.mesh + " --layout " + cap.write_json("l.json", j) + " -o " + out), "outside 1..16384");
+  }
+  SECTION("a zero radius") {
+    nlohmann::json j = layout;
+    j["segments"][1]["radius"] = 0;
+    expect_refused(run_sdm("encode " + cap.mesh + " --layout " + cap.write_json("l.json", j) + " -o " + out), "radius 0");
+  }
+  SECTION("a frame that is not orthonormal") {
+    nlohmann::json j = layout;
+    j["segments"][1]["e1"] = {1, 1, 0};
+    expect_refused(run_sdm("encode " + cap.mesh + " --layout " + cap.write_json("l.json", j) + " -o " + out), "frame");
+  }
+  SECTION("skeleton nodes at 1e308") {
+    nlohmann::json j = skeleton;
+    j["nodes"][0] = {1e308, 1e308, 1e308};
+    expect_refused(run_sdm("stm " + cap.mesh + " --skeleton " + cap.write_json("s.json", j) + " -o " + cap.dir / "o.json"),
+                   "node 0 lies at 1e+308");
+  }
+  SECTION("coincident skeleton nodes, for stm, decode --skeleton and transfer --sdm") {
+    nlohmann::json j = skeleton;
+    for (auto& n : j["nodes"]) n = {0.5, 0.5, 0.5};
+    const std::string s = cap.write_json("s.json", j);
+    expect_refused(run_sdm("stm " + cap.mesh + " --skeleton " + s + " -o " + cap.dir / "o.json"), "which coincide");
+    expect_refused(run_sdm("decode " + cap.sdm + " --skeleton " + s + " -o " + cap.dir / "o.obj"), "which coincide");
+    expect_refused(run_sdm("transfer --sdm " + cap.sdm + " --target-skeleton " + s + " -o " + cap.dir / "o.obj"),
+                   "which coincide");
+  }
+  SECTION("an atlas beyond 16384 for stm --atlas-png") {
+    const auto r = run_sdm("stm " + cap.mesh + " --size 32768 --atlas-png " + cap.dir / "a.png" + " -o " + cap.dir / "o.json");
+    CHECK(r.exit_code == 2);
+  }
+  CHECK_FALSE(fs::exists(out));
+  CHECK_FALSE(fs::exists(cap.dir / "o.json"));
+  CHECK_FALSE(fs::exists(cap.dir / "o.obj"));
+  CHECK_FALSE(fs::exists(cap.dir / "a.png"));
+}
+
+TEST_CASE("Crafted SDM headers are refused by name with exit 2 before any pixel is allocated", "[hostile]") {
+  Capsule cap;
+  sdm::SdmImage im = sdm::read_sdm_exr(cap.sdm);
+  const std::string crafted = cap.dir / "crafted.exr", out = cap.dir / "out.obj";
+  SECTION("a degenerate base triangle, at every level") {
+    auto& t = im.layout["base_mesh"]["triangles"];
+    t[1] = t[0];
+    sdm::write_sdm_exr(im, crafted);
+    for (int lod : {0, 1, 2, 3}) expect_refused(run_sdm("decode " + crafted + " --lod " + std::to_string(lod) + " -o " + out), "degenerate");
+  }
+  SECTION("a rectangle near INT_MAX") {
+    im.layout["segments"][0]["rect"] = {2147483600, 2147483600, 100, 100};
+    sdm::write_sdm_exr(im, crafted);
+    expect_refused(run_sdm("decode " + crafted + " -o " + out), "lies outside the atlas");
+  }
+  // Beyond the side limit, and within it but more pixels than the file can hold compressed.
+  for (const auto& [side, message] : std::vector<std::pair<int, std::string>>{{20000, "at most 16384"}, {16000, "cannot fit compressed"}}) {
+    SECTION("a data window patched to " + std::to_string(side) + "^2") {
+      sdm::write_sdm_exr(im, crafted);
+      std::string bytes;
+      {
+        std::ifstream in(crafted, std::ios::binary);
+        bytes.assign(std::istreambuf_iterator<char>(in), {});
+      }
+      const std::string key = std::string("dataWindow") + '\0' + "box2i" + '\0';
+      const size_t at = bytes.find(key);
+      REQUIRE(at != std::string::npos);
+      const int32_t window[4] = {0, 0, side - 1, side - 1};
+      bytes.replace(at + key.size() + 4, 16, reinterpret_cast<const char*>(window), 16);
+      write_file(crafted, bytes);
+      const auto r = run_sdm_limited(memory_cap(), "decode " + crafted + " -o " + out);
+      expect_refused(r, "data window of " + std::to_string(side) + "x" + std::to_string(side));
+      expect_refused(r, message);
+    }
+  }
+  CHECK_FALSE(fs::exists(out));
+}
+
+TEST_CASE("Outputs that would destroy something are refused before any work", "[hostile]") {
+  Capsule cap;
+  const auto size = fs::file_size(cap.mesh);
+  expect_refused(run_sdm("encode " + cap.mesh + " --layout " + cap.layout + " -o " + cap.mesh), "it is also the input");
+  CHECK(fs::file_size(cap.mesh) == size);
+  expect_refused(run_sdm("convert " + cap.mesh + " -o /dev/null"), "not a regular file");
+  CHECK_FALSE(fs::is_regular_file("/dev/null"));
+  expect_refused(run_sdm("convert " + cap.mesh + " -o " + cap.dir.path.string()), "it is a folder");
+  // A companion output in a missing folder: refused before the main output is written.
+  expect_refused(run_sdm("encode " + cap.mesh + " --layout " + cap.layout + " -o " + cap.dir / "o.exr" + " --png " + cap.dir / "no/x.png"),
+                 "does not exist");
+  CHECK_FALSE(fs::exists(cap.dir / "o.exr"));
+}
+
+TEST_CASE("A full disk is an error (exit 1) that leaves no file, for every output format", "[hostile]") {
+  Capsule cap;
+  // A file size limit makes writes fail like a full disk (EFBIG once SIGXFSZ is ignored).
+  const std::string full = "trap \"\" XFSZ; ulimit -f 16";
+  for (const std::string ext : {"stl", "off", "ply", "obj"}) {
+    const auto r = run_sdm_limited(full, "convert " + cap.mesh + " -o " + cap.dir / ("out." + ext));
+    INFO(ext << ": " << r.output);
+    CHECK(r.exit_code == 1);
+    CHECK(r.output.find("cannot write") != std::string::npos);
+    CHECK_FALSE(fs::exists(cap.dir / ("out." + ext)));
+  }
+  // The layout is written first and fits; the PNG does not: neither stays.
+  const auto r = run_sdm_limited(full, "stm " + cap.mesh + " --skeleton " + cap.skeleton + " --size 2048 -o " + cap.dir / "o.json" +
+                                           " --atlas-png " + cap.dir / "o.png");
+  INFO(r.output);
+  CHECK(r.exit_code == 1);
+  CHECK_FALSE(fs::exists(cap.dir / "o.png"));
+  CHECK_FALSE(fs::exists(cap.dir / "o.json"));
+  CHECK_FALSE(has_temporary(cap.dir.path));
+}
+
+TEST_CASE("SIGTERM during a long decode leaves no temporary file", "[hostile]") {
+  Capsule cap;
+  const fs::path folder = cap.dir.path / "out";
+  fs::create_directories(folder);
+  // Start the decode, wait until its temporary OBJ exists, then terminate it.
+  const std::string script = "cd " + folder.string() + " && " + SDM_BINARY + " decode " + cap.sdm +
+                             " --lod 5 -o out.obj 2>/dev/null & pid=$!; i=0; while [ ! -e " + folder.string() +
+                             "/.out.tmp$pid.obj ] && [ $i -lt 600 ]; do sleep 0.05; i=$((i+1)); done; kill -TERM $pid; wait $pid; echo status $?";
+  FILE* p = popen(("sh -c '" + script + "'").c_str(), "r");
+  REQUIRE(p);
+  char buf[256] = {};
+  std::string output;
+  while (fgets(buf, sizeof buf, p)) output += buf;
+  pclose(p);
+  INFO(output);
+  CHECK(output.find("status 143") != std::string::npos);  // 128 + SIGTERM: killed by the signal, as before
+  CHECK(fs::is_empty(folder));
+}
