@@ -1,5 +1,6 @@
 #include "apps/cli_common.h"
 #include "apps/commands.h"
+#include "apps/memory_budget.h"
 #include "libstm/layout/draw_atlas.h"
 #include "libstm/core/errors.h"
 #include "libstm/core/limits.h"
@@ -15,7 +16,7 @@ namespace sdm::cli {
 
 Command add_stm_command(CLI::App& parent) {
   struct Opts {
-    std::string mesh, out, skeleton, uv_obj, atlas_png;
+    std::string mesh, out, skeleton, uv_obj, atlas_png, max_memory;
     int size = 1024;
     int margin = 4;
     bool json = false;
@@ -34,8 +35,10 @@ Command add_stm_command(CLI::App& parent) {
   app->add_option("--margin", o->margin, "Texels of margin around every rectangle")->check(CLI::Range(0, 256))->capture_default_str();
   app->add_option("--uv-obj", o->uv_obj, "Also write the mesh with its STM coordinates as uv (OBJ; seam vertices duplicated)");
   app->add_option("--atlas-png", o->atlas_png, "Also draw the atlas: rectangles and each segment's triangles in its colour (PNG)");
+  add_max_memory_option(app, o->max_memory);
   app->add_flag("--json", o->json, "Print one JSON object instead of text");
   return {app, [o]() {
+            check_atlas_memory(o->size, 10, o->max_memory);
             sdm::Mesh mesh = sdm::load_mesh(o->mesh);
             LayoutSource from;
             from.skeleton_file = o->skeleton;

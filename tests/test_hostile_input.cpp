@@ -267,3 +267,32 @@ TEST_CASE("SIGTERM during a long decode leaves no temporary file", "[hostile]") 
   CHECK(output.find("status 143") != std::string::npos);  // 128 + SIGTERM: killed by the signal, as before
   CHECK(fs::is_empty(folder));
 }
+
+TEST_CASE("decode --lod 8 on Spot is refused up front with its memory estimate unless --max-memory allows it", "[hostile]") {
+  TempDir dir;
+  const std::string spot = std::string(SDM_EXAMPLES) + "/spot/spot_triangulated.obj", map = dir / "spot.exr", out = dir / "out.obj";
+  REQUIRE(run_sdm("encode " + spot + " -o " + map).exit_code == 0);
+  // 16G stands for this kind of machine; the default (3/4 of the memory) differs from one to the next.
+  auto r = run_sdm_limited(memory_cap(), "decode " + map + " --lod 8 --max-memory 16G -o " + out);
+  expect_refused(r, "needs about");
+  expect_refused(r, "million triangles");
+  expect_refused(r, "--max-memory");
+  CHECK_FALSE(fs::exists(out));
+  expect_refused(run_sdm("decode " + map + " --lod 2 --max-memory lots -o " + out), "is not a size");
+  // The same budget check runs for roundtrip and transfer --sdm, and a small level passes it.
+  expect_refused(run_sdm("roundtrip " + spot + " --size 256 --lod 8 --max-memory 16G"), "needs about");
+  const auto ok = run_sdm("decode " + map + " --lod 1 --max-memory 100M -o " + out);
+  INFO(ok.output);
+  CHECK(ok.exit_code == 0);
+}
+
+TEST_CASE("Atlas sizes and renders beyond the memory budget or the PNG side are refused before any work", "[hostile]") {
+  Capsule cap;
+  const std::string out = cap.dir / "out";
+  expect_refused(run_sdm("render " + cap.mesh + " --views 64 --width 8192 --height 8192 -o " + out + ".png"), "more than 16384 a side");
+  expect_refused(run_sdm("render " + cap.mesh + " --width 4096 --height 4096 --max-memory 100M -o " + out + ".png"), "needs about");
+  expect_refused(run_sdm("stm " + cap.mesh + " --size 16384 --max-memory 100M -o " + out + ".json"), "an atlas of 16384^2 texels needs about");
+  expect_refused(run_sdm("encode " + cap.mesh + " --size 8192 --max-memory 100M -o " + out + ".exr"), "use a smaller --size");
+  expect_refused(run_sdm("remap " + cap.mesh + " --size 8192 --max-memory 100M -o " + out + ".png"), "use a smaller --size");
+  for (const char* ext : {".png", ".json", ".exr"}) CHECK_FALSE(fs::exists(out + ext));
+}
