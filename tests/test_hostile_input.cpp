@@ -116,6 +116,9 @@ TEST_CASE("Mesh files whose headers or tokens lie are refused by name with exit 
        "beyond the single-precision range"},
       {"NaN in a binary STL", "nan.stl", binary_stl(tris, 4), "NaN"},
       {"binary STL shorter than its triangle count", "cut.stl", binary_stl(tris, 9), "neither binary STL"},
+      // Closed and manifold, but both sides of one square: no inside for a capsule to see.
+      {"a closed mesh enclosing no volume", "flat.off", "OFF\n4 4 0\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n3 0 1 2\n3 0 2 3\n3 1 0 3\n3 1 3 2\n",
+       "enclosing no volume"},
   };
   for (const auto& c : cases) {
     SECTION(c.name) {
