@@ -82,6 +82,7 @@ Command add_encode_command(CLI::App& parent) {
   struct Opts {
     std::string mesh, out, layout, skeleton, png, max_memory;
     int size = 1024;
+    double min_part = 0;
     bool json = false;
   };
   auto o = std::make_shared<Opts>();
@@ -94,12 +95,13 @@ Command add_encode_command(CLI::App& parent) {
   app->add_option("--layout", o->layout, "Use this layout (from 'sdm stm') instead of computing one");
   app->add_option("--skeleton", o->skeleton, "Use this skeleton (from 'sdm skeleton') instead of extracting one");
   app->add_option("--png", o->png, "Also write a false-colour picture of the map (.png)");
+  add_min_part_option(app, o->min_part);
   add_max_memory_option(app, o->max_memory);
   app->add_flag("--json", o->json, "Print one JSON object with the summary");
   return {app, [o]() {
             if (o->layout.empty()) check_atlas_memory(o->size, 10, o->max_memory);
             sdm::Stopwatch clock;
-            const sdm::Mesh mesh = sdm::load_mesh(o->mesh);
+            const sdm::Mesh mesh = load_mesh_min_part(o->mesh, o->min_part);
             const sdm::Layout layout = layout_for(mesh, encode_layout_source(o->layout, o->skeleton, o->size)).layout;
             const double layout_s = clock.lap();
             sdm::EncodeStats st;
@@ -182,7 +184,7 @@ Command add_roundtrip_command(CLI::App& parent) {
   struct Opts {
     std::string mesh, out;
     int size = 1024, lod = 3, samples = 100000;
-    double max_rms = -1;
+    double max_rms = -1, min_part = 0;
     std::string max_memory;
     bool json = false;
   };
@@ -197,11 +199,12 @@ Command add_roundtrip_command(CLI::App& parent) {
   app->add_option("--samples", o->samples, "Points sampled on each surface")->capture_default_str()->check(CLI::Range(1000, 10000000));
   app->add_option("--max-rms", o->max_rms, "Fail (exit 3) when the RMS error, as a fraction of the diagonal, is larger");
   app->add_option("-o,--output", o->out, "Also write the decoded mesh");
+  add_min_part_option(app, o->min_part);
   add_max_memory_option(app, o->max_memory);
   app->add_flag("--json", o->json, "Print one JSON object with the summary");
   return {app, [o]() {
             const sdm::Stopwatch total;
-            const sdm::Mesh mesh = sdm::load_mesh(o->mesh);
+            const sdm::Mesh mesh = load_mesh_min_part(o->mesh, o->min_part);
             const sdm::Layout layout = layout_for(mesh, encode_layout_source("", "", o->size)).layout;
             sdm::Stopwatch stage;
             progress("encoding");

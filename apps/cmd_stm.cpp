@@ -19,6 +19,7 @@ Command add_stm_command(CLI::App& parent) {
     std::string mesh, out, skeleton, uv_obj, atlas_png, max_memory;
     int size = 1024;
     int margin = 4;
+    double min_part = 0;
     bool json = false;
   };
   auto o = std::make_shared<Opts>();
@@ -35,11 +36,12 @@ Command add_stm_command(CLI::App& parent) {
   app->add_option("--margin", o->margin, "Texels of margin around every rectangle")->check(CLI::Range(0, 256))->capture_default_str();
   app->add_option("--uv-obj", o->uv_obj, "Also write the mesh with its STM coordinates as uv (OBJ; seam vertices duplicated)");
   app->add_option("--atlas-png", o->atlas_png, "Also draw the atlas: rectangles and each segment's triangles in its colour (PNG)");
+  add_min_part_option(app, o->min_part);
   add_max_memory_option(app, o->max_memory);
   app->add_flag("--json", o->json, "Print one JSON object instead of text");
   return {app, [o]() {
             check_atlas_memory(o->size, 10, o->max_memory);
-            sdm::Mesh mesh = sdm::load_mesh(o->mesh);
+            sdm::Mesh mesh = load_mesh_min_part(o->mesh, o->min_part);
             LayoutSource from;
             from.skeleton_file = o->skeleton;
             from.options.size = o->size;

@@ -299,3 +299,39 @@ TEST_CASE("Atlas sizes and renders beyond the memory budget or the PNG side are 
   expect_refused(run_sdm("remap " + cap.mesh + " --size 8192 --max-memory 100M -o " + out + ".png"), "use a smaller --size");
   for (const char* ext : {".png", ".json", ".exr"}) CHECK_FALSE(fs::exists(out + ext));
 }
+
+TEST_CASE("A speck beside the model is named with its size and place, and --min-part drops it", "[hostile]") {
+  Capsule cap;
+  // The capsule and a tetrahedron 1e-3 of its size, far from it.
+  std::string text;
+  {
+    std::ifstream in(cap.mesh);
+    text.assign(std::istreambuf_iterator<char>(in), {});
+  }
+  std::istringstream lines(text);
+  std::string vertices, faces, line;
+  int nv = 0;
+  while (std::getline(lines, line)) {
+    if (line.rfind("v ", 0) == 0) vertices += line + "\n", ++nv;
+    if (line.rfind("f ", 0) == 0) faces += line + "\n";
+  }
+  vertices += "v 5 5 5\nv 5.002 5 5\nv 5 5.002 5\nv 5 5 5.002\n";
+  for (const auto& f : std::vector<std::array<int, 3>>{{0, 2, 1}, {0, 1, 3}, {0, 3, 2}, {1, 2, 3}})
+    faces += "f " + std::to_string(nv + 1 + f[0]) + " " + std::to_string(nv + 1 + f[1]) + " " + std::to_string(nv + 1 + f[2]) + "\n";
+  const std::string speck = cap.dir / "speck.obj", out = cap.dir / "speck.json";
+  write_file(speck, vertices + faces);
+  const auto r = run_sdm("stm " + speck + " -o " + out);
+  expect_refused(r, "it gets no texel in a 1024^2 atlas");
+  expect_refused(r, "around (5.00");
+  expect_refused(r, "--min-part 0.001");
+  CHECK_FALSE(fs::exists(out));
+  const auto dropped = run_sdm("stm " + speck + " --min-part 0.001 -o " + out);
+  INFO(dropped.output);
+  CHECK(dropped.exit_code == 0);
+  CHECK(dropped.output.find("dropped a part of 4 faces") != std::string::npos);
+  // The size the message names holds it: the packer also searches above the scale that gives the
+  // speck a texel (a bisection from 0 never saw that range, so every --size failed).
+  const auto larger = run_sdm("stm " + speck + " --size 2048 -o " + out);
+  INFO(larger.output);
+  CHECK(larger.exit_code == 0);
+}

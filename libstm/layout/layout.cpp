@@ -15,6 +15,37 @@
 
 namespace sdm {
 
+namespace {
+
+// A segment whose rectangle gets no whole texel even when the largest rectangle spans the atlas
+// cannot be packed at this size: a speck beside the model (a tiny separate part) fails at every
+// size, and "use a larger --size" sent the user round in circles. Names the segment, its size and
+// place, the size that would hold it, and --min-part (drop_small_parts.h) for a speck.
+void check_no_speck(const Mesh& mesh, const Layout& L, const std::vector<Eigen::Vector2d>& sizes, const LayoutOptions& opt) {
+  double largest = 0;
+  for (const auto& z : sizes) largest = std::max(largest, z.maxCoeff());
+  int worst = -1;
+  for (int s = 0; s < int(sizes.size()); ++s)
+    if (worst < 0 || sizes[s].minCoeff() < sizes[worst].minCoeff()) worst = s;
+  const double ratio = largest / sizes[worst].minCoeff();  // texels the largest side needs for 1 texel of the smallest
+  const double needed = ratio + 2 * opt.margin;
+  if (needed <= opt.size) return;
+  const LayoutSegment& g = L.segments[worst];
+  const Eigen::Vector3d at = 0.5 * (L.skeleton.nodes[g.a] + L.skeleton.nodes[g.b]);
+  const double diagonal = bounding_box_diagonal(mesh), extent = std::max(g.length + 2 * g.cap, 2 * g.radius);
+  std::string fix = needed <= kMaxImageSide ? "use --size " + std::to_string(int(std::ceil(needed))) + " or more"
+                                            : "no --size up to " + std::to_string(kMaxImageSide) + " holds it";
+  const double part = std::pow(10.0, std::ceil(std::log10(2 * extent / diagonal)));  // a round fraction above it
+  if (extent < 0.05 * diagonal)
+    fix += "; if it is a speck beside the model, drop the parts under " + number(part) + " of the diagonal with --min-part " + number(part);
+  throw InputError("segment " + std::to_string(worst) + " (radius " + number(g.radius) + ", length " + number(g.length) + ", around (" +
+                   number(at.x()) + ", " + number(at.y()) + ", " + number(at.z()) + "), " + number(100 * extent / diagonal) +
+                   " % of the model's diagonal) is " + number(ratio) + " times smaller than the largest rectangle: it gets no texel in a " +
+                   std::to_string(opt.size) + "^2 atlas. Fix: " + fix);
+}
+
+}  // namespace
+
 Layout compute_layout(const Mesh& mesh, const Skeleton& input, const LayoutOptions& opt) {
   auto say = [&](const std::string& s) {
     if (opt.progress) opt.progress(s);
@@ -50,6 +81,7 @@ Layout compute_layout(const Mesh& mesh, const Skeleton& input, const LayoutOptio
     g.weight = opt.weights.empty() ? 1.0 : opt.weights[origin[s]];
     sizes[s] = g.weight * Eigen::Vector2d(g.length + 2 * g.cap, 2 * M_PI * g.radius);
   }
+  check_no_speck(mesh, L, sizes, opt);
   say("packing " + std::to_string(ne) + " rectangles into " + std::to_string(opt.size) + "^2 texels");
   const Packing p = pack_rectangles(sizes, opt.size, opt.margin, opt.max_anisotropy);
   L.scale = p.scale;
