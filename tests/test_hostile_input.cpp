@@ -116,6 +116,14 @@ TEST_CASE("Mesh files whose headers or tokens lie are refused by name with exit 
        "beyond the single-precision range"},
       {"NaN in a binary STL", "nan.stl", binary_stl(tris, 4), "NaN"},
       {"binary STL shorter than its triangle count", "cut.stl", binary_stl(tris, 9), "neither binary STL"},
+      // Found by the mutation fuzzer (test_fuzz_readers.cpp): OpenMesh loops for ever, crashes, or
+      // reads faces token by token and reserves a shifted count.
+      {"PLY header without end_header", "noend.ply", "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\n", "no end_header"},
+      {"PLY property before any element", "noelem.ply", "ply\nformat ascii 1.0\nproperty float x\nend_header\n", "before any element"},
+      {"PLY with an unknown version", "version.ply", "ply\nformat ascii ,.0\nelement vertex 0\nend_header\n", "unknown format"},
+      {"OFF face with 2e9 corners", "corners.off", "OFF\n4 4 0\n" + tetra_points + "2000000000 0 1 2\n" + off_faces,
+       "announces 2000000000 corners"},
+      {"OFF face with no corners", "nocorner.off", "OFF\n4 4 0\n" + tetra_points + "0\n" + off_faces, "a face needs 3 or more"},
       // Closed and manifold, but both sides of one square: no inside for a capsule to see.
       {"a closed mesh enclosing no volume", "flat.off", "OFF\n4 4 0\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n3 0 1 2\n3 0 2 3\n3 1 0 3\n3 1 3 2\n",
        "enclosing no volume"},
@@ -297,7 +305,10 @@ TEST_CASE("Atlas sizes and renders beyond the memory budget or the PNG side are 
   expect_refused(run_sdm("stm " + cap.mesh + " --size 16384 --max-memory 100M -o " + out + ".json"), "an atlas of 16384^2 texels needs about");
   expect_refused(run_sdm("encode " + cap.mesh + " --size 8192 --max-memory 100M -o " + out + ".exr"), "use a smaller --size");
   expect_refused(run_sdm("remap " + cap.mesh + " --size 8192 --max-memory 100M -o " + out + ".png"), "use a smaller --size");
-  for (const char* ext : {".png", ".json", ".exr"}) CHECK_FALSE(fs::exists(out + ext));
+  // remesh: an edge length that collapses the model, and one that asks for 1e11 triangles.
+  expect_refused(run_sdm("remesh " + cap.mesh + " --edge-length 1e6 -o " + out + ".obj"), "would collapse the model");
+  expect_refused(run_sdm("remesh " + cap.mesh + " --edge-length 1e-5 -o " + out + ".obj"), "needs about");
+  for (const char* ext : {".png", ".json", ".exr", ".obj"}) CHECK_FALSE(fs::exists(out + ext));
 }
 
 TEST_CASE("A speck beside the model is named with its size and place, and --min-part drops it", "[hostile]") {

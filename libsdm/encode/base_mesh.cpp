@@ -236,8 +236,9 @@ void check_base_topology(const Eigen::MatrixX3i& t) {
     if (t(f, 0) == t(f, 1) || t(f, 1) == t(f, 2) || t(f, 0) == t(f, 2))
       throw InputError(bad + "face " + std::to_string(f) + " is degenerate (corners " + std::to_string(t(f, 0)) + ", " +
                        std::to_string(t(f, 1)) + ", " + std::to_string(t(f, 2)) + ")");
-  const int nv = t.maxCoeff() + 1;
-  if (nv > 3 * nf) throw InputError(bad + "vertex index " + std::to_string(nv - 1) + " for " + std::to_string(nf) + " faces");
+  const int64_t top = t.maxCoeff();  // 64-bit: an index of INT_MAX must not wrap below
+  if (top + 1 > 3 * int64_t(nf)) throw InputError(bad + "vertex index " + std::to_string(top) + " for " + std::to_string(nf) + " faces");
+  const int nv = int(top + 1);
   std::vector<char> used(size_t(nv), 0);
   std::vector<std::pair<int, int>> directed;
   directed.reserve(3 * size_t(nf));

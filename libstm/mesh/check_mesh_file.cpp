@@ -111,9 +111,12 @@ void check_off_face(const std::string& path, const std::string& line, long linen
   long long k = 0;
   if (!parse_integer(t[0], k) || k < 0)
     throw InputError("mesh " + path + ": face " + at_line(lineno) + " starts with '" + t[0] + "', not a corner count");
-  if (k > (long long)t.size() - 1)
+  // OpenMesh reads faces token by token, not by line: a wrong count shifts every face after it
+  // (a count of 2e9 read from a shifted index made it allocate gigabytes).
+  if (k < 3) throw InputError("mesh " + path + ": face " + at_line(lineno) + " has " + std::to_string(k) + " corners; a face needs 3 or more");
+  if (k > (long long)t.size() - 1 || (long long)t.size() - 1 > k + 4)
     throw InputError("mesh " + path + ": face " + at_line(lineno) + " announces " + std::to_string(k) + " corners but lists " +
-                     std::to_string(t.size() - 1) + " numbers");
+                     std::to_string(t.size() - 1) + " numbers (the corners and at most a colour)");
   for (long long c = 1; c <= k; ++c) {
     long long v = 0;
     if (!parse_integer(t[size_t(c)], v))
@@ -163,45 +166,67 @@ void check_off(const std::string& path, std::uintmax_t bytes) {
   }
 }
 
-// PLY header: elements with their counts and the least bytes one of them takes.
-void check_ply(const std::string& path, std::uintmax_t bytes) {
-  Lines lines(path);
+struct PlyElement {
+  std::string name;
+  long long count = 0;
+  double min_bytes = 0;  // the least bytes one of them takes
+  long line = 0;
+};
+
+// Bytes of a PLY scalar type, or 0 for a name that is not one.
+double ply_scalar_size(const std::string& type) {
+  if (type == "char" || type == "uchar" || type == "int8" || type == "uint8") return 1;
+  if (type == "short" || type == "ushort" || type == "int16" || type == "uint16") return 2;
+  if (type == "int" || type == "uint" || type == "int32" || type == "uint32" || type == "float" || type == "float32") return 4;
+  if (type == "double" || type == "float64") return 8;
+  return 0;
+}
+
+// The PLY header, strictly: OpenMesh's parser loops for ever without end_header and crashes on a
+// property before any element or on an unknown keyword or type.
+std::vector<PlyElement> read_ply_header(const std::string& path, Lines& lines, bool& ascii) {
   std::string line;
-  bool ascii = true;
-  struct Element {
-    std::string name;
-    long long count = 0;
-    double min_bytes = 0;
-    long line = 0;
-  };
-  std::vector<Element> elements;
-  auto scalar_size = [](const std::string& type) -> double {
-    if (type == "char" || type == "uchar" || type == "int8" || type == "uint8") return 1;
-    if (type == "short" || type == "ushort" || type == "int16" || type == "uint16") return 2;
-    if (type == "double" || type == "float64") return 8;
-    return 4;
-  };
+  std::vector<PlyElement> elements;
+  auto bad = [&](const std::string& why) { return InputError("mesh " + path + ": the PLY header " + at_line(lines.number) + " " + why); };
   while (std::getline(lines.in, line)) {
     ++lines.number;
     const auto t = tokens(line);
     if (t.empty()) continue;
-    if (t[0] == "end_header") break;
-    if (t[0] == "format" && t.size() > 1) ascii = t[1] == "ascii";
-    if (t[0] == "element" && t.size() > 2) {
-      Element e{t[1], 0, 0, lines.number};
-      if (!parse_integer(t[2], e.count))
-        throw InputError("mesh " + path + ": the PLY header " + at_line(lines.number) + " gives '" + t[2] + "' " + t[1] + "s, not a count");
+    const std::string& key = t[0];
+    if (lines.number == 1 && key != "ply") throw bad("does not start with 'ply'");
+    if (key == "end_header") return elements;
+    if (key == "format") {
+      if (t.size() != 3 || (t[1] != "ascii" && t[1] != "binary_little_endian" && t[1] != "binary_big_endian") || t[2] != "1.0")
+        throw bad("names an unknown format (PLY 1.0 is ascii, binary_little_endian or binary_big_endian)");
+      ascii = t[1] == "ascii";
+    } else if (key == "element") {
+      PlyElement e{t.size() > 1 ? t[1] : "", 0, 0, lines.number};
+      if (t.size() < 3 || !parse_integer(t[2], e.count)) throw bad("does not give an element name and count");
       elements.push_back(e);
+    } else if (key == "property") {
+      const bool list = t.size() > 1 && t[1] == "list";
+      if (elements.empty()) throw bad("has a property before any element");
+      if (t.size() < (list ? 5u : 3u) || ply_scalar_size(t[1 + list]) == 0 || (list && ply_scalar_size(t[3]) == 0))
+        throw bad("has a property of unknown type");
+      elements.back().min_bytes += ascii ? 2 : ply_scalar_size(t[1 + list]);
+    } else if (key != "ply" && key != "comment" && key != "obj_info") {
+      throw bad("has the unknown keyword '" + key + "'");
     }
-    if (t[0] == "property" && t.size() > 2 && !elements.empty())
-      elements.back().min_bytes += ascii ? 2 : (t[1] == "list" ? scalar_size(t[2]) : scalar_size(t[1]));
   }
+  throw InputError("mesh " + path + ": the PLY header has no end_header line (the file is truncated or not PLY)");
+}
+
+void check_ply(const std::string& path, std::uintmax_t bytes) {
+  Lines lines(path);
+  bool ascii = true;
+  const std::vector<PlyElement> elements = read_ply_header(path, lines, ascii);
   long long total = 0;
   for (const auto& e : elements) {
     check_counts_fit(path, e.name + "s", e.count, std::max(1.0, e.min_bytes), bytes, e.line);
     total += e.count;
   }
   if (!ascii) return;
+  std::string line;
   long long seen = 0;
   while (seen < total && lines.next_data(line)) ++seen;
   if (seen < total)
