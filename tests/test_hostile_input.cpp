@@ -346,3 +346,42 @@ TEST_CASE("A speck beside the model is named with its size and place, and --min-
   INFO(larger.output);
   CHECK(larger.exit_code == 0);
 }
+
+TEST_CASE("The capsule round trip at scales 1e-9 and 1e9 is as accurate as at scale 1", "[hostile]") {
+  Capsule cap;
+  std::string text;
+  {
+    std::ifstream in(cap.mesh);
+    text.assign(std::istreambuf_iterator<char>(in), {});
+  }
+  auto roundtrip = [&](double scale) {
+    std::istringstream lines(text);
+    std::ostringstream scaled;
+    scaled.precision(17);
+    for (std::string line; std::getline(lines, line);) {
+      if (line.rfind("v ", 0) == 0) {
+        std::istringstream v(line.substr(2));
+        double x, y, z;
+        v >> x >> y >> z;
+        scaled << "v " << x * scale << ' ' << y * scale << ' ' << z * scale << '\n';
+      } else {
+        scaled << line << '\n';
+      }
+    }
+    const std::string path = cap.dir / "scaled.obj";
+    write_file(path, scaled.str());
+    const auto r = run_sdm("roundtrip " + path + " --json");
+    REQUIRE(r.exit_code == 0);
+    const size_t json = r.output.rfind("\n{\n");  // after the progress lines
+    REQUIRE(json != std::string::npos);
+    return nlohmann::json::parse(r.output.substr(json + 1));
+  };
+  const nlohmann::json one = roundtrip(1), tiny = roundtrip(1e-9), huge = roundtrip(1e9);
+  // Relative errors: no absolute epsilon may show. The skeleton itself differs a little between
+  // scales (its extraction reacts to rounding), which is why Hausdorff gets a looser bound.
+  for (const auto* j : {&tiny, &huge}) {
+    CHECK((*j)["rms"].get<double>() < 1.5 * one["rms"].get<double>());
+    CHECK((*j)["hausdorff"].get<double>() < 3 * one["hausdorff"].get<double>());
+    CHECK((*j)["closed"].get<bool>());
+  }
+}
