@@ -197,6 +197,17 @@ TEST_CASE("Crafted SDM headers are refused by name with exit 2 before any pixel 
     sdm::write_sdm_exr(im, crafted);
     for (int lod : {0, 1, 2, 3}) expect_refused(run_sdm("decode " + crafted + " --lod " + std::to_string(lod) + " -o " + out), "degenerate");
   }
+  SECTION("a radius tampered by 10x, which decoded a closed mesh off by model units") {
+    im.layout["segments"][1]["radius"] = 10 * im.layout["segments"][1]["radius"].get<double>();
+    sdm::write_sdm_exr(im, crafted);
+    expect_refused(run_sdm("decode " + crafted + " -o " + out), "was altered");
+  }
+  SECTION("a frame turned away from the segment's nodes") {
+    auto& g = im.layout["segments"][1];
+    std::swap(g["axis"], g["e1"]);
+    sdm::write_sdm_exr(im, crafted);
+    expect_refused(run_sdm("decode " + crafted + " -o " + out), "axis that does not run from its node a");
+  }
   SECTION("a rectangle near INT_MAX") {
     im.layout["segments"][0]["rect"] = {2147483600, 2147483600, 100, 100};
     sdm::write_sdm_exr(im, crafted);
