@@ -3,6 +3,7 @@
 #include "apps/commands.h"
 #include "libstm/core/errors.h"
 #include "libstm/core/stopwatch.h"
+#include "libstm/mesh/drop_small_parts.h"
 #include "libstm/skeleton/extract_skeleton.h"
 
 namespace sdm::cli {
@@ -42,6 +43,21 @@ LayoutForMesh layout_for(const sdm::Mesh& mesh, const LayoutSource& source) {
   r.layout_seconds = clock.lap();
   r.computed = true;
   return r;
+}
+
+Mesh load_mesh_min_part(const std::string& path, double min_part) {
+  sdm::Mesh mesh = sdm::load_mesh(path);
+  if (!(min_part > 0)) return mesh;
+  sdm::DroppedParts kept = sdm::drop_small_parts(mesh, min_part);
+  for (const auto& d : kept.dropped) progress("--min-part: dropped " + d);
+  return std::move(kept.mesh);
+}
+
+void add_min_part_option(CLI::App* app, double& value) {
+  app->add_option("--min-part", value,
+                  "Drop separate parts smaller than this fraction of the model's bounding-box diagonal (specks\n"
+                  "too small for any texel), naming each")
+      ->check(CLI::Range(0.0, 1.0));
 }
 
 }  // namespace sdm::cli

@@ -3,6 +3,8 @@
 #include "libstm/layout/layout.h"
 #include "libstm/mesh/mesh.h"
 
+#include <CLI/CLI.hpp>
+
 #include <string>
 
 namespace sdm::cli {
@@ -30,5 +32,10 @@ struct LayoutForMesh {
 /// file was made for a mesh with another vertex count, and whatever reading the files, extracting
 /// the skeleton or computing the layout throws.
 LayoutForMesh layout_for(const Mesh& mesh, const LayoutSource& source);
+
+// load_mesh, then drop_small_parts(min_part) when min_part > 0, saying on stderr what it dropped.
+Mesh load_mesh_min_part(const std::string& path, double min_part);
+// Adds --min-part to a command (encode, stm, roundtrip: the commands that compute a layout).
+void add_min_part_option(CLI::App* app, double& value);
 
 }  // namespace sdm::cli

@@ -1,5 +1,6 @@
 #include "apps/cli_common.h"
 #include "apps/commands.h"
+#include "apps/memory_budget.h"
 #include "libstm/core/errors.h"
 #include "libstm/render/gl_context.h"
 #include "libstm/core/image.h"
@@ -15,7 +16,7 @@ namespace sdm::cli {
 
 Command add_remap_command(CLI::App& parent) {
   struct Opts {
-    std::string mesh, output, texture, layout;
+    std::string mesh, output, texture, layout, max_memory;
     int size = 2048, margin = 8;
     bool json = false;
   };
@@ -38,7 +39,9 @@ Command add_remap_command(CLI::App& parent) {
       ->check(CLI::Range(0, 256))
       ->capture_default_str();
   app->add_flag("--json", o->json, "Print one JSON object instead of text");
+  add_max_memory_option(app, o->max_memory);
   return {app, [o]() {
+            if (o->layout.empty()) check_atlas_memory(o->size, 60, o->max_memory);
             std::string material;
             const sdm::Mesh mesh = sdm::load_mesh(o->mesh, &material);
             const std::string texture_path = o->texture.empty() ? material : o->texture;

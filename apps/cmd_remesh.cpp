@@ -1,15 +1,36 @@
 #include "apps/commands.h"
+#include "apps/memory_budget.h"
 #include "libstm/mesh/isotropic_remesh.h"
 #include "libstm/mesh/mesh.h"
 #include "libstm/geometry/triangle_bvh.h"
 
+#include <cmath>
 #include <memory>
 
 namespace sdm::cli {
 
+namespace {
+
+// An edge length beyond a quarter of the model's diagonal collapses it to a speck (exit 0 with
+// garbage, issue 15); a tiny one asks for more triangles than memory holds (about A / (sqrt(3)/4
+// L^2) triangles, 300 bytes each with the remesher's working copies).
+void check_edge_length(const sdm::Mesh& input, double edge, const std::string& max_memory) {
+  const double diagonal = sdm::bounding_box_diagonal(input);
+  if (edge > 0.25 * diagonal)
+    throw sdm::InputError("edge length " + sdm::number(edge) + " is more than a quarter of the model's diagonal (" + sdm::number(diagonal) +
+                          "): the remesh would collapse the model; use at most " + sdm::number(0.25 * diagonal));
+  double area = 0;
+  for (auto f : input.faces()) area += input.calc_face_area(f);
+  const double triangles = area / (std::sqrt(3.0) / 4 * edge * edge);
+  check_memory(300 * triangles, max_memory, "remeshing at edge length " + sdm::number(edge) + " (" + sdm::number(triangles) + " triangles)",
+               "use a longer --edge-length or a larger --factor");
+}
+
+}  // namespace
+
 Command add_remesh_command(CLI::App& parent) {
   struct Opts {
-    std::string mesh, out;
+    std::string mesh, out, max_memory;
     double edge = 0, factor = 1.0;
     int iterations = 8;
   };
@@ -24,6 +45,7 @@ Command add_remesh_command(CLI::App& parent) {
       ->check(CLI::PositiveNumber);
   app->add_option("--factor", o->factor, "Scale of the default target edge length")->capture_default_str()->check(CLI::Range(0.1, 10.0));
   app->add_option("--iterations", o->iterations, "Remeshing iterations")->capture_default_str()->check(CLI::Range(1, 100));
+  add_max_memory_option(app, o->max_memory);
   return {app, [o]() {
             const sdm::Mesh input = sdm::load_mesh(o->mesh);
             double edge = o->edge;
@@ -34,6 +56,7 @@ Command add_remesh_command(CLI::App& parent) {
               for (auto f : input.faces()) area += input.calc_face_area(f);
               edge = std::sqrt(2.0 * area / (std::sqrt(3.0) * double(input.n_vertices()))) * o->factor;
             }
+            check_edge_length(input, edge, o->max_memory);
             const sdm::TriangleBvh bvh(sdm::vertex_matrix(input), sdm::face_matrix(input));
             sdm::Mesh mesh = input;
             mesh.release_halfedge_texcoords2D();

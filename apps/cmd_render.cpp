@@ -1,4 +1,6 @@
 #include "apps/commands.h"
+#include "apps/memory_budget.h"
+#include "libstm/core/limits.h"
 #include "libstm/layout/draw_atlas.h"
 #include "libstm/core/errors.h"
 #include "libstm/render/gl_context.h"
@@ -24,6 +26,7 @@ struct RenderArgs {
   int width = 800, height = 800, views = 1;
   double azimuth = 30, elevation = 20;
   bool unlit = false, orthographic = false, flat = false, no_texture = false, json = false, compare_uv = false;
+  std::string max_memory;
 };
 
 void declare_render_options(CLI::App* app, RenderArgs* o) {
@@ -51,7 +54,31 @@ void declare_render_options(CLI::App* app, RenderArgs* o) {
   app->add_option("--views", o->views, "Number of views around the up axis, starting at --azimuth (a contact sheet)")
       ->check(CLI::Range(1, 64))
       ->capture_default_str();
+  add_max_memory_option(app, o->max_memory);
   app->add_flag("--json", o->json, "Print one JSON object describing the render");
+}
+
+// Before anything is drawn: the contact sheet must fit a PNG side (kMaxImageSide) and the views,
+// the sheet and the framebuffers the memory budget: 12 bytes per view pixel (4 kept, 4 in the sheet,
+// 1 of mask, the PNG's encoding) and 60 per framebuffer pixel (multisampled colour, float and depth
+// attachments and their read-back); measured: 4096^2 one view 0.88 GB, 4 views of 2048^2 0.45 GB.
+void check_render_size(const RenderArgs& o) {
+  const int gap = 8;  // contact_sheet's and side_by_side's
+  const int64_t cw = o.compare_uv ? 2 * int64_t(o.width) + gap : o.width, ch = o.height;
+  int columns = 1;
+  while (columns * columns < o.views) ++columns;
+  if (o.compare_uv) columns = std::max(1, (columns + 1) / 2);
+  columns = std::min(columns, o.views);
+  const int rows = (o.views + columns - 1) / columns;
+  const int64_t sw = columns * cw + (columns - 1) * gap, sh = rows * ch + (rows - 1) * gap;
+  if (sw > sdm::kMaxImageSide || sh > sdm::kMaxImageSide)
+    throw sdm::InputError("the picture of " + std::to_string(o.views) + " view(s) of " + std::to_string(o.width) + "x" +
+                          std::to_string(o.height) + " would be " + std::to_string(sw) + "x" + std::to_string(sh) + " pixels, more than " +
+                          std::to_string(sdm::kMaxImageSide) + " a side: use a smaller --width/--height or fewer --views");
+  const double bytes = 12.0 * double(o.views) * double(cw) * double(ch) + 60.0 * double(o.width) * double(o.height);
+  check_memory(bytes, o.max_memory, "rendering " + std::to_string(o.views) + " view(s) of " + std::to_string(o.width) + "x" +
+                                        std::to_string(o.height),
+               "use a smaller --width/--height or fewer --views");
 }
 
 // A picture is useful for any mesh, so unlike the pipeline commands, render also draws open
@@ -164,6 +191,7 @@ void report_render(const RenderArgs& o, const sdm::GlContext& gl, const sdm::Ima
 }
 
 int run_render(const RenderArgs& o) {
+  check_render_size(o);
   std::string material_texture;
   const sdm::Mesh mesh = load_any_mesh(o.mesh, &material_texture);
   const std::string texture_path = own_texture_path(o, material_texture);

@@ -1,6 +1,7 @@
 // sdm encode / decode / roundtrip: skeleton displacement maps.
 #include "apps/cli_common.h"
 #include "apps/commands.h"
+#include "apps/memory_budget.h"
 #include "libsdm/decode/decode_sdm.h"
 #include "libsdm/encode/encode_sdm.h"
 #include "libsdm/map/sdm_exr.h"
@@ -79,8 +80,9 @@ bool closed_manifold(const sdm::Mesh& m) { return sdm::validate_mesh(sdm::mesh_t
 
 Command add_encode_command(CLI::App& parent) {
   struct Opts {
-    std::string mesh, out, layout, skeleton, png;
+    std::string mesh, out, layout, skeleton, png, max_memory;
     int size = 1024;
+    double min_part = 0;
     bool json = false;
   };
   auto o = std::make_shared<Opts>();
@@ -93,10 +95,13 @@ Command add_encode_command(CLI::App& parent) {
   app->add_option("--layout", o->layout, "Use this layout (from 'sdm stm') instead of computing one");
   app->add_option("--skeleton", o->skeleton, "Use this skeleton (from 'sdm skeleton') instead of extracting one");
   app->add_option("--png", o->png, "Also write a false-colour picture of the map (.png)");
+  add_min_part_option(app, o->min_part);
+  add_max_memory_option(app, o->max_memory);
   app->add_flag("--json", o->json, "Print one JSON object with the summary");
   return {app, [o]() {
+            if (o->layout.empty()) check_atlas_memory(o->size, 10, o->max_memory);
             sdm::Stopwatch clock;
-            const sdm::Mesh mesh = sdm::load_mesh(o->mesh);
+            const sdm::Mesh mesh = load_mesh_min_part(o->mesh, o->min_part);
             const sdm::Layout layout = layout_for(mesh, encode_layout_source(o->layout, o->skeleton, o->size)).layout;
             const double layout_s = clock.lap();
             sdm::EncodeStats st;
@@ -126,6 +131,7 @@ Command add_decode_command(CLI::App& parent) {
     std::string map, out, skeleton, write_skeleton;
     int lod = 3;
     std::vector<std::string> segment_lod;
+    std::string max_memory;
     bool json = false;
   };
   auto o = std::make_shared<Opts>();
@@ -140,6 +146,7 @@ Command add_decode_command(CLI::App& parent) {
                   "Decode around this skeleton: the map's own skeleton (see --write-skeleton) with moved nodes");
   app->add_option("--write-skeleton", o->write_skeleton,
                   "Also write the map's skeleton (.json, or .obj polyline): edit its node positions for --skeleton");
+  add_max_memory_option(app, o->max_memory);
   app->add_flag("--json", o->json, "Print one JSON object with the summary");
   return {app, [o]() {
             const sdm::Stopwatch clock;
@@ -147,6 +154,9 @@ Command add_decode_command(CLI::App& parent) {
             sdm::DecodeOptions d;
             d.level = o->lod;
             d.segment_level = parse_segment_levels(o->segment_lod);
+            const sdm::DecodeEstimate e = sdm::estimate_decode(im, d);
+            check_memory(e.bytes, o->max_memory, "decoding " + std::to_string(int64_t(e.triangles / 1e6)) + " million triangles",
+                         "use a lower --lod (each level quadruples the triangles)");
             if (!o->skeleton.empty()) d.skeleton = sdm::read_skeleton_json(o->skeleton);
             const sdm::Mesh mesh = sdm::decode_sdm(im, d);
             const double s = clock.seconds();
@@ -174,7 +184,8 @@ Command add_roundtrip_command(CLI::App& parent) {
   struct Opts {
     std::string mesh, out;
     int size = 1024, lod = 3, samples = 100000;
-    double max_rms = -1;
+    double max_rms = -1, min_part = 0;
+    std::string max_memory;
     bool json = false;
   };
   auto o = std::make_shared<Opts>();
@@ -188,10 +199,12 @@ Command add_roundtrip_command(CLI::App& parent) {
   app->add_option("--samples", o->samples, "Points sampled on each surface")->capture_default_str()->check(CLI::Range(1000, 10000000));
   app->add_option("--max-rms", o->max_rms, "Fail (exit 3) when the RMS error, as a fraction of the diagonal, is larger");
   app->add_option("-o,--output", o->out, "Also write the decoded mesh");
+  add_min_part_option(app, o->min_part);
+  add_max_memory_option(app, o->max_memory);
   app->add_flag("--json", o->json, "Print one JSON object with the summary");
   return {app, [o]() {
             const sdm::Stopwatch total;
-            const sdm::Mesh mesh = sdm::load_mesh(o->mesh);
+            const sdm::Mesh mesh = load_mesh_min_part(o->mesh, o->min_part);
             const sdm::Layout layout = layout_for(mesh, encode_layout_source("", "", o->size)).layout;
             sdm::Stopwatch stage;
             progress("encoding");
@@ -200,6 +213,9 @@ Command add_roundtrip_command(CLI::App& parent) {
             progress("decoding");
             sdm::DecodeOptions d;
             d.level = o->lod;
+            const sdm::DecodeEstimate e = sdm::estimate_decode(im, d);
+            check_memory(e.bytes, o->max_memory, "decoding " + std::to_string(int64_t(e.triangles / 1e6)) + " million triangles",
+                         "use a lower --lod (each level quadruples the triangles)");
             const sdm::Mesh out = sdm::decode_sdm(im, d);
             const double decode_s = stage.lap();
             if (!o->out.empty()) sdm::write_mesh(out, o->out);

@@ -1,7 +1,9 @@
 #include "apps/cli_common.h"
 #include "apps/commands.h"
+#include "apps/memory_budget.h"
 #include "libstm/layout/draw_atlas.h"
 #include "libstm/core/errors.h"
+#include "libstm/core/limits.h"
 #include "libstm/layout/layout.h"
 #include "libstm/mesh/mesh.h"
 #include "libstm/skeleton/skeleton.h"
@@ -14,9 +16,10 @@ namespace sdm::cli {
 
 Command add_stm_command(CLI::App& parent) {
   struct Opts {
-    std::string mesh, out, skeleton, uv_obj, atlas_png;
+    std::string mesh, out, skeleton, uv_obj, atlas_png, max_memory;
     int size = 1024;
     int margin = 4;
+    double min_part = 0;
     bool json = false;
   };
   auto o = std::make_shared<Opts>();
@@ -29,13 +32,16 @@ Command add_stm_command(CLI::App& parent) {
   app->add_option("--skeleton", o->skeleton,
                   "Use this skeleton (JSON, format sdm-skeleton, made for this mesh) instead of extracting one\n"
                   "with the default options of `sdm skeleton`");
-  app->add_option("--size", o->size, "Atlas width and height in texels")->check(CLI::Range(16, 32768))->capture_default_str();
+  app->add_option("--size", o->size, "Atlas width and height in texels")->check(CLI::Range(16, sdm::kMaxImageSide))->capture_default_str();
   app->add_option("--margin", o->margin, "Texels of margin around every rectangle")->check(CLI::Range(0, 256))->capture_default_str();
   app->add_option("--uv-obj", o->uv_obj, "Also write the mesh with its STM coordinates as uv (OBJ; seam vertices duplicated)");
   app->add_option("--atlas-png", o->atlas_png, "Also draw the atlas: rectangles and each segment's triangles in its colour (PNG)");
+  add_min_part_option(app, o->min_part);
+  add_max_memory_option(app, o->max_memory);
   app->add_flag("--json", o->json, "Print one JSON object instead of text");
   return {app, [o]() {
-            sdm::Mesh mesh = sdm::load_mesh(o->mesh);
+            check_atlas_memory(o->size, 10, o->max_memory);
+            sdm::Mesh mesh = load_mesh_min_part(o->mesh, o->min_part);
             LayoutSource from;
             from.skeleton_file = o->skeleton;
             from.options.size = o->size;

@@ -1,4 +1,5 @@
 #include "apps/commands.h"
+#include "apps/memory_budget.h"
 #include "libsdm/decode/decode_sdm.h"
 #include "libsdm/map/sdm_exr.h"
 #include "libstm/transfer/carry_attributes.h"
@@ -22,6 +23,7 @@ namespace {
 
 struct TransferArgs {
   std::string source, texture, target, output, source_skeleton, target_skeleton, sdm, correspondence, vertex_colors;
+  std::string max_memory;
   std::vector<std::string> match;
   int size = 2048, margin = 8, lod = 3;
   bool json = false, force = false;
@@ -77,6 +79,8 @@ int run_sdm_transfer(const TransferArgs& o) {
   sdm::SkeletonMatch m;
   sdm::DecodeOptions d;
   d.level = o.lod;
+  const double bytes = sdm::estimate_decode(im, d).bytes;
+  check_memory(bytes, o.max_memory, "decoding at --lod " + std::to_string(o.lod), "use a lower --lod");
   d.skeleton = sdm::skeleton_onto_graph(graph, target, sdm::parse_node_pairs(o.match), &m);
   const sdm::Mesh mesh = sdm::decode_sdm(im, d);
   sdm::write_mesh(mesh, o.output);
@@ -323,6 +327,7 @@ void print_transfer_text(const TransferArgs& o, const TransferInputs& in, const 
 
 // The texture transfer: inputs, transfer_texture, preview, files, report.
 int run_texture_transfer(const TransferArgs& o) {
+  check_atlas_memory(o.size, 60, o.max_memory);
   TransferInputs in = read_inputs(o);
   sdm::GlContext gl;
   progress("GL renderer: " + gl.renderer() + " (" + gl.version() + ", " + gl.platform() + ")");
@@ -390,6 +395,7 @@ void declare_options(CLI::App* app, TransferArgs& o) {
   app->add_option("--vertex-colors", o.vertex_colors,
                   "Also write the target with a colour per vertex (.ply, uchar red/green/blue): the source's vertex colours,\n"
                   "or its texture, at the source point each target vertex corresponds to (needs a correspondence, as above)");
+  add_max_memory_option(app, o.max_memory);
   app->add_flag("--force", o.force, "Write the result even when the registered source fits the target poorly");
   app->add_flag("--json", o.json, "Print one JSON object instead of text");
 }

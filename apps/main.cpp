@@ -1,4 +1,6 @@
 #include "apps/commands.h"
+#include "apps/output_paths.h"
+#include "libstm/core/atomic_file.h"
 #include "libstm/core/errors.h"
 #include "libstm/core/version.h"
 
@@ -29,6 +31,8 @@ int main(int argc, char** argv) {
       sdm::cli::add_transfer_command(app),
       sdm::cli::add_bench_command(app),
   };
+  // An interrupted write leaves no hidden temporary file behind (atomic_file.h).
+  sdm::remove_temporaries_on_signal();
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -36,12 +40,17 @@ int main(int argc, char** argv) {
   }
   for (auto& c : commands) {
     if (!c.app->parsed()) continue;
+    sdm::cli::OutputsBefore outputs;
     try {
+      sdm::cli::check_output_paths(*c.app);
+      outputs = sdm::cli::record_outputs(*c.app);
       return c.run();
     } catch (const sdm::InputError& e) {
+      sdm::cli::remove_written_outputs(outputs);  // a failed run leaves none of its outputs
       std::cerr << "sdm " << c.app->get_name() << ": error: " << e.what() << std::endl;
       return 2;
     } catch (const std::exception& e) {
+      sdm::cli::remove_written_outputs(outputs);
       std::cerr << "sdm " << c.app->get_name() << ": failed: " << e.what() << std::endl;
       return 1;
     }

@@ -8,6 +8,8 @@
 #include "libstm/layout/layout.h"
 #include "libstm/layout/segment_frames.h"
 
+#include <cmath>
+
 namespace sdm {
 namespace {
 
@@ -35,7 +37,37 @@ void move_skeleton(Layout& layout, const Skeleton& moved) {
   layout.skeleton.nodes = moved.nodes;
 }
 
+// The level of each segment: options.level, or its --lod-segment override. Throws InputError for
+// a level outside 0..8 or an unknown segment.
+std::vector<int> segment_levels(int segments, const DecodeOptions& options) {
+  auto check_level = [](int level) {
+    if (level < 0 || level > 8) throw InputError("level of detail " + std::to_string(level) + " is out of range 0..8");
+  };
+  check_level(options.level);
+  std::vector<int> level(size_t(segments), options.level);
+  for (const auto& [s, l] : options.segment_level) {
+    if (s < 0 || s >= segments)
+      throw InputError("--lod-segment names segment " + std::to_string(s) + " but the SDM has " + std::to_string(segments) +
+                       " segments (0.." + std::to_string(segments - 1) + ")");
+    check_level(l);
+    level[s] = l;
+  }
+  return level;
+}
+
 }  // namespace
+
+DecodeEstimate estimate_decode(const SdmImage& image, const DecodeOptions& options) {
+  const Layout layout = layout_from_json(image.layout);
+  if (!image.layout.contains("base_mesh"))
+    throw InputError("the SDM header has no base mesh: it was written by an older 'sdm encode'; encode it again");
+  const BaseMesh base = base_mesh_from_json(image.layout.at("base_mesh"), int(layout.segments.size()));
+  const std::vector<int> level = segment_levels(int(layout.segments.size()), options);
+  DecodeEstimate e;
+  for (int s : base.face_segment) e.triangles += std::pow(4.0, level[s]);
+  e.bytes = 450 * e.triangles;
+  return e;
+}
 
 Mesh decode_sdm(const SdmImage& image, const DecodeOptions& options, std::vector<int>* vertex_segment) {
   Layout layout = layout_from_json(image.layout);
@@ -47,18 +79,7 @@ Mesh decode_sdm(const SdmImage& image, const DecodeOptions& options, std::vector
                      " but its layout is for a " + std::to_string(layout.size) + " atlas");
   if (options.skeleton) move_skeleton(layout, *options.skeleton);
 
-  auto check_level = [](int level) {
-    if (level < 0 || level > 8) throw InputError("level of detail " + std::to_string(level) + " is out of range 0..8");
-  };
-  check_level(options.level);
-  std::vector<int> level(layout.segments.size(), options.level);
-  for (const auto& [s, l] : options.segment_level) {
-    if (s < 0 || s >= int(layout.segments.size()))
-      throw InputError("--lod-segment names segment " + std::to_string(s) + " but the SDM has " +
-                       std::to_string(layout.segments.size()) + " segments (0.." + std::to_string(layout.segments.size() - 1) + ")");
-    check_level(l);
-    level[s] = l;
-  }
+  const std::vector<int> level = segment_levels(int(layout.segments.size()), options);
   std::vector<int> rate(base.triangles.rows());
   for (int f = 0; f < base.triangles.rows(); ++f) rate[f] = 1 << level[base.face_segment[f]];
   const Tessellation tess = tessellate_mesh(base.triangles, rate);

@@ -9,6 +9,7 @@
 #include <OpenMesh/Tools/Decimater/ModNormalFlippingT.hh>
 #include <OpenMesh/Tools/Decimater/ModQuadricT.hh>
 
+#include <algorithm>
 #include <set>
 
 namespace sdm {
@@ -223,6 +224,40 @@ nlohmann::json base_mesh_to_json(const BaseMesh& base) {
   return j;
 }
 
+namespace {
+
+// What make_base_mesh guarantees and the tessellation relies on (OpenSubdiv asserts otherwise):
+// three distinct corners per face, vertices 0..n-1 all used, every directed edge used once and its
+// opposite once (closed and consistently oriented).
+void check_base_topology(const Eigen::MatrixX3i& t) {
+  const std::string bad = "invalid base mesh in the SDM header: ";
+  const int nf = int(t.rows());
+  for (int f = 0; f < nf; ++f)
+    if (t(f, 0) == t(f, 1) || t(f, 1) == t(f, 2) || t(f, 0) == t(f, 2))
+      throw InputError(bad + "face " + std::to_string(f) + " is degenerate (corners " + std::to_string(t(f, 0)) + ", " +
+                       std::to_string(t(f, 1)) + ", " + std::to_string(t(f, 2)) + ")");
+  const int64_t top = t.maxCoeff();  // 64-bit: an index of INT_MAX must not wrap below
+  if (top + 1 > 3 * int64_t(nf)) throw InputError(bad + "vertex index " + std::to_string(top) + " for " + std::to_string(nf) + " faces");
+  const int nv = int(top + 1);
+  std::vector<char> used(size_t(nv), 0);
+  std::vector<std::pair<int, int>> directed;
+  directed.reserve(3 * size_t(nf));
+  for (int f = 0; f < nf; ++f)
+    for (int c = 0; c < 3; ++c) used[t(f, c)] = 1, directed.emplace_back(t(f, c), t(f, (c + 1) % 3));
+  for (int v = 0; v < nv; ++v)
+    if (!used[v]) throw InputError(bad + "vertex " + std::to_string(v) + " belongs to no face");
+  std::sort(directed.begin(), directed.end());
+  for (size_t i = 0; i < directed.size(); ++i) {
+    const auto& [a, b] = directed[i];
+    if (i + 1 < directed.size() && directed[i + 1] == directed[i])
+      throw InputError(bad + "edge " + std::to_string(a) + "-" + std::to_string(b) + " is used twice in the same direction");
+    if (!std::binary_search(directed.begin(), directed.end(), std::make_pair(b, a)))
+      throw InputError(bad + "edge " + std::to_string(a) + "-" + std::to_string(b) + " has no opposite: the base mesh is not closed");
+  }
+}
+
+}  // namespace
+
 BaseMesh base_mesh_from_json(const nlohmann::json& j, int segments) {
   BaseMesh base;
   std::vector<int> tris;
@@ -248,8 +283,11 @@ BaseMesh base_mesh_from_json(const nlohmann::json& j, int segments) {
       if (tris[3 * f + c] < 0) throw InputError("invalid base mesh in the SDM header: negative vertex index");
       base.triangles(Eigen::Index(f), c) = tris[3 * f + c];
       base.corner_uv[f][c] = {uv[6 * f + 2 * c], uv[6 * f + 2 * c + 1]};
+      if (!base.corner_uv[f][c].allFinite())
+        throw InputError("invalid base mesh in the SDM header: face " + std::to_string(f) + " has NaN or infinite texel coordinates");
     }
   }
+  check_base_topology(base.triangles);
   return base;
 }
 

@@ -32,7 +32,8 @@ struct BaseMesh {
 BaseMesh make_base_mesh(const Mesh& mesh, const Layout& layout, int target_vertices = 0);
 
 nlohmann::json base_mesh_to_json(const BaseMesh& base);
-// Throws InputError naming what is wrong (sizes, indices, segments out of range).
+// Throws InputError naming what is wrong (sizes, indices, segments out of range, non-finite texel
+// coordinates, degenerate faces, unused vertices, or a surface that is not closed and oriented).
 BaseMesh base_mesh_from_json(const nlohmann::json& j, int segments);
 
 }  // namespace sdm

@@ -2,6 +2,7 @@
 
 #include "libstm/core/atomic_file.h"
 #include "libstm/core/errors.h"
+#include "libstm/core/limits.h"
 
 #include <OpenEXR/ImfChannelList.h>
 #include <OpenEXR/ImfFrameBuffer.h>
@@ -12,6 +13,7 @@
 #include <OpenEXR/ImfStringAttribute.h>
 #include <OpenEXR/ImfTestFile.h>
 
+#include <cstdint>
 #include <filesystem>
 
 namespace sdm {
@@ -27,6 +29,24 @@ void check_size(const SdmImage& im) {
   const bool vec = !im.X.empty();
   if (vec && (im.X.size() != n || im.Y.size() != n || im.Z.size() != n))
     throw std::invalid_argument("write_sdm_exr: vector channels do not match the image size");
+}
+
+// The data window is checked before any pixel memory is allocated, so that a patched window
+// cannot make the reader allocate gigabytes: at (0, 0), at most kMaxImageSide a side, and no more
+// float pixels than the file can hold compressed (deflate, which every EXR compression but the
+// lossy ones uses or undercuts, shrinks data by at most 1032:1).
+void check_window(const std::string& path, const Imath::Box2i& dw, int channels) {
+  const int64_t w = int64_t(dw.max.x) - dw.min.x + 1, h = int64_t(dw.max.y) - dw.min.y + 1;
+  const std::string window = "SDM " + path + " has a data window of " + std::to_string(w) + "x" + std::to_string(h) + " at (" +
+                             std::to_string(dw.min.x) + ", " + std::to_string(dw.min.y) + ")";
+  if (dw.min.x != 0 || dw.min.y != 0 || w < 1 || h < 1 || w > kMaxImageSide || h > kMaxImageSide)
+    throw InputError(window + ": an SDM starts at (0, 0) and has at most " + std::to_string(kMaxImageSide) + " texels a side");
+  std::error_code ec;
+  const double file = double(std::filesystem::file_size(path, ec));
+  const double raw = double(w) * double(h) * channels * sizeof(float);
+  if (!ec && raw > 1100.0 * file + (1 << 20))
+    throw InputError(window + ": " + std::to_string(int64_t(raw / (1 << 20))) + " MB of pixels cannot fit compressed in its " +
+                     std::to_string(int64_t(file)) + " bytes; the header was altered");
 }
 
 }  // namespace
@@ -75,8 +95,11 @@ SdmImage read_sdm_exr(const std::string& path) {
     if (im.layout.is_discarded() || !im.layout.is_object())
       throw InputError("SDM " + path + " has an invalid layout header: not a JSON object");
     const Imath::Box2i dw = h.dataWindow();
-    im.width = dw.max.x - dw.min.x + 1;
-    im.height = dw.max.y - dw.min.y + 1;
+    int channels = 0;
+    for (auto c = h.channels().begin(); c != h.channels().end(); ++c) ++channels;
+    check_window(path, dw, channels);
+    im.width = dw.max.x + 1;
+    im.height = dw.max.y + 1;
     const size_t n = size_t(im.width) * size_t(im.height);
     for (const char* c : {"D", "A"})
       if (!h.channels().findChannel(c))

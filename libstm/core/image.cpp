@@ -2,6 +2,7 @@
 
 #include "libstm/core/atomic_file.h"
 #include "libstm/core/errors.h"
+#include "libstm/core/limits.h"
 
 #include <stb_image.h>
 #include <stb_image_write.h>
@@ -28,14 +29,28 @@ Image read_png(const std::string& path) {
   return img;
 }
 
+namespace {
+
+void append_bytes(void* context, void* data, int size) {
+  static_cast<std::string*>(context)->append(static_cast<const char*>(data), size_t(size));
+}
+
+}  // namespace
+
 void write_png(const Image& image, const std::string& path) {
   if (image.width <= 0 || image.height <= 0 || image.channels < 1 || image.channels > 4 ||
       image.pixels.size() != size_t(image.width) * image.height * image.channels)
     throw std::runtime_error("write_png: inconsistent image for '" + path + "'");
+  // stb_image_write computes sizes in int: beyond this side they would overflow.
+  if (image.width > kMaxImageSide || image.height > kMaxImageSide)
+    throw InputError("cannot write PNG " + path + ": " + std::to_string(image.width) + "x" + std::to_string(image.height) +
+                     " pixels, more than " + std::to_string(kMaxImageSide) + " a side");
   write_atomically(path, [&](const std::string& tmp) {
-    if (!stbi_write_png(tmp.c_str(), image.width, image.height, image.channels, image.pixels.data(),
-                        image.width * image.channels))
-      throw std::runtime_error("cannot write PNG '" + path + "'");
+    std::string bytes;
+    if (!stbi_write_png_to_func(append_bytes, &bytes, image.width, image.height, image.channels, image.pixels.data(),
+                                image.width * image.channels))
+      throw std::runtime_error("cannot encode PNG '" + path + "'");
+    write_bytes_checked(tmp, bytes.data(), bytes.size(), path);
   });
 }
 

@@ -2,7 +2,7 @@
 
 #include "libstm/core/atomic_file.h"
 
-#include <stb_image_write.h>
+#include "libstm/core/image.h"
 
 #include <algorithm>
 #include <cmath>
@@ -76,11 +76,11 @@ std::vector<std::uint8_t> draw_atlas(const Mesh& mesh, const Layout& L, const st
 }
 
 void write_atlas_png(const Mesh& mesh, const Layout& L, const std::vector<int>& face_segment, const std::string& path) {
-  const std::vector<std::uint8_t> img = draw_atlas(mesh, L, face_segment);
-  write_atomically(path, [&](const std::string& tmp) {
-    if (!stbi_write_png(tmp.c_str(), L.size, L.size, 4, img.data(), L.size * 4))
-      throw std::runtime_error("cannot write " + path);
-  });
+  Image img;
+  img.width = img.height = L.size;
+  img.channels = 4;
+  img.pixels = draw_atlas(mesh, L, face_segment);
+  write_png(img, path);  // its size limit and checked writes
 }
 
 Image checker_atlas(const Layout& layout, int square) {

@@ -2,6 +2,7 @@
 
 #include "libstm/core/atomic_file.h"
 #include "libstm/core/errors.h"
+#include "libstm/core/limits.h"
 #include "libstm/geometry/differential_geometry.h"
 #include "libstm/layout/pack_rectangles.h"
 #include "libstm/layout/segment_frames.h"
@@ -10,8 +11,40 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 
 namespace sdm {
+
+namespace {
+
+// A segment whose rectangle gets no whole texel even when the largest rectangle spans the atlas
+// cannot be packed at this size: a speck beside the model (a tiny separate part) fails at every
+// size, and "use a larger --size" sent the user round in circles. Names the segment, its size and
+// place, the size that would hold it, and --min-part (drop_small_parts.h) for a speck.
+void check_no_speck(const Mesh& mesh, const Layout& L, const std::vector<Eigen::Vector2d>& sizes, const LayoutOptions& opt) {
+  double largest = 0;
+  for (const auto& z : sizes) largest = std::max(largest, z.maxCoeff());
+  int worst = -1;
+  for (int s = 0; s < int(sizes.size()); ++s)
+    if (worst < 0 || sizes[s].minCoeff() < sizes[worst].minCoeff()) worst = s;
+  const double ratio = largest / sizes[worst].minCoeff();  // texels the largest side needs for 1 texel of the smallest
+  const double needed = ratio + 2 * opt.margin;
+  if (needed <= opt.size) return;
+  const LayoutSegment& g = L.segments[worst];
+  const Eigen::Vector3d at = 0.5 * (L.skeleton.nodes[g.a] + L.skeleton.nodes[g.b]);
+  const double diagonal = bounding_box_diagonal(mesh), extent = std::max(g.length + 2 * g.cap, 2 * g.radius);
+  std::string fix = needed <= kMaxImageSide ? "use --size " + std::to_string(int(std::ceil(needed))) + " or more"
+                                            : "no --size up to " + std::to_string(kMaxImageSide) + " holds it";
+  const double part = std::pow(10.0, std::ceil(std::log10(2 * extent / diagonal)));  // a round fraction above it
+  if (extent < 0.05 * diagonal)
+    fix += "; if it is a speck beside the model, drop the parts under " + number(part) + " of the diagonal with --min-part " + number(part);
+  throw InputError("segment " + std::to_string(worst) + " (radius " + number(g.radius) + ", length " + number(g.length) + ", around (" +
+                   number(at.x()) + ", " + number(at.y()) + ", " + number(at.z()) + "), " + number(100 * extent / diagonal) +
+                   " % of the model's diagonal) is " + number(ratio) + " times smaller than the largest rectangle: it gets no texel in a " +
+                   std::to_string(opt.size) + "^2 atlas. Fix: " + fix);
+}
+
+}  // namespace
 
 Layout compute_layout(const Mesh& mesh, const Skeleton& input, const LayoutOptions& opt) {
   auto say = [&](const std::string& s) {
@@ -48,6 +81,7 @@ Layout compute_layout(const Mesh& mesh, const Skeleton& input, const LayoutOptio
     g.weight = opt.weights.empty() ? 1.0 : opt.weights[origin[s]];
     sizes[s] = g.weight * Eigen::Vector2d(g.length + 2 * g.cap, 2 * M_PI * g.radius);
   }
+  check_no_speck(mesh, L, sizes, opt);
   say("packing " + std::to_string(ne) + " rectangles into " + std::to_string(opt.size) + "^2 texels");
   const Packing p = pack_rectangles(sizes, opt.size, opt.margin, opt.max_anisotropy);
   L.scale = p.scale;
@@ -121,6 +155,60 @@ nlohmann::json layout_to_json(const Layout& L) {
   return j;
 }
 
+namespace {
+
+std::string segment_problem(const Layout& L, size_t s) {
+  const LayoutSegment& g = L.segments[s];
+  const auto& e = L.skeleton.edges[s];
+  const int nn = int(L.skeleton.nodes.size()), ns = int(L.segments.size());
+  const bool ends_ok = g.a >= 0 && g.a < nn && g.b >= 0 && g.b < nn && ((g.a == e[0] && g.b == e[1]) || (g.a == e[1] && g.b == e[0]));
+  if (!ends_ok || g.edge != int(s)) return "does not match its skeleton edge";
+  // 64-bit sums: a rectangle near INT_MAX must not wrap around into the atlas.
+  const int64_t right = int64_t(g.x) + (g.rotated ? g.h : g.w), top = int64_t(g.y) + (g.rotated ? g.w : g.h);
+  if (g.w <= 0 || g.h <= 0 || g.x < 0 || g.y < 0 || right > L.size || top > L.size) return "lies outside the atlas";
+  for (const Eigen::Vector3d* v : {&g.axis, &g.e1, &g.e2})
+    if (!v->allFinite() || std::abs(v->norm() - 1) > 1e-6) return "has a frame that is not made of unit vectors";
+  if (std::abs(g.axis.dot(g.e1)) > 1e-6 || std::abs(g.axis.dot(g.e2)) > 1e-6 || std::abs(g.e1.dot(g.e2)) > 1e-6)
+    return "has a frame that is not orthogonal";
+  if (!(g.radius > 0) || !std::isfinite(g.radius)) return "has radius " + number(g.radius) + " (it must be positive)";
+  if (!(g.cap >= 0) || !std::isfinite(g.cap) || !(g.length >= 0) || !std::isfinite(g.length))
+    return "has a negative or non-finite cap or length";
+  if (!(g.weight > 0) || !std::isfinite(g.weight)) return "has a weight that is not positive";
+  if (!(g.d >= 0) || !(g.d <= 0.5 * g.w + 1e-9)) return "has a cap of " + number(g.d) + " texels outside 0..w/2";
+  // The rectangle is the capsule at the layout's scale, grown by packing (measured 0.99-1.34x):
+  // a radius or length tampered by 2x or more decoded a "closed 2-manifold" off by model units.
+  const double around = 2 * M_PI * g.radius * L.scale * g.weight, along = (g.length + 2 * g.cap) * L.scale * g.weight;
+  if (g.h < 0.5 * around - 1 || g.h > 2 * around + 1 || g.w < 0.5 * along - 1 || g.w > 2 * along + 1)
+    return "has a rectangle of " + std::to_string(g.w) + "x" + std::to_string(g.h) + " texels for a capsule of " + number(along) + "x" +
+           number(around) + " at the layout's scale: its radius, length or scale was altered";
+  // The axis runs from node a to node b (segment_frames.h).
+  const Eigen::Vector3d ab = L.skeleton.nodes[g.b] - L.skeleton.nodes[g.a];
+  if ((g.axis - ab / ab.norm()).norm() > 1e-6) return "has an axis that does not run from its node a to its node b";
+  for (const auto* nb : {&g.neighbours_a, &g.neighbours_b})
+    for (int o : *nb)
+      if (o < 0 || o >= ns) return "names neighbour segment " + std::to_string(o) + " of " + std::to_string(ns);
+  return "";
+}
+
+// Checks what compute_layout guarantees, so that a crafted file is refused before anything indexes
+// the atlas with its numbers (see layout.h).
+void check_layout(const Layout& L) {
+  if (L.size < 1 || L.size > kMaxImageSide)
+    throw InputError("not a valid sdm layout: atlas size " + std::to_string(L.size) + " is outside 1.." + std::to_string(kMaxImageSide));
+  if (L.margin < 0 || L.margin > L.size)
+    throw InputError("not a valid sdm layout: margin " + std::to_string(L.margin) + " is outside 0.." + std::to_string(L.size));
+  if (!(L.scale > 0) || !std::isfinite(L.scale)) throw InputError("not a valid sdm layout: scale must be positive");
+  if (L.segments.size() != L.skeleton.edges.size())
+    throw InputError("not a valid sdm layout: " + std::to_string(L.segments.size()) + " segments for " +
+                     std::to_string(L.skeleton.edges.size()) + " skeleton edges");
+  for (size_t s = 0; s < L.segments.size(); ++s) {
+    const std::string why = segment_problem(L, s);
+    if (!why.empty()) throw InputError("not a valid sdm layout: segment " + std::to_string(s) + " " + why);
+  }
+}
+
+}  // namespace
+
 Layout layout_from_json(const nlohmann::json& j) {
   Layout L;
   try {
@@ -157,20 +245,7 @@ Layout layout_from_json(const nlohmann::json& j) {
   } catch (const nlohmann::json::exception& e) {
     throw InputError(std::string("not a valid sdm layout: ") + e.what());
   }
-  const int nn = int(L.skeleton.nodes.size());
-  if (L.segments.size() != L.skeleton.edges.size())
-    throw InputError("not a valid sdm layout: " + std::to_string(L.segments.size()) + " segments for " +
-                     std::to_string(L.skeleton.edges.size()) + " skeleton edges");
-  for (size_t s = 0; s < L.segments.size(); ++s) {
-    const auto& g = L.segments[s];
-    const auto& e = L.skeleton.edges[s];
-    const bool ends_ok = g.a >= 0 && g.a < nn && g.b >= 0 && g.b < nn &&
-                         ((g.a == e[0] && g.b == e[1]) || (g.a == e[1] && g.b == e[0]));
-    const bool rect_ok = g.w > 0 && g.h > 0 && g.x >= 0 && g.y >= 0 &&
-                         (g.rotated ? g.x + g.h <= L.size && g.y + g.w <= L.size : g.x + g.w <= L.size && g.y + g.h <= L.size);
-    if (!ends_ok || !rect_ok || g.edge != int(s))
-      throw InputError("not a valid sdm layout: segment " + std::to_string(s) + (ends_ok ? " lies outside the atlas" : " does not match its skeleton edge"));
-  }
+  check_layout(L);
   return L;
 }
 

@@ -68,7 +68,10 @@ Eigen::Vector2d local_to_atlas(const LayoutSegment& seg, double u, double v);
 // JSON: {"format": "sdm-layout", "version": 1, "size", "margin", "scale", "coverage",
 // "coverage_inner", "skeleton": {...}, "segments": [{"edge", "a", "b", "axis", "e1", "e2",
 // "radius", "cap", "length", "area", "weight", "rect": [x, y, w, h], "rotated", "d",
-// "neighbours_a", "neighbours_b"}]}. Reading throws InputError naming what is wrong.
+// "neighbours_a", "neighbours_b"}]}. Reading throws InputError naming what is wrong: besides the
+// structure, it checks what compute_layout guarantees (atlas size within kMaxImageSide, rectangles
+// inside the atlas in 64-bit arithmetic, orthonormal frames, positive radii and weights, the
+// skeleton's checks of check_skeleton_geometry), so a crafted file cannot index out of bounds.
 nlohmann::json layout_to_json(const Layout& layout);
 Layout layout_from_json(const nlohmann::json& j);
 void write_layout_json(const Layout& layout, const std::string& path);

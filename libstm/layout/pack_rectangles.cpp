@@ -228,18 +228,34 @@ Packing pack_rectangles(const std::vector<Eigen::Vector2d>& sizes_in, int atlas_
   Attempt best;
   double lo = 0;
   bool found = false;
-  for (int it = 0; it < 60 && hi - lo > 1e-7 * hi; ++it) {
-    const double mid = 0.5 * (lo + hi);
-    Attempt a;
-    if (try_scale(sizes, mid, atlas_size, margin, a)) {
-      lo = mid, best = std::move(a), found = true;
-    } else {
-      hi = mid;
+  auto bisect = [&](double top) {
+    for (int it = 0; it < 60 && top - lo > 1e-7 * top; ++it) {
+      const double mid = 0.5 * (lo + top);
+      Attempt a;
+      if (try_scale(sizes, mid, atlas_size, margin, a)) {
+        lo = mid, best = std::move(a), found = true;
+      } else {
+        top = mid;
+      }
     }
-  }
+  };
+  bisect(hi);
   if (!found) {
     Attempt a;
     if (lo > 0 && try_scale(sizes, lo, atlas_size, margin, a)) best = std::move(a), found = true;
+  }
+  // Feasibility is not monotone where one rectangle is far smaller than the others (a speck beside
+  // the model): below the scale that gives it a whole texel nothing fits, so a bisection from 0
+  // never sees the feasible range above it. Search again from that scale.
+  if (!found) {
+    double least = 0;
+    for (const auto& z : sizes) least = std::max(least, 1 / z.minCoeff());
+    least *= 1 + 1e-12;
+    Attempt a;
+    if (least < hi && try_scale(sizes, least, atlas_size, margin, a)) {
+      lo = least, best = std::move(a), found = true;
+      bisect(hi);
+    }
   }
   // Inner sizes are whole texels, so feasibility only changes where some floor(s * size) steps:
   // climb those steps from the binary search's answer while the rectangles still fit.

@@ -2,6 +2,7 @@
 
 #include "libstm/core/atomic_file.h"
 #include "libstm/core/errors.h"
+#include "libstm/mesh/check_mesh_file.h"
 #include "libstm/mesh/validate_mesh.h"
 
 #include <OpenMesh/Core/IO/MeshIO.hh>
@@ -239,6 +240,8 @@ MeshSoup read_mesh_soup(const std::string& path) {
     throw InputError("cannot read mesh " + path + ": unknown format '" + ext +
                      "' (supported: .obj, .off, .ply, .stl)");
 
+  check_mesh_file(path, ext, fs::file_size(path, ec));  // before any reader trusts the file
+
   SoupImporter importer;
   OpenMesh::IO::Options opt = OpenMesh::IO::Options::FaceTexCoord;
   opt += OpenMesh::IO::Options::VertexColor;  // the readers pass colours on only when asked
@@ -398,6 +401,17 @@ void write_obj(const Mesh& mesh, const std::string& tmp, const std::string& fina
   }
 }
 
+// OpenMesh's writers do not check their stream once it is open (a full disk gives a truncated
+// file and success): they write into memory here and the bytes go out through a checked write.
+void write_through_openmesh(const Mesh& mesh, const std::string& tmp, const std::string& path, const std::string& ext,
+                            OpenMesh::IO::Options opt) {
+  omerr().disable();
+  std::ostringstream os(std::ios::out | std::ios::binary);
+  if (!OpenMesh::IO::write_mesh(mesh, os, ext, opt, 17) || !os) throw std::runtime_error("cannot write " + path);
+  const std::string bytes = os.str();
+  write_bytes_checked(tmp, bytes.data(), bytes.size(), path);
+}
+
 }  // namespace
 
 void write_mesh(const Mesh& mesh, const std::string& path, const std::string& texture) {
@@ -411,8 +425,7 @@ void write_mesh(const Mesh& mesh, const std::string& path, const std::string& te
       return;
     }
     OpenMesh::IO::Options opt = ext == ".ply" || ext == ".stl" ? OpenMesh::IO::Options::Binary : OpenMesh::IO::Options::Default;
-    omerr().disable();
-    if (!OpenMesh::IO::write_mesh(mesh, tmp, opt, 17)) throw std::runtime_error("cannot write " + path);
+    write_through_openmesh(mesh, tmp, path, ext, opt);
   });
 }
 
@@ -431,8 +444,7 @@ void write_colored_ply(const Mesh& mesh, const std::vector<Eigen::Vector3f>& col
   write_atomically(path, [&](const std::string& tmp) {
     OpenMesh::IO::Options opt = OpenMesh::IO::Options::Binary;
     opt += OpenMesh::IO::Options::VertexColor;
-    omerr().disable();
-    if (!OpenMesh::IO::write_mesh(copy, tmp, opt, 17)) throw std::runtime_error("cannot write " + path);
+    write_through_openmesh(copy, tmp, path, ".ply", opt);
   });
 }
 

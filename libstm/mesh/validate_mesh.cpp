@@ -1,5 +1,6 @@
 #include "libstm/mesh/validate_mesh.h"
 
+#include "libstm/core/errors.h"
 #include "libstm/core/union_find.h"
 #include "libstm/geometry/differential_geometry.h"
 
@@ -292,6 +293,36 @@ void find_parts(const MeshSoup& soup, const std::vector<char>& face_ok, const Ed
     add(r, "connected parts", r.parts, "each part gets its own skeleton", false, "nothing to fix: several parts are supported");
 }
 
+// A closed part whose signed volume is nought is flat (both sides of one sheet, or folded onto
+// itself): no capsule sees its surface from inside, and an encode of it is garbage with a success
+// code (issue 15: 0 % of texels on their own surface). Relative to the part's own bounding box, so
+// that it holds at any scale. Only for usable, closed input (the volume means nothing otherwise).
+void check_volumes(const MeshSoup& soup, const std::vector<char>& face_ok, MeshReport& r) {
+  if (!r.usable() || r.parts == 0) return;
+  std::vector<double> volume(r.parts, 0.0);
+  std::vector<Eigen::Vector3d> lo(r.parts, Eigen::Vector3d::Constant(INFINITY)), hi(r.parts, Eigen::Vector3d::Constant(-INFINITY));
+  std::vector<int> origin(r.parts, -1);  // a vertex of the part: no cancellation far from (0, 0, 0)
+  for (size_t f = 0; f < soup.triangles.size(); ++f) {
+    if (!face_ok[f] || r.face_part[f] < 0) continue;
+    const int p = r.face_part[f];
+    const auto& t = soup.triangles[f];
+    if (origin[p] < 0) origin[p] = t[0];
+    const Eigen::Vector3d& o = soup.points[origin[p]];
+    volume[p] += (soup.points[t[0]] - o).dot((soup.points[t[1]] - o).cross(soup.points[t[2]] - o)) / 6.0;
+    for (int v : t) lo[p] = lo[p].cwiseMin(soup.points[v]), hi[p] = hi[p].cwiseMax(soup.points[v]);
+  }
+  long flat = 0;
+  std::string example;
+  for (int p = 0; p < r.parts; ++p) {
+    const double d = (hi[p] - lo[p]).norm();
+    if (r.genus_per_part[p] >= 0 && std::abs(volume[p]) <= 1e-9 * d * d * d && !flat++)
+      example = "part " + std::to_string(p) + " (" + std::to_string(r.faces_per_part[p]) + " faces) has volume " + number(volume[p]) +
+                " within a box of diagonal " + number(d);
+  }
+  add(r, "closed parts enclosing no volume (flat: both sides of one sheet)", flat, example, true,
+      "give the part a thickness (e.g. 'solidify' in Blender); a surface mapped from a skeleton needs an inside");
+}
+
 }  // namespace
 
 MeshReport validate_mesh(const MeshSoup& soup) {
@@ -313,6 +344,7 @@ MeshReport validate_mesh(const MeshSoup& soup) {
   check_degenerate_faces(soup, face_ok, bad_coord, r);
   check_isolated_vertices(soup, face_ok, r);
   find_parts(soup, face_ok, use, r);
+  check_volumes(soup, face_ok, r);
   if (soup.polygons_triangulated)
     add(r, "polygons fan-triangulated on read", soup.polygons_triangulated, "faces with more than three corners", false,
         "nothing to fix; triangulate in the modelling tool for control over the diagonals");

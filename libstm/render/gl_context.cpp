@@ -303,12 +303,14 @@ void check_gl(const char* where) {
 Framebuffer::Framebuffer(int width, int height, int samples, bool float_attachment)
     : width_(width), height_(height), samples_(std::max(1, samples)), has_float_(float_attachment) {
   if (width <= 0 || height <= 0) throw std::runtime_error("Framebuffer: size must be positive");
-  GLint max_size = 0, max_samples = 0;
+  GLint max_size = 0, max_texture = 0, max_samples = 0;
   glGetIntegerv(GL_MAX_RENDERBUFFER_SIZE, &max_size);
+  glGetIntegerv(GL_MAX_TEXTURE_SIZE, &max_texture);
   glGetIntegerv(GL_MAX_SAMPLES, &max_samples);
+  max_size = std::min(max_size, max_texture);  // the colour attachments are textures
   if (width > max_size || height > max_size)
-    throw std::runtime_error("Framebuffer: " + std::to_string(width) + "x" + std::to_string(height) +
-                             " exceeds the GL limit of " + std::to_string(max_size));
+    throw InputError("an image of " + std::to_string(width) + "x" + std::to_string(height) + " exceeds this GL's limit of " +
+                     std::to_string(max_size) + " pixels a side: use a smaller --width/--height");
   samples_ = std::min(samples_, std::max(1, int(max_samples)));
 
   auto make_texture = [&](GLenum format) {
@@ -349,7 +351,8 @@ Framebuffer::Framebuffer(int width, int height, int samples, bool float_attachme
   const GLenum status = glCheckNamedFramebufferStatus(draw_fbo_, GL_DRAW_FRAMEBUFFER);
   if (status != GL_FRAMEBUFFER_COMPLETE) {
     std::ostringstream s;
-    s << "Framebuffer: incomplete (status 0x" << std::hex << status << ")";
+    s << "Framebuffer: incomplete (status 0x" << std::hex << status << ") at " << std::dec << width << "x" << height
+      << ": the GL could not allocate it; use a smaller --width/--height";
     throw std::runtime_error(s.str());
   }
   check_gl("Framebuffer");

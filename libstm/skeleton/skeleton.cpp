@@ -2,8 +2,10 @@
 
 #include "libstm/core/atomic_file.h"
 #include "libstm/core/errors.h"
+#include "libstm/core/limits.h"
 #include "libstm/core/union_find.h"
 
+#include <cmath>
 #include <sstream>
 
 namespace sdm {
@@ -75,7 +77,29 @@ Skeleton skeleton_from_json(const nlohmann::json& j) {
     if (s.vertex_node[i] < 0 || s.vertex_node[i] >= n)
       throw InputError("not a valid skeleton: vertex " + std::to_string(i) + " maps to node " +
                        std::to_string(s.vertex_node[i]) + " of " + std::to_string(n));
+  check_skeleton_geometry(s);
   return s;
+}
+
+void check_skeleton_geometry(const Skeleton& s) {
+  for (size_t i = 0; i < s.nodes.size(); ++i) {
+    const Eigen::Vector3d& p = s.nodes[i];
+    if (!p.allFinite())
+      throw InputError("not a valid skeleton: node " + std::to_string(i) + " has NaN or infinite coordinates");
+    if (p.cwiseAbs().maxCoeff() > kMaxCoordinate)
+      throw InputError("not a valid skeleton: node " + std::to_string(i) + " lies at " + number(p.cwiseAbs().maxCoeff()) +
+                       ", beyond the coordinate range of a mesh (+-3.4e38, single precision)");
+  }
+  for (size_t i = 0; i < s.edges.size(); ++i) {
+    const int a = s.edges[i][0], b = s.edges[i][1];
+    if (a == b) throw InputError("not a valid skeleton: edge " + std::to_string(i) + " joins node " + std::to_string(a) + " to itself");
+    // Coincident ends leave the segment without a direction: no capsule, no frame, no rays.
+    const Eigen::Vector3d& p = s.nodes[a];
+    const Eigen::Vector3d& q = s.nodes[b];
+    if ((p - q).norm() <= 1e-12 * std::max(p.norm(), q.norm()))
+      throw InputError("not a valid skeleton: edge " + std::to_string(i) + " joins nodes " + std::to_string(a) + " and " +
+                       std::to_string(b) + ", which coincide (a segment needs a length). Fix: extract the skeleton again");
+  }
 }
 
 void write_skeleton_json(const Skeleton& s, const std::string& path) {

@@ -27,6 +27,10 @@ struct Skeleton {
 nlohmann::json skeleton_to_json(const Skeleton& s);
 // Throws InputError naming the problem when the JSON is not a valid skeleton.
 Skeleton skeleton_from_json(const nlohmann::json& j);
+// Throws InputError when a node is not finite or lies beyond kMaxCoordinate (limits.h), or an edge
+// joins a node to itself or two coincident nodes (a zero-length segment has no axis). The readers
+// call it; so does anything that takes node positions from outside.
+void check_skeleton_geometry(const Skeleton& s);
 
 void write_skeleton_json(const Skeleton& s, const std::string& path);
 Skeleton read_skeleton_json(const std::string& path);

@@ -1,0 +1,349 @@
+#include "libstm/mesh/check_mesh_file.h"
+
+#include "libstm/core/errors.h"
+#include "libstm/core/limits.h"
+
+#include <cerrno>
+#include <cmath>
+#include <cstdlib>
+#include <cstring>
+#include <fstream>
+#include <sstream>
+#include <vector>
+
+namespace sdm {
+namespace {
+
+// Lines of a text file with their numbers; `comments` strips '#' to the end of the line.
+struct Lines {
+  std::ifstream in;
+  long number = 0;
+  bool comments = false;
+  explicit Lines(const std::string& path) : in(path, std::ios::binary) {}
+  // The next line with something on it (after stripping comments), or false at the end.
+  bool next_data(std::string& line) {
+    while (std::getline(in, line)) {
+      ++number;
+      if (comments) {
+        const auto p = line.find('#');
+        if (p != std::string::npos) line.resize(p);
+      }
+      if (line.find_first_not_of(" \t\r\n") != std::string::npos) return true;
+    }
+    return false;
+  }
+};
+
+// Counts vertices with non-finite coordinates (the first one's place kept for the message) and
+// refuses a finite coordinate beyond the float range at once.
+struct CoordinateCheck {
+  explicit CoordinateCheck(std::string p) : path(std::move(p)) {}
+  std::string path;
+  long bad = 0, vertices = 0;
+  std::string first_bad;
+  void add(const double xyz[3], const std::string& where) {
+    ++vertices;
+    for (int k = 0; k < 3; ++k) {
+      if (!std::isfinite(xyz[k])) {
+        if (!bad++) first_bad = "vertex " + std::to_string(vertices - 1) + " " + where;
+        return;
+      }
+      if (std::abs(xyz[k]) > kMaxCoordinate) {
+        std::ostringstream v;
+        v << xyz[k];
+        throw InputError("mesh " + path + " has a coordinate of " + v.str() + " (vertex " + std::to_string(vertices - 1) + " " + where +
+                         "), beyond the single-precision range (+-3.4e38) the mesh readers use. Fix: scale the model down");
+      }
+    }
+  }
+  void finish() const {
+    if (bad)
+      throw InputError("mesh " + path + " has " + std::to_string(bad) + " vertices with NaN or infinite coordinates, e.g. " + first_bad +
+                       ". Fix: remove or repair those vertices in the modelling tool");
+  }
+};
+
+// Up to `n` numbers from the start of `s` with strtod (which reads nan and inf); returns how many.
+int parse_numbers(const char* s, double* out, int n) {
+  int k = 0;
+  while (k < n) {
+    char* end = nullptr;
+    const double x = std::strtod(s, &end);
+    if (end == s) break;
+    out[k++] = x;
+    s = end;
+  }
+  return k;
+}
+
+// A whole-token integer, or false.
+bool parse_integer(const std::string& token, long long& value) {
+  if (token.empty()) return false;
+  char* end = nullptr;
+  errno = 0;
+  value = std::strtoll(token.c_str(), &end, 10);
+  return errno == 0 && *end == '\0';
+}
+
+std::vector<std::string> tokens(const std::string& line) {
+  std::istringstream s(line);
+  std::vector<std::string> t;
+  for (std::string w; s >> w;) t.push_back(w);
+  return t;
+}
+
+std::string at_line(long n) { return "on line " + std::to_string(n); }
+
+// Refuses element counts that the file cannot hold: each element needs at least `min_bytes`.
+void check_counts_fit(const std::string& path, const std::string& what, long long count, double min_bytes, std::uintmax_t bytes,
+                      long line) {
+  if (count < 0)
+    throw InputError("mesh " + path + ": the header " + at_line(line) + " announces " + std::to_string(count) + " " + what +
+                     ": a count cannot be negative");
+  if (double(count) * min_bytes > double(bytes))
+    throw InputError("mesh " + path + ": the header " + at_line(line) + " announces " + std::to_string(count) + " " + what +
+                     ", more than a file of " + std::to_string(bytes) + " bytes can hold: the header is wrong or the file is truncated");
+}
+
+// One OFF face line: a corner count and that many integer indices (colours may follow).
+void check_off_face(const std::string& path, const std::string& line, long lineno) {
+  const auto t = tokens(line);
+  long long k = 0;
+  if (!parse_integer(t[0], k) || k < 0)
+    throw InputError("mesh " + path + ": face " + at_line(lineno) + " starts with '" + t[0] + "', not a corner count");
+  // OpenMesh reads faces token by token, not by line: a wrong count shifts every face after it
+  // (a count of 2e9 read from a shifted index made it allocate gigabytes).
+  if (k < 3) throw InputError("mesh " + path + ": face " + at_line(lineno) + " has " + std::to_string(k) + " corners; a face needs 3 or more");
+  if (k > (long long)t.size() - 1 || (long long)t.size() - 1 > k + 4)
+    throw InputError("mesh " + path + ": face " + at_line(lineno) + " announces " + std::to_string(k) + " corners but lists " +
+                     std::to_string(t.size() - 1) + " numbers (the corners and at most a colour)");
+  for (long long c = 1; c <= k; ++c) {
+    long long v = 0;
+    if (!parse_integer(t[size_t(c)], v))
+      throw InputError("mesh " + path + ": face " + at_line(lineno) + " has corner '" + t[size_t(c)] + "', not a vertex index");
+  }
+}
+
+void check_off(const std::string& path, std::uintmax_t bytes) {
+  Lines lines(path);
+  lines.comments = true;
+  std::string line;
+  if (!lines.next_data(line)) return;
+  auto head = tokens(line);
+  const std::string magic = head[0];
+  // Plain ASCII OFF with optional per-vertex colours, normals or texture coordinates.
+  if (magic.size() < 3 || magic.compare(magic.size() - 3, 3, "OFF") != 0 || magic.find_first_of("n4") != std::string::npos) return;
+  if (line.find("BINARY") != std::string::npos) return;
+  head.erase(head.begin());
+  long header_line = lines.number;
+  if (head.empty()) {
+    if (!lines.next_data(line)) throw InputError("mesh " + path + " is truncated at line " + std::to_string(lines.number) + ": no counts");
+    head = tokens(line), header_line = lines.number;
+  }
+  long long nv = 0, nf = 0;
+  if (head.size() < 2 || !parse_integer(head[0], nv) || !parse_integer(head[1], nf))
+    throw InputError("mesh " + path + ": the OFF header " + at_line(header_line) + " does not give vertex and face counts");
+  check_counts_fit(path, "vertices", nv, 6, bytes, header_line);
+  check_counts_fit(path, "faces", nf, 2, bytes, header_line);
+  check_counts_fit(path, "vertices and faces", nv + nf, 2, bytes, header_line);
+  CoordinateCheck coords(path);
+  auto truncated = [&](long long v, long long f) {
+    return InputError("mesh " + path + " is truncated at line " + std::to_string(lines.number) + ": the header " + at_line(header_line) +
+                      " announces " + std::to_string(nv) + " vertices and " + std::to_string(nf) + " faces, the file ends after " +
+                      std::to_string(v) + " vertices and " + std::to_string(f) + " faces");
+  };
+  for (long long i = 0; i < nv; ++i) {
+    if (!lines.next_data(line)) throw truncated(i, 0);
+    double xyz[3];
+    if (parse_numbers(line.c_str(), xyz, 3) < 3)
+      throw InputError("mesh " + path + ": vertex " + std::to_string(i) + " " + at_line(lines.number) + " has fewer than 3 coordinates");
+    coords.add(xyz, at_line(lines.number));
+  }
+  coords.finish();
+  for (long long f = 0; f < nf; ++f) {
+    if (!lines.next_data(line)) throw truncated(nv, f);
+    check_off_face(path, line, lines.number);
+  }
+}
+
+struct PlyElement {
+  std::string name;
+  long long count = 0;
+  double min_bytes = 0;  // the least bytes one of them takes
+  long line = 0;
+};
+
+// Bytes of a PLY scalar type, or 0 for a name that is not one.
+double ply_scalar_size(const std::string& type) {
+  if (type == "char" || type == "uchar" || type == "int8" || type == "uint8") return 1;
+  if (type == "short" || type == "ushort" || type == "int16" || type == "uint16") return 2;
+  if (type == "int" || type == "uint" || type == "int32" || type == "uint32" || type == "float" || type == "float32") return 4;
+  if (type == "double" || type == "float64") return 8;
+  return 0;
+}
+
+// The PLY header, strictly: OpenMesh's parser loops for ever without end_header and crashes on a
+// property before any element or on an unknown keyword or type.
+std::vector<PlyElement> read_ply_header(const std::string& path, Lines& lines, bool& ascii) {
+  std::string line;
+  std::vector<PlyElement> elements;
+  auto bad = [&](const std::string& why) { return InputError("mesh " + path + ": the PLY header " + at_line(lines.number) + " " + why); };
+  while (std::getline(lines.in, line)) {
+    ++lines.number;
+    const auto t = tokens(line);
+    if (t.empty()) continue;
+    const std::string& key = t[0];
+    if (lines.number == 1 && key != "ply") throw bad("does not start with 'ply'");
+    if (key == "end_header") return elements;
+    if (key == "format") {
+      if (t.size() != 3 || (t[1] != "ascii" && t[1] != "binary_little_endian" && t[1] != "binary_big_endian") || t[2] != "1.0")
+        throw bad("names an unknown format (PLY 1.0 is ascii, binary_little_endian or binary_big_endian)");
+      ascii = t[1] == "ascii";
+    } else if (key == "element") {
+      PlyElement e{t.size() > 1 ? t[1] : "", 0, 0, lines.number};
+      if (t.size() < 3 || !parse_integer(t[2], e.count)) throw bad("does not give an element name and count");
+      elements.push_back(e);
+    } else if (key == "property") {
+      const bool list = t.size() > 1 && t[1] == "list";
+      if (elements.empty()) throw bad("has a property before any element");
+      if (t.size() < (list ? 5u : 3u) || ply_scalar_size(t[1 + list]) == 0 || (list && ply_scalar_size(t[3]) == 0))
+        throw bad("has a property of unknown type");
+      elements.back().min_bytes += ascii ? 2 : ply_scalar_size(t[1 + list]);
+    } else if (key != "ply" && key != "comment" && key != "obj_info") {
+      throw bad("has the unknown keyword '" + key + "'");
+    }
+  }
+  throw InputError("mesh " + path + ": the PLY header has no end_header line (the file is truncated or not PLY)");
+}
+
+void check_ply(const std::string& path, std::uintmax_t bytes) {
+  Lines lines(path);
+  bool ascii = true;
+  const std::vector<PlyElement> elements = read_ply_header(path, lines, ascii);
+  long long total = 0;
+  for (const auto& e : elements) {
+    check_counts_fit(path, e.name + "s", e.count, std::max(1.0, e.min_bytes), bytes, e.line);
+    total += e.count;
+  }
+  if (!ascii) return;
+  std::string line;
+  long long seen = 0;
+  while (seen < total && lines.next_data(line)) ++seen;
+  if (seen < total)
+    throw InputError("mesh " + path + " is truncated at line " + std::to_string(lines.number) + ": the header announces " +
+                     std::to_string(total) + " elements (vertices, faces, ...), the file ends after " + std::to_string(seen));
+}
+
+// One OBJ face corner v[/vt[/vn]]: every index present, non-zero, and (relative ones) resolvable.
+void check_obj_corner(const std::string& path, const std::string& corner, long lineno, long long nv, long long nt, long long& max_v,
+                      long long& max_t) {
+  auto bad = [&](const std::string& why) {
+    return InputError("mesh " + path + ": face corner '" + corner + "' " + at_line(lineno) + " " + why +
+                      " (OBJ corners are v, v/vt, v/vt/vn or v//vn, with 1-based or negative indices)");
+  };
+  std::vector<std::string> part(1);
+  for (char c : corner) {
+    if (c == '/') part.emplace_back();
+    else part.back().push_back(c);
+  }
+  if (part.size() > 3) throw bad("has more than three indices");
+  long long v = 0;
+  if (!parse_integer(part[0], v)) throw bad("has no vertex index");
+  if (v == 0 || (v < 0 && nv + v < 0)) throw bad("names vertex " + std::to_string(v) + " with " + std::to_string(nv) + " defined before it");
+  max_v = std::max(max_v, v);
+  for (size_t k = 1; k < part.size(); ++k) {
+    if (part[k].empty()) continue;
+    long long i = 0;
+    if (!parse_integer(part[k], i) || i == 0) throw bad("has an invalid texture or normal index '" + part[k] + "'");
+    if (k == 1 && i < 0 && nt + i < 0) throw bad("names texture coordinate " + std::to_string(i) + " with " + std::to_string(nt) + " before it");
+    if (k == 1) max_t = std::max(max_t, i);
+  }
+}
+
+void check_obj(const std::string& path) {
+  Lines lines(path);
+  std::string line;
+  CoordinateCheck coords(path);
+  long long nv = 0, nt = 0, max_v = 0, max_t = 0;
+  long max_v_line = 0, max_t_line = 0;
+  while (std::getline(lines.in, line)) {
+    ++lines.number;
+    const size_t p = line.find_first_not_of(" \t");
+    if (p == std::string::npos || p + 1 >= line.size()) continue;
+    const std::string key = line.substr(p, line.find_first_of(" \t", p) - p);
+    const char* rest = line.c_str() + p + key.size();
+    if (key == "v") {
+      double xyz[3];
+      if (parse_numbers(rest, xyz, 3) < 3)
+        throw InputError("mesh " + path + ": vertex " + at_line(lines.number) + " has fewer than 3 coordinates");
+      coords.add(xyz, at_line(lines.number));
+      ++nv;
+    } else if (key == "vt") {
+      ++nt;
+    } else if (key == "f") {
+      for (const auto& corner : tokens(rest)) {
+        const long long mv = max_v, mt = max_t;
+        check_obj_corner(path, corner, lines.number, nv, nt, max_v, max_t);
+        if (max_v > mv) max_v_line = lines.number;
+        if (max_t > mt) max_t_line = lines.number;
+      }
+    }
+  }
+  coords.finish();
+  if (max_v > nv)
+    throw InputError("mesh " + path + ": a face " + at_line(max_v_line) + " names vertex " + std::to_string(max_v) + " but the file has " +
+                     std::to_string(nv) + " vertices");
+  if (max_t > nt)
+    throw InputError("mesh " + path + ": a face " + at_line(max_t_line) + " names texture coordinate " + std::to_string(max_t) +
+                     " but the file has " + std::to_string(nt));
+}
+
+void check_stl(const std::string& path, std::uintmax_t bytes) {
+  std::ifstream in(path, std::ios::binary);
+  char header[84] = {};
+  in.read(header, 84);
+  uint32_t n = 0;
+  std::memcpy(&n, header + 80, 4);  // little-endian in the format, as on the machines this runs on
+  CoordinateCheck coords(path);
+  if (bytes >= 84 && 84 + 50 * std::uintmax_t(n) == bytes) {
+    char tri[50];
+    for (uint32_t t = 0; t < n && in.read(tri, 50); ++t)
+      for (int c = 0; c < 3; ++c) {
+        float p[3];
+        std::memcpy(p, tri + 12 + 12 * c, 12);
+        const double xyz[3] = {p[0], p[1], p[2]};
+        coords.add(xyz, "(corner " + std::to_string(c) + " of triangle " + std::to_string(t) + ")");
+      }
+    coords.finish();
+    return;
+  }
+  const std::string start(header, size_t(in.gcount()));
+  const auto first = start.find_first_not_of(" \t\r\n");
+  if (first == std::string::npos || start.compare(first, 5, "solid") != 0)
+    throw InputError("mesh " + path + " is neither binary STL (its header announces " + std::to_string(n) + " triangles, " +
+                     std::to_string(84 + 50 * std::uintmax_t(n)) + " bytes, but the file has " + std::to_string(bytes) +
+                     ": truncated?) nor ASCII STL (starting with 'solid')");
+  Lines lines(path);
+  std::string line;
+  while (std::getline(lines.in, line)) {
+    ++lines.number;
+    const auto p = line.find_first_not_of(" \t");
+    if (p == std::string::npos || line.compare(p, 6, "vertex") != 0) continue;
+    double xyz[3];
+    if (parse_numbers(line.c_str() + p + 6, xyz, 3) < 3)
+      throw InputError("mesh " + path + ": vertex " + at_line(lines.number) + " has fewer than 3 coordinates");
+    coords.add(xyz, at_line(lines.number));
+  }
+  coords.finish();
+}
+
+}  // namespace
+
+void check_mesh_file(const std::string& path, const std::string& ext, std::uintmax_t bytes) {
+  if (ext == ".off") check_off(path, bytes);
+  else if (ext == ".ply") check_ply(path, bytes);
+  else if (ext == ".obj") check_obj(path);
+  else if (ext == ".stl") check_stl(path, bytes);
+}
+
+}  // namespace sdm
