@@ -225,12 +225,18 @@ Tried try_changes(const Skeleton& a, const Skeleton& b, const std::vector<const 
   return t;
 }
 
+// a's changes, then b's, as one list (an index below ca.size() is a's).
+std::vector<const Change*> both(const std::vector<Change>& ca, const std::vector<Change>& cb) {
+  std::vector<const Change*> all;
+  for (const auto& c : ca) all.push_back(&c);
+  for (const auto& c : cb) all.push_back(&c);
+  return all;
+}
+
 // Prunes and joins only: the fewest changes, then the least significance removed, then the lowest
 // match cost. Not ok when none of at most max_changes makes the branchings equal.
 Tried reduce_by_pruning(const Skeleton& a, const Skeleton& b, const std::vector<Change>& ca, const std::vector<Change>& cb, int max_changes) {
-  std::vector<const Change*> all;  // a's changes, then b's
-  for (const auto& c : ca) all.push_back(&c);
-  for (const auto& c : cb) all.push_back(&c);
+  const std::vector<const Change*> all = both(ca, cb);
   Tried best;
   double best_sig = INFINITY;
   for (int k = 1; k <= std::min<int>(max_changes, int(all.size())) && !best.ok; ++k) {
@@ -253,9 +259,7 @@ Tried reduce_by_pruning(const Skeleton& a, const Skeleton& b, const std::vector<
 // then the lowest disagreement.
 Tried reduce_with_slide(const Skeleton& a, const Skeleton& b, const std::vector<Change>& ca, const std::vector<Change>& cb,
                         const std::vector<Change>& sa, const std::vector<Change>& sb, double plausible) {
-  std::vector<const Change*> all;
-  for (const auto& c : ca) all.push_back(&c);
-  for (const auto& c : cb) all.push_back(&c);
+  const std::vector<const Change*> all = both(ca, cb);
   Tried best;
   size_t best_changes = SIZE_MAX;
   for (int side = 0; side < 2; ++side)

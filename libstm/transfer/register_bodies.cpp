@@ -6,8 +6,8 @@
 #include "libstm/registration/fit_skeleton.h"
 
 #include <algorithm>
-#include <map>
 #include <cmath>
+#include <map>
 #include <string>
 
 namespace sdm {
@@ -85,32 +85,28 @@ class PathCache {
   std::map<int, std::vector<double>> cache_;
 };
 
-// How much a candidate match changes the distances along the surfaces between matched ends (each
-// end's tip on either model, end_tips of the shared graph), over the square root of each surface's
-// area: sum |difference| / sum source distance. Intrinsic, so blind to left and right, but a match
-// that swaps hands and feet (a gorilla's arms are longer than its legs, a man's shorter) changes
-// the distances from the head.
-double ends_distortion(const SharedSkeletons& c, const Mesh& source, const Mesh& target, PathCache& ps, PathCache& pt, double sa, double ta) {
-  const std::vector<int> ea = end_tips(source, c.a), eb = end_tips(target, c.b);
+// How much a map changes the distances along the surfaces between corresponding points (tips_a[i]
+// of the source <-> tips_b[i] of the target; -1: left out), each over the square root of its
+// surface's area (sa, ta): sum |difference| / sum source distance. Bending keeps such distances and
+// other bodies of one kind change them by their proportions; a map that puts a head on a foot, or
+// swaps hands and feet (a gorilla's arms are longer than its legs, a man's shorter), changes the
+// distances from the head most. Intrinsic, so blind to left and right.
+double path_distortion(const std::vector<int>& tips_a, const std::vector<int>& tips_b, PathCache& ps, PathCache& pt, double sa, double ta) {
   double diff = 0, sum = 0;
-  for (size_t i = 0; i < ea.size() && i < eb.size(); ++i) {
-    if (ea[i] < 0 || eb[i] < 0) continue;
-    for (size_t j = i + 1; j < ea.size() && j < eb.size(); ++j) {
-      if (ea[j] < 0 || eb[j] < 0) continue;
-      const double x = ps.from(ea[i])[ea[j]] / std::sqrt(sa), y = pt.from(eb[i])[eb[j]] / std::sqrt(ta);
+  for (size_t i = 0; i < tips_a.size() && i < tips_b.size(); ++i) {
+    if (tips_a[i] < 0 || tips_b[i] < 0) continue;
+    for (size_t j = i + 1; j < tips_a.size() && j < tips_b.size(); ++j) {
+      if (tips_a[j] < 0 || tips_b[j] < 0) continue;
+      const double x = ps.from(tips_a[i])[tips_a[j]] / std::sqrt(sa), y = pt.from(tips_b[i])[tips_b[j]] / std::sqrt(ta);
       if (std::isfinite(x) && std::isfinite(y)) diff += std::abs(x - y), sum += x;
     }
   }
   return sum > 0 ? diff / sum : 0;
 }
 
-// Distances along the surface between the source's extremities (`tips`, rows of source_paths:
-// edge_path_distances from each) against those between their images on the target (the target
-// vertex nearest each tip's placed position), both over the square root of their surface's area:
-// sum |difference| / sum source distance. Bending keeps such distances and other bodies of one
-// kind change them by their proportions; a map that puts a head on a foot changes them most.
-double extremity_distortion(const std::vector<std::vector<double>>& source_paths, const std::vector<int>& tips, double source_area,
-                            const std::vector<Eigen::Vector3d>& placed, const Mesh& target, const TriangleBvh& bvh, double target_area) {
+// Per source vertex in `tips`, the target vertex nearest its placed position (the corner of the
+// closest target face nearest the closest point).
+std::vector<int> images_of(const std::vector<int>& tips, const std::vector<Eigen::Vector3d>& placed, const Mesh& target, const TriangleBvh& bvh) {
   std::vector<int> image;
   for (int t : tips) {
     const auto c = bvh.closest_point(placed[t]);
@@ -119,16 +115,7 @@ double extremity_distortion(const std::vector<std::vector<double>>& source_paths
       if (best < 0 || (point(target, v) - c.point).norm() < (point(target, target.vertex_handle(best)) - c.point).norm()) best = v.idx();
     image.push_back(best);
   }
-  double diff = 0, sum = 0;
-  for (size_t i = 0; i < tips.size(); ++i) {
-    const std::vector<double> dt = edge_path_distances(target, image[i]);
-    for (size_t j = i + 1; j < tips.size(); ++j) {
-      const double s = source_paths[i][tips[j]] / std::sqrt(source_area), t = dt[image[j]] / std::sqrt(target_area);
-      if (!std::isfinite(s) || !std::isfinite(t)) continue;
-      diff += std::abs(t - s), sum += s;
-    }
-  }
-  return sum > 0 ? diff / sum : 0;
+  return image;
 }
 
 }  // namespace
@@ -147,27 +134,32 @@ BodyRegistration register_bodies(const Mesh& source, const Skeleton& skeleton_a,
   double source_area = 0, target_area = 0;
   for (double a : vertex_areas(source)) source_area += a;
   for (double a : vertex_areas(target)) target_area += a;
-  // The candidates whose matched ends keep the distances along the surfaces best go on.
+  // The candidates whose matched ends (each end's tip on either model) keep the distances along
+  // the surfaces best go on.
   PathCache source_cache(source), target_cache(target);
   std::vector<std::pair<double, size_t>> order;
   for (size_t i = 0; i < cands.size(); ++i)
-    order.push_back({ends_distortion(cands[i], source, target, source_cache, target_cache, source_area, target_area), i});
+    order.push_back({path_distortion(end_tips(source, cands[i].a), end_tips(target, cands[i].b), source_cache, target_cache, source_area,
+                                     target_area),
+                     i});
   std::stable_sort(order.begin(), order.end());
   report_progress(opt.progress, std::to_string(cands.size()) + " candidate matches: the distances between their matched ends change by " +
                                     std::to_string(100 * order.front().first) + " to " + std::to_string(100 * order.back().first) + " %");
   std::vector<SharedSkeletons> kept;
   for (size_t i = 0; i < order.size() && int(kept.size()) < std::max(opt.candidates, 1); ++i) kept.push_back(std::move(cands[order[i].second]));
   cands = std::move(kept);
+  // After each registration: the source's extremities against their images on the target.
   std::vector<int> tips;
   for (int t : end_tips(source, cands[0].a))
     if (t >= 0) tips.push_back(t);
-  std::vector<std::vector<double>> source_paths;
-  for (int t : tips) source_paths.push_back(source_cache.from(t));
   const TriangleBvh bvh(vertex_matrix(target), face_matrix(target));
+  auto extremity_distortion = [&](const std::vector<Eigen::Vector3d>& placed) {
+    return path_distortion(tips, images_of(tips, placed, target, bvh), source_cache, target_cache, source_area, target_area);
+  };
   for (size_t i = 0; i < cands.size(); ++i) {
     const ArticulatedFit f = articulated_registration(source, cands[i].a, target, cands[i].b.nodes, quick);
     r.candidate_rms.push_back(f.posed_rms), r.candidate_twist.push_back(f.twist);
-    r.candidate_distortion.push_back(extremity_distortion(source_paths, tips, source_area, f.posed, target, bvh, target_area));
+    r.candidate_distortion.push_back(extremity_distortion(f.posed));
     report_progress(opt.progress, "candidate match " + std::to_string(i + 1) + " of " + std::to_string(cands.size()) + ": RMS " +
                                       std::to_string(100 * f.posed_rms) + " % of the diagonal, parts turned " + std::to_string(f.twist) +
                                       " degrees against their neighbours, extremities' distances changed by " +
@@ -194,7 +186,7 @@ BodyRegistration register_bodies(const Mesh& source, const Skeleton& skeleton_a,
   SkeletonFit fit = fit_skeleton(source, r.skeletons.a, target, start, r.skeletons.b.nodes, fo);
   r.rms = fit.rms, r.p99 = fit.p99;
   r.branch_fit = branch_fits(source, fit.bent, target, r.skeletons);
-  r.distortion = extremity_distortion(source_paths, tips, source_area, fit.bent, target, bvh, target_area);
+  r.distortion = extremity_distortion(fit.bent);
   r.placed = std::move(fit.bent);
   return r;
 }
