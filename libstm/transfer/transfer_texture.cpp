@@ -19,7 +19,11 @@ namespace sdm {
 SkeletonOptions transfer_skeleton_options() {
   SkeletonOptions o;
   o.centre_junctions = 1e9;  // wherever in the cluster the widest ball is
-  o.method = SkeletonMethod::medial;
+  // The medial candidate whenever it is valid (cycles = genus, no more edges outside): error alone
+  // never hands the choice back to the contraction, which loses heads that sit low between the
+  // shoulders (tr_reg_085, the TOSCA gorilla). Forcing the medial method instead lost the rotor's
+  // cycle, which the validity ranks keep.
+  o.medial_handicap = 0;
   return o;
 }
 

@@ -26,7 +26,8 @@ namespace sdm {
 
 // Extraction options for the two models of a transfer: junctions centred at the widest inside
 // ball of their cluster (SkeletonOptions::centre_junctions), so that two tessellations of one
-// shape get their junctions in the same place (ypsilon onto its remesh: 21-25 dB -> 31-33 dB).
+// shape get their junctions in the same place (ypsilon onto its remesh: 21-25 dB -> 31-33 dB), and
+// the medial-pole candidate preferred whenever it is valid (DESIGN 6).
 SkeletonOptions transfer_skeleton_options();
 
 // The target's layout: layout_a's atlas (size, margin, scale, every rectangle x, y, w, h, rotated,
