@@ -4,6 +4,8 @@
 #include "libstm/geometry/capsule_ray.h"
 #include "libstm/layout/segments.h"
 #include "libstm/geometry/triangle_bvh.h"
+#include "libstm/geometry/differential_geometry.h"
+#include "libstm/mesh/isotropic_remesh.h"
 
 #include <OpenMesh/Tools/Decimater/DecimaterT.hh>
 #include <OpenMesh/Tools/Decimater/ModNormalFlippingT.hh>
@@ -149,42 +151,100 @@ void reassign_folded_faces(const Mesh& m, const Eigen::MatrixX3d& P, const Layou
   }
 }
 
+
+// The share of faces with an angle under 1 degree.
+double needle_share(const Mesh& mesh) {
+  long needles = 0;
+  for (auto f : mesh.faces()) {
+    Eigen::Vector3d c[3];
+    int k = 0;
+    for (auto v : mesh.fv_range(f)) c[k++] = point(mesh, v);
+    for (int i = 0; i < 3; ++i) {
+      const Eigen::Vector3d a = c[(i + 1) % 3] - c[i], b = c[(i + 2) % 3] - c[i];
+      if (std::atan2(a.cross(b).norm(), a.dot(b)) < M_PI / 180) {
+        ++needles;
+        break;
+      }
+    }
+  }
+  return mesh.n_faces() ? double(needles) / mesh.n_faces() : 0.0;
+}
+
+// What the base mesh is decimated from: the input and its skeleton nodes, or, when a quarter or more
+// of its faces are needles (a CAD cylinder's side: 3000 quads 3 long and 2e-3 wide), an isotropic
+// remesh of it with about four times the base mesh's vertices, each vertex on the input's surface
+// with the node of the nearest corner of its closest input face. Decimating the needles themselves
+// kept base faces the length of the part (a prism with 3000-gon caps: RMS 1.2 % at level 3, against
+// 0.007 % from the remesh).
+struct BaseSource {
+  Mesh mesh;
+  std::vector<int> node;
+};
+
+BaseSource base_source(const Mesh& mesh, const Skeleton& skeleton, int target_vertices) {
+  BaseSource src{mesh, skeleton.vertex_node};
+  if (needle_share(mesh) < 0.25) return src;
+  const Eigen::MatrixX3d V = vertex_matrix(mesh);
+  const Eigen::MatrixX3i F = face_matrix(mesh);
+  double area = 0;
+  for (int f = 0; f < F.rows(); ++f) area += triangle_area(V.row(F(f, 0)), V.row(F(f, 1)), V.row(F(f, 2)));
+  const double len = std::sqrt(2.0 * area / (std::sqrt(3.0) * 4.0 * target_vertices));
+  const TriangleBvh bvh(V, F);
+  isotropic_remesh(src.mesh, len, 5, [&](const Eigen::Vector3d& p) { return bvh.closest_point(p).point; });
+  src.node.assign(src.mesh.n_vertices(), 0);
+  for (auto v : src.mesh.vertices()) {
+    const Eigen::Vector3d p = point(src.mesh, v);
+    const int f = bvh.closest_point(p).face;
+    int best = F(f, 0);
+    for (int k = 1; k < 3; ++k)
+      if ((V.row(F(f, k)).transpose() - p).squaredNorm() < (V.row(best).transpose() - p).squaredNorm()) best = F(f, k);
+    src.node[v.idx()] = skeleton.vertex_node[best];
+  }
+  return src;
+}
+
+// Decimates m to target_vertices with quadrics, no normal flips and collapses only between
+// neighbouring skeleton nodes (node: per vertex of m).
+void decimate_base(Mesh& m, const std::vector<int>& node, const Skeleton& skeleton, int target_vertices) {
+  m.request_face_normals();
+  m.update_face_normals();
+  OpenMesh::Decimater::DecimaterT<Mesh> decimater(m);
+  OpenMesh::Decimater::ModQuadricT<Mesh>::Handle quadric;
+  OpenMesh::Decimater::ModNormalFlippingT<Mesh>::Handle flipping;
+  typename ModSkeletonNodesT<Mesh>::Handle nodes;
+  decimater.add(quadric);
+  decimater.add(flipping);
+  decimater.add(nodes);
+  std::set<std::pair<int, int>> adjacent;
+  for (const auto& e : skeleton.edges) adjacent.insert({e[0], e[1]}), adjacent.insert({e[1], e[0]});
+  decimater.module(nodes).set_nodes(node, std::move(adjacent));
+  decimater.module(quadric).unset_max_err();
+  decimater.module(flipping).set_max_normal_deviation(60.0);
+  decimater.initialize();
+  decimater.decimate_to(size_t(target_vertices));
+  m.garbage_collection();
+}
+
 }  // namespace
 
-BaseMesh make_base_mesh(const Mesh& mesh, const Layout& layout, int target_vertices) {
-  const int nv = int(mesh.n_vertices());
+BaseMesh make_base_mesh(const Mesh& input, const Layout& layout, int target_vertices) {
+  const int nv = int(input.n_vertices());
   if (target_vertices <= 0) target_vertices = std::clamp(nv / 4, std::min(nv, 400), 4000);
+  const BaseSource src = base_source(input, layout.skeleton, target_vertices);
+  const Mesh& mesh = src.mesh;
   Mesh m = mesh;
   OpenMesh::VPropHandleT<int> original;
   m.add_property(original);
   for (auto v : m.vertices()) m.property(original, v) = v.idx();
-  if (target_vertices < nv) {
-    m.request_face_normals();
-    m.update_face_normals();
-    OpenMesh::Decimater::DecimaterT<Mesh> decimater(m);
-    OpenMesh::Decimater::ModQuadricT<Mesh>::Handle quadric;
-    OpenMesh::Decimater::ModNormalFlippingT<Mesh>::Handle flipping;
-    typename ModSkeletonNodesT<Mesh>::Handle nodes;
-    decimater.add(quadric);
-    decimater.add(flipping);
-    decimater.add(nodes);
-    {
-      std::vector<int> node(m.n_vertices());
-      for (auto v : m.vertices()) node[v.idx()] = layout.skeleton.vertex_node[m.property(original, v)];
-      std::set<std::pair<int, int>> adjacent;
-      for (const auto& e : layout.skeleton.edges) adjacent.insert({e[0], e[1]}), adjacent.insert({e[1], e[0]});
-      decimater.module(nodes).set_nodes(std::move(node), std::move(adjacent));
-    }
-    decimater.module(quadric).unset_max_err();
-    decimater.module(flipping).set_max_normal_deviation(60.0);
-    decimater.initialize();
-    decimater.decimate_to(size_t(target_vertices));
-    m.garbage_collection();
+  if (target_vertices < int(m.n_vertices())) {
+    std::vector<int> node(m.n_vertices());
+    for (auto v : m.vertices()) node[v.idx()] = src.node[m.property(original, v)];
+    decimate_base(m, node, layout.skeleton, target_vertices);
   }
   // Segments of the base faces: the skeleton's map restricted to the surviving vertices.
   Skeleton sk = layout.skeleton;
   sk.vertex_node.resize(m.n_vertices());
-  for (auto v : m.vertices()) sk.vertex_node[v.idx()] = layout.skeleton.vertex_node[m.property(original, v)];
+  for (auto v : m.vertices()) sk.vertex_node[v.idx()] = src.node[m.property(original, v)];
   BaseMesh base;
   base.face_segment = assign_faces(m, sk);
   Eigen::MatrixX3d P(m.n_vertices(), 3);

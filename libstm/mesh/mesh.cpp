@@ -3,6 +3,7 @@
 #include "libstm/core/atomic_file.h"
 #include "libstm/core/errors.h"
 #include "libstm/mesh/check_mesh_file.h"
+#include "libstm/mesh/triangulate_polygon.h"
 #include "libstm/mesh/validate_mesh.h"
 
 #include <OpenMesh/Core/IO/MeshIO.hh>
@@ -228,6 +229,22 @@ void scan_text_points(const std::string& path, const std::string& ext, std::vect
   pts.swap(out);
 }
 
+// The polygon's triangles as corner indices: ear clipping (triangulate_polygon.h) when every corner
+// is a point of the file, else a fan (the validation reports the bad index).
+std::vector<std::array<int, 3>> polygon_triangles(const std::vector<int>& poly, const std::vector<Eigen::Vector3d>& points) {
+  std::vector<Eigen::Vector3d> corners;
+  corners.reserve(poly.size());
+  for (int v : poly) {
+    if (v < 0 || size_t(v) >= points.size() || !points[v].allFinite()) {
+      std::vector<std::array<int, 3>> fan;
+      for (int k = 1; k + 1 < int(poly.size()); ++k) fan.push_back({0, k, k + 1});
+      return fan;
+    }
+    corners.push_back(points[v]);
+  }
+  return triangulate_polygon(corners);
+}
+
 }  // namespace
 
 MeshSoup read_mesh_soup(const std::string& path) {
@@ -272,11 +289,10 @@ MeshSoup read_mesh_soup(const std::string& path) {
     const bool has = puv.size() == poly.size();
     if (poly.size() < 3) continue;
     if (poly.size() > 3) soup.polygons_triangulated++;
-    for (size_t k = 1; k + 1 < poly.size(); ++k) {
-      soup.triangles.push_back({poly[0], poly[k], poly[k + 1]});
+    for (const auto& t : polygon_triangles(poly, soup.points)) {
+      soup.triangles.push_back({poly[t[0]], poly[t[1]], poly[t[2]]});
       if (any_uv) {
-        for (size_t c : {size_t(0), k, k + 1})
-          soup.uv.push_back(has ? puv[c] : Eigen::Vector2d(0, 0));
+        for (int c : t) soup.uv.push_back(has ? puv[c] : Eigen::Vector2d(0, 0));
       }
     }
   }

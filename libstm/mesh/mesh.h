@@ -25,7 +25,7 @@ using Mesh = OpenMesh::TriMesh_ArrayKernelT<MeshTraits>;
 // silently dropped by the halfedge structure.
 struct MeshSoup {
   std::vector<Eigen::Vector3d> points;
-  std::vector<std::array<int, 3>> triangles;     // polygons are fan-triangulated on read
+  std::vector<std::array<int, 3>> triangles;     // polygons are ear-clipped on read
   std::vector<Eigen::Vector2d> uv;                // per triangle corner (3 per triangle), or empty
   std::string texture;                            // absolute path of the material's map_Kd, or empty
   std::vector<Eigen::Vector3f> colors;            // per point, RGB in [0, 1], when the file has vertex colours; else empty

@@ -346,7 +346,7 @@ MeshReport validate_mesh(const MeshSoup& soup) {
   find_parts(soup, face_ok, use, r);
   check_volumes(soup, face_ok, r);
   if (soup.polygons_triangulated)
-    add(r, "polygons fan-triangulated on read", soup.polygons_triangulated, "faces with more than three corners", false,
+    add(r, "polygons triangulated on read (ear clipping)", soup.polygons_triangulated, "faces with more than three corners", false,
         "nothing to fix; triangulate in the modelling tool for control over the diagonals");
   return r;
 }
