@@ -5,6 +5,7 @@
 #include "libsdm/decode/decode_sdm.h"
 #include "libsdm/encode/encode_sdm.h"
 #include "libsdm/map/sdm_exr.h"
+#include "libstm/mesh/self_intersections.h"
 #include "libstm/mesh/surface_distance.h"
 #include "libstm/core/errors.h"
 #include "libstm/core/image.h"
@@ -15,6 +16,7 @@
 
 #include <cmath>
 #include <memory>
+#include <sstream>
 
 namespace sdm::cli {
 namespace {
@@ -76,6 +78,50 @@ std::map<int, int> parse_segment_levels(const std::vector<std::string>& items) {
 
 bool closed_manifold(const sdm::Mesh& m) { return sdm::validate_mesh(sdm::mesh_to_soup(m)).usable(); }
 
+std::string point_text(const Eigen::Vector3d& p) {
+  std::ostringstream s;
+  s << '(' << p.x() << ", " << p.y() << ", " << p.z() << ')';
+  return s.str();
+}
+
+double mesh_diagonal(const sdm::Mesh& m) {
+  const Eigen::MatrixX3d V = sdm::vertex_matrix(m);
+  return (V.colwise().maxCoeff() - V.colwise().minCoeff()).norm();
+}
+
+// The quality gate of encode and roundtrip (issue 15). A surface that crosses itself has two sheets
+// where a map holds one per ray (a Spot with its head pushed through its body encoded silently to
+// 1.2 % RMS): named on stderr, refused under --strict.
+sdm::SelfIntersections check_self_intersections(const sdm::Mesh& mesh, bool strict) {
+  const sdm::SelfIntersections x = sdm::find_self_intersections(sdm::vertex_matrix(mesh), sdm::face_matrix(mesh));
+  if (x.pairs == 0) return x;
+  const std::string what = "the surface intersects itself (" + std::to_string(x.pairs) + " pairs of faces cross, e.g. faces " +
+                           std::to_string(x.face_a) + " and " + std::to_string(x.face_b) + " at " + point_text(x.example) + ")";
+  const std::string fix = "a displacement map holds one surface per ray, so crossing sheets cannot both be kept: separate them "
+                          "in a modelling tool (e.g. Blender's 3D-Print toolbox, 'Intersect Faces')";
+  if (strict) throw sdm::InputError(what + "; " + fix);
+  progress("warning: " + what + ": " + fix + " (--strict refuses such input)");
+  return x;
+}
+
+// The share of the input's surface (by vertex area) that the decoded surface carries within 1 % of
+// the diagonal. Under 90 %: a warning, or a refusal under --strict.
+constexpr double kCarriedTolerance = 0.01, kCarriedFloor = 0.9;
+sdm::SurfaceCoverage check_carried(const sdm::Mesh& input, const sdm::Mesh& decoded, bool strict) {
+  const double diag = mesh_diagonal(input);
+  sdm::SurfaceCoverage c = sdm::surface_coverage(input, decoded, kCarriedTolerance * diag);
+  if (c.share >= kCarriedFloor) return c;
+  std::ostringstream what;
+  what << "the map carries only " << std::round(1000 * c.share) / 10 << " % of the surface within "
+       << 100 * kCarriedTolerance << " % of the diagonal (at least " << 100 * kCarriedFloor << " % expected); the farthest point, "
+       << point_text(c.worst_point) << ", is " << std::round(1000 * c.worst / diag) / 10 << " % of the diagonal away";
+  const std::string fix = "try a larger --size, or check the input for sheets inside each other or parts the skeleton misses "
+                          "('sdm skeleton --png')";
+  if (strict) throw sdm::InputError(what.str() + "; " + fix);
+  progress("warning: " + what.str() + ": " + fix + " (--strict refuses such output)");
+  return c;
+}
+
 }  // namespace
 
 Command add_encode_command(CLI::App& parent) {
@@ -83,7 +129,7 @@ Command add_encode_command(CLI::App& parent) {
     std::string mesh, out, layout, skeleton, png, max_memory;
     int size = 1024;
     double min_part = 0;
-    bool json = false;
+    bool json = false, strict = false;
   };
   auto o = std::make_shared<Opts>();
   auto* app = parent.add_subcommand(
@@ -97,11 +143,14 @@ Command add_encode_command(CLI::App& parent) {
   app->add_option("--png", o->png, "Also write a false-colour picture of the map (.png)");
   add_min_part_option(app, o->min_part);
   add_max_memory_option(app, o->max_memory);
+  app->add_flag("--strict", o->strict,
+                "Refuse (exit 2, nothing written) a self-intersecting input or a map that carries under 90 % of the surface");
   app->add_flag("--json", o->json, "Print one JSON object with the summary");
   return {app, [o]() {
             if (o->layout.empty()) check_atlas_memory(o->size, 10, o->max_memory);
             sdm::Stopwatch clock;
             const sdm::Mesh mesh = load_mesh_min_part(o->mesh, o->min_part);
+            const sdm::SelfIntersections crossings = check_self_intersections(mesh, o->strict);
             const sdm::Layout layout = layout_for(mesh, encode_layout_source(o->layout, o->skeleton, o->size)).layout;
             const double layout_s = clock.lap();
             sdm::EncodeStats st;
@@ -109,6 +158,9 @@ Command add_encode_command(CLI::App& parent) {
             eo.progress = [](const std::string& s) { progress("  " + s); };
             const sdm::SdmImage im = sdm::encode_sdm(mesh, layout, eo, &st);
             const double encode_s = clock.lap();
+            progress("  checking the map (decoded at level 3)");
+            const sdm::SurfaceCoverage carried = check_carried(mesh, sdm::decode_sdm(im, sdm::DecodeOptions{}), o->strict);
+            const double check_s = clock.lap();
             sdm::write_sdm_exr(im, o->out);
             if (!o->png.empty()) sdm::write_png(false_colour(im), o->png);
             const double own = st.texels ? double(st.own_hits) / st.texels : 0.0;
@@ -116,11 +168,15 @@ Command add_encode_command(CLI::App& parent) {
               print_json({{"output", o->out}, {"size", im.width}, {"segments", layout.segments.size()},
                           {"texels", st.texels}, {"own_hits", st.own_hits}, {"other_hits", st.other_hits},
                           {"filled", st.filled}, {"base_faces", st.base_faces}, {"layout_seconds", layout_s},
-                          {"encode_seconds", encode_s}});
+                          {"encode_seconds", encode_s}, {"check_seconds", check_s}, {"carried", carried.share},
+                          {"carried_rms", carried.rms / mesh_diagonal(mesh)}, {"self_intersections", crossings.pairs}});
             } else {
               std::cout << o->out << ": " << im.width << "x" << im.height << ", " << layout.segments.size() << " segments, "
                         << st.base_faces << " base faces, " << std::round(1000 * own) / 10 << " % of segment texels on their own surface\n"
-                        << "  layout " << layout_s << " s, encode " << encode_s << " s\n";
+                        << "  carries " << std::round(1000 * carried.share) / 10 << " % of the surface within "
+                        << 100 * kCarriedTolerance << " % of the diagonal at level 3 (RMS "
+                        << 100 * carried.rms / mesh_diagonal(mesh) << " %)\n"
+                        << "  layout " << layout_s << " s, encode " << encode_s << " s, check " << check_s << " s\n";
             }
             return 0;
           }};
@@ -186,7 +242,7 @@ Command add_roundtrip_command(CLI::App& parent) {
     int size = 1024, lod = 3, samples = 100000;
     double max_rms = -1, min_part = 0;
     std::string max_memory;
-    bool json = false;
+    bool json = false, strict = false;
   };
   auto o = std::make_shared<Opts>();
   auto* app = parent.add_subcommand(
@@ -201,10 +257,13 @@ Command add_roundtrip_command(CLI::App& parent) {
   app->add_option("-o,--output", o->out, "Also write the decoded mesh");
   add_min_part_option(app, o->min_part);
   add_max_memory_option(app, o->max_memory);
+  app->add_flag("--strict", o->strict,
+                "Refuse (exit 2) a self-intersecting input or a decoded surface that carries under 90 % of the input");
   app->add_flag("--json", o->json, "Print one JSON object with the summary");
   return {app, [o]() {
             const sdm::Stopwatch total;
             const sdm::Mesh mesh = load_mesh_min_part(o->mesh, o->min_part);
+            const sdm::SelfIntersections crossings = check_self_intersections(mesh, o->strict);
             const sdm::Layout layout = layout_for(mesh, encode_layout_source("", "", o->size)).layout;
             sdm::Stopwatch stage;
             progress("encoding");
@@ -218,6 +277,7 @@ Command add_roundtrip_command(CLI::App& parent) {
                          "use a lower --lod (each level quadruples the triangles)");
             const sdm::Mesh out = sdm::decode_sdm(im, d);
             const double decode_s = stage.lap();
+            const sdm::SurfaceCoverage carried = check_carried(mesh, out, o->strict);
             if (!o->out.empty()) sdm::write_mesh(out, o->out);
             progress("measuring");
             const sdm::SurfaceDistance dist = sdm::surface_distance(mesh, out, o->samples);
@@ -228,7 +288,8 @@ Command add_roundtrip_command(CLI::App& parent) {
               print_json({{"mesh", o->mesh}, {"size", o->size}, {"lod", o->lod}, {"segments", layout.segments.size()},
                           {"rms", rms}, {"hausdorff", hd}, {"psnr", psnr}, {"faces", out.n_faces()},
                           {"closed", closed}, {"encode_seconds", encode_s}, {"decode_seconds", decode_s},
-                          {"total_seconds", total.seconds()}, {"samples", o->samples}});
+                          {"total_seconds", total.seconds()}, {"samples", o->samples}, {"carried", carried.share},
+                          {"self_intersections", crossings.pairs}});
             } else {
               std::cout << o->mesh << " at " << o->size << ", level " << o->lod << ": RMS " << 100 * rms << " %, Hausdorff "
                         << 100 * hd << " % of the diagonal, PSNR " << psnr << " dB, " << out.n_faces() << " faces, "

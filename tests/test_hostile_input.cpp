@@ -396,3 +396,71 @@ TEST_CASE("The capsule round trip at scales 1e-9 and 1e9 is as accurate as at sc
     CHECK((*j)["closed"].get<bool>());
   }
 }
+
+namespace {
+
+// Spot with its head pushed back through its body (a smooth blend over z in 0.45..0.65): the two
+// sheets cross.
+std::string pushed_spot(const TempDir& dir) {
+  std::ifstream in(std::string(SDM_EXAMPLES) + "/spot/spot_triangulated.obj");
+  std::ostringstream out;
+  out.precision(17);
+  for (std::string line; std::getline(in, line);) {
+    if (line.rfind("v ", 0) == 0) {
+      std::istringstream v(line.substr(2));
+      double x, y, z;
+      v >> x >> y >> z;
+      double w = std::clamp((z - 0.45) / 0.2, 0.0, 1.0);
+      w = w * w * (3 - 2 * w);
+      out << "v " << x << ' ' << y - 0.25 * w << ' ' << z - 0.7 * w << '\n';
+    } else if (line.rfind("f ", 0) == 0) {
+      std::istringstream f(line.substr(2));
+      out << 'f';
+      for (std::string corner; f >> corner;) out << ' ' << corner.substr(0, corner.find('/'));
+      out << '\n';
+    }
+  }
+  write_file(dir / "pushed.obj", out.str());
+  return dir / "pushed.obj";
+}
+
+nlohmann::json last_json(const test_util::RunResult& r) {
+  const size_t at = r.output.rfind("\n{\n");
+  REQUIRE(at != std::string::npos);
+  return nlohmann::json::parse(r.output.substr(at + 1));
+}
+
+}  // namespace
+
+TEST_CASE("A self-intersecting Spot is named as such, and --strict refuses it writing nothing", "[hostile]") {
+  TempDir dir;
+  const std::string spot = std::string(SDM_EXAMPLES) + "/spot/spot_triangulated.obj", out = dir / "m.exr";
+  // The clean Spot has no crossing faces.
+  CHECK(last_json(run_sdm("encode " + spot + " --size 256 -o " + out + " --json"))["self_intersections"] == 0);
+  const std::string pushed = pushed_spot(dir);
+  const auto warned = run_sdm("encode " + pushed + " --size 256 -o " + out + " --json");
+  CHECK(warned.exit_code == 0);
+  CHECK(warned.output.find("warning: the surface intersects itself") != std::string::npos);
+  CHECK(last_json(warned)["self_intersections"].get<long>() > 100);
+  fs::remove(out);
+  expect_refused(run_sdm("encode " + pushed + " --size 256 -o " + out + " --strict"), "the surface intersects itself");
+  expect_refused(run_sdm("roundtrip " + pushed + " --size 256 --strict"), "the surface intersects itself");
+  CHECK(!fs::exists(out));
+  CHECK(!has_temporary(dir.path));
+}
+
+TEST_CASE("A map that carries under 90 % of the surface is said so, and --strict refuses it", "[hostile]") {
+  // A 20^2 atlas (4 texels of margin) leaves a capsule a few texels per rectangle: measured 16 % of
+  // its surface within 1 % of the diagonal (24^2: 96 %).
+  Capsule cap;
+  const std::string out = cap.dir / "coarse.exr";
+  const auto warned = run_sdm("encode " + cap.mesh + " --size 20 -o " + out + " --json");
+  CHECK(warned.exit_code == 0);
+  CHECK(warned.output.find("warning: the map carries only") != std::string::npos);
+  CHECK(last_json(warned)["carried"].get<double>() < 0.9);
+  fs::remove(out);
+  expect_refused(run_sdm("encode " + cap.mesh + " --size 20 -o " + out + " --strict"), "the map carries only");
+  CHECK(!fs::exists(out));
+  // The capsule's own layout at 256^2 carries all of it.
+  CHECK(last_json(run_sdm("encode " + cap.mesh + " --layout " + cap.layout + " -o " + out + " --json"))["carried"].get<double>() == 1.0);
+}

@@ -279,4 +279,25 @@ bool TriangleBvh::any_hit(const Eigen::Vector3d& o, const Eigen::Vector3d& d, do
   return false;
 }
 
+void TriangleBvh::faces_in_box(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi, std::vector<int>& out) const {
+  if (nodes_.empty()) return;
+  int stack[128];
+  int sp = 0;
+  stack[sp++] = 0;
+  while (sp) {
+    const Node& n = nodes_[stack[--sp]];
+    if ((n.lo.array() > hi.array()).any() || (n.hi.array() < lo.array()).any()) continue;
+    if (n.left < 0) {
+      for (int i = n.begin; i < n.end; ++i) {
+        const Tri& t = tris_[i];
+        const Eigen::Vector3d tlo = t.a.cwiseMin(t.b).cwiseMin(t.c), thi = t.a.cwiseMax(t.b).cwiseMax(t.c);
+        if ((tlo.array() <= hi.array()).all() && (thi.array() >= lo.array()).all()) out.push_back(t.face);
+      }
+      continue;
+    }
+    stack[sp++] = n.left;
+    stack[sp++] = n.right;
+  }
+}
+
 }  // namespace sdm

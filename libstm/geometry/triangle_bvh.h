@@ -40,6 +40,9 @@ class TriangleBvh {
   // one found. any_hit(a, b - a, 0, 1): the closed segment a-b meets the surface.
   bool any_hit(const Eigen::Vector3d& origin, const Eigen::Vector3d& direction, double t_min, double t_max) const;
 
+  // Appends to `out` the faces (indices into F) whose bounding boxes meet the box [lo, hi].
+  void faces_in_box(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi, std::vector<int>& out) const;
+
   bool empty() const { return tris_.empty(); }
 
  private:

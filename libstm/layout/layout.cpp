@@ -175,10 +175,11 @@ std::string segment_problem(const Layout& L, size_t s) {
     return "has a negative or non-finite cap or length";
   if (!(g.weight > 0) || !std::isfinite(g.weight)) return "has a weight that is not positive";
   if (!(g.d >= 0) || !(g.d <= 0.5 * g.w + 1e-9)) return "has a cap of " + number(g.d) + " texels outside 0..w/2";
-  // The rectangle is the capsule at the layout's scale, grown by packing (measured 0.99-1.34x):
-  // a radius or length tampered by 2x or more decoded a "closed 2-manifold" off by model units.
+  // The rectangle is the capsule at the layout's scale, grown by packing (measured 0.99-1.34x on
+  // Spot and the capsule, 2.18x on a Spot with its head pushed into its body): a radius or length
+  // tampered by 10x decoded a "closed 2-manifold" off by model units.
   const double around = 2 * M_PI * g.radius * L.scale * g.weight, along = (g.length + 2 * g.cap) * L.scale * g.weight;
-  if (g.h < 0.5 * around - 1 || g.h > 2 * around + 1 || g.w < 0.5 * along - 1 || g.w > 2 * along + 1)
+  if (g.h < 0.5 * around - 1 || g.h > 4 * around + 1 || g.w < 0.5 * along - 1 || g.w > 4 * along + 1)
     return "has a rectangle of " + std::to_string(g.w) + "x" + std::to_string(g.h) + " texels for a capsule of " + number(along) + "x" +
            number(around) + " at the layout's scale: its radius, length or scale was altered";
   // The axis runs from node a to node b (segment_frames.h).

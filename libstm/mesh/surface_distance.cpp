@@ -2,6 +2,7 @@
 
 #include "libstm/geometry/differential_geometry.h"
 #include "libstm/geometry/triangle_bvh.h"
+#include "libstm/mesh/mesh_geometry.h"
 
 #include <algorithm>
 #include <random>
@@ -54,6 +55,22 @@ SurfaceDistance surface_distance(const Mesh& a, const Mesh& b, int samples) {
   d.rms = std::sqrt(sum2 / (2.0 * samples));
   d.mean = sum / (2.0 * samples);
   return d;
+}
+
+SurfaceCoverage surface_coverage(const Mesh& reference, const Mesh& carrier, double tolerance) {
+  SurfaceCoverage c;
+  const TriangleBvh bvh(vertex_matrix(carrier), face_matrix(carrier));
+  const std::vector<double> area = vertex_areas(reference);
+  double total = 0, within = 0, sq = 0;
+  for (auto v : reference.vertices()) {
+    const Eigen::Vector3d p = point(reference, v);
+    const double d = bvh.closest_point(p).distance, a = area[v.idx()];
+    total += a, sq += a * d * d;
+    if (d <= tolerance) within += a;
+    if (d > c.worst) c.worst = d, c.worst_point = p;
+  }
+  if (total > 0) c.share = within / total, c.rms = std::sqrt(sq / total);
+  return c;
 }
 
 }  // namespace sdm

@@ -19,4 +19,15 @@ struct SurfaceDistance {
 // points and measured against the other surface's triangles (exact closest points).
 SurfaceDistance surface_distance(const Mesh& a, const Mesh& b, int samples = 100000);
 
+// How much of a reference surface another one carries (the quality gate of encode and roundtrip,
+// issue 15): every vertex of `reference`, weighted by its area (a third of its faces'), measured
+// against the triangles of `carrier`.
+struct SurfaceCoverage {
+  double share = 0;      // area share of the reference's vertices within `tolerance` of the carrier
+  double rms = 0;        // area-weighted RMS of those distances
+  double worst = 0;      // the largest distance
+  Eigen::Vector3d worst_point = Eigen::Vector3d::Zero();  // the reference vertex farthest away
+};
+SurfaceCoverage surface_coverage(const Mesh& reference, const Mesh& carrier, double tolerance);
+
 }  // namespace sdm

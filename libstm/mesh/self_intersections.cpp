@@ -1,0 +1,65 @@
+#include "libstm/mesh/self_intersections.h"
+
+#include "libstm/geometry/triangle_bvh.h"
+
+#include <vector>
+
+namespace sdm {
+namespace {
+
+// Where the closed segment p-q crosses triangle (a, b, c), if it does (Moller & Trumbore).
+bool segment_crosses_triangle(const Eigen::Vector3d& p, const Eigen::Vector3d& q, const Eigen::Vector3d& a,
+                              const Eigen::Vector3d& b, const Eigen::Vector3d& c, Eigen::Vector3d& at) {
+  const Eigen::Vector3d d = q - p, e1 = b - a, e2 = c - a;
+  const Eigen::Vector3d h = d.cross(e2);
+  const double det = e1.dot(h);
+  const double scale = e1.norm() * e2.norm() * d.norm();
+  if (std::abs(det) <= 1e-12 * scale) return false;  // parallel (or degenerate)
+  const Eigen::Vector3d s = p - a;
+  const double u = s.dot(h) / det;
+  if (u < 0 || u > 1) return false;
+  const Eigen::Vector3d k = s.cross(e1);
+  const double v = d.dot(k) / det;
+  if (v < 0 || u + v > 1) return false;
+  const double t = e2.dot(k) / det;
+  if (t < 0 || t > 1) return false;
+  at = p + t * d;
+  return true;
+}
+
+bool triangles_cross(const Eigen::Vector3d* A, const Eigen::Vector3d* B, Eigen::Vector3d& at) {
+  for (int k = 0; k < 3; ++k) {
+    if (segment_crosses_triangle(A[k], A[(k + 1) % 3], B[0], B[1], B[2], at)) return true;
+    if (segment_crosses_triangle(B[k], B[(k + 1) % 3], A[0], A[1], A[2], at)) return true;
+  }
+  return false;
+}
+
+}  // namespace
+
+SelfIntersections find_self_intersections(const Eigen::MatrixX3d& V, const Eigen::MatrixX3i& F, long max_pairs) {
+  SelfIntersections out;
+  if (F.rows() == 0) return out;
+  const TriangleBvh bvh(V, F);
+  std::vector<int> near;
+  for (int f = 0; f < F.rows() && out.pairs < max_pairs; ++f) {
+    const Eigen::Vector3d A[3] = {V.row(F(f, 0)), V.row(F(f, 1)), V.row(F(f, 2))};
+    near.clear();
+    bvh.faces_in_box(A[0].cwiseMin(A[1]).cwiseMin(A[2]), A[0].cwiseMax(A[1]).cwiseMax(A[2]), near);
+    for (int g : near) {
+      if (g <= f) continue;  // each pair once
+      bool shared = false;
+      for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j) shared |= F(f, i) == F(g, j);
+      if (shared) continue;
+      const Eigen::Vector3d B[3] = {V.row(F(g, 0)), V.row(F(g, 1)), V.row(F(g, 2))};
+      Eigen::Vector3d at;
+      if (!triangles_cross(A, B, at)) continue;
+      if (out.pairs++ == 0) out.example = at, out.face_a = f, out.face_b = g;
+      if (out.pairs >= max_pairs) break;
+    }
+  }
+  return out;
+}
+
+}  // namespace sdm
