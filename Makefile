@@ -3,7 +3,7 @@ BUILD ?= build
 JOBS ?= $(shell nproc)
 DEMO_OUT ?= demo-out
 
-.PHONY: all deps configure build demo test sanitize bench clean
+.PHONY: all deps configure build demo test sanitize fuzz bench clean
 
 all: build
 
@@ -30,8 +30,12 @@ sanitize: deps
 	@cmake --build build-asan -j $(JOBS)
 	@cd build-asan && ASAN_OPTIONS=detect_leaks=0 ctest --output-on-failure -j $(JOBS)
 
+# libFuzzer on every reader under ASan + UBSan (clang; build-fuzz/): FUZZ_SECONDS per reader (60).
+fuzz: deps
+	@bash scripts/fuzz.sh
+
 bench: build
 	@$(BUILD)/sdm bench
 
 clean:
-	rm -rf $(BUILD) build-asan $(DEMO_OUT)
+	rm -rf $(BUILD) build-asan build-fuzz $(DEMO_OUT)
