@@ -14,6 +14,8 @@
 #include "libstm/mesh/mesh.h"
 #include "libstm/mesh/validate_mesh.h"
 
+#include <Imath/half.h>
+
 #include <cmath>
 #include <memory>
 #include <sstream>
@@ -78,6 +80,13 @@ std::map<int, int> parse_segment_levels(const std::vector<std::string>& items) {
 
 bool closed_manifold(const sdm::Mesh& m) { return sdm::validate_mesh(sdm::mesh_to_soup(m)).usable(); }
 
+// The map as a reader will see it: D rounded to half precision when it is stored so.
+sdm::SdmImage stored(sdm::SdmImage im, sdm::SdmPrecision precision) {
+  if (precision == sdm::SdmPrecision::half16)
+    for (float& d : im.D) d = float(half(d));
+  return im;
+}
+
 std::string point_text(const Eigen::Vector3d& p) {
   std::ostringstream s;
   s << '(' << p.x() << ", " << p.y() << ", " << p.z() << ')';
@@ -126,7 +135,7 @@ sdm::SurfaceCoverage check_carried(const sdm::Mesh& input, const sdm::Mesh& deco
 
 Command add_encode_command(CLI::App& parent) {
   struct Opts {
-    std::string mesh, out, layout, skeleton, png, max_memory;
+    std::string mesh, out, layout, skeleton, png, max_memory, precision = "float";
     int size = 1024;
     double min_part = 0;
     bool json = false, strict = false;
@@ -143,6 +152,10 @@ Command add_encode_command(CLI::App& parent) {
   app->add_option("--png", o->png, "Also write a false-colour picture of the map (.png)");
   add_min_part_option(app, o->min_part);
   add_max_memory_option(app, o->max_memory);
+  app->add_option("--precision", o->precision,
+                  "Displacement precision in the file: float (32 bits) or half (16 bits: 11 significant bits, a smaller file)")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"float", "half"}));
   app->add_flag("--strict", o->strict,
                 "Refuse (exit 2, nothing written) a self-intersecting input or a map that carries under 90 % of the surface");
   app->add_flag("--json", o->json, "Print one JSON object with the summary");
@@ -158,10 +171,11 @@ Command add_encode_command(CLI::App& parent) {
             eo.progress = [](const std::string& s) { progress("  " + s); };
             const sdm::SdmImage im = sdm::encode_sdm(mesh, layout, eo, &st);
             const double encode_s = clock.lap();
+            const sdm::SdmPrecision precision = o->precision == "half" ? sdm::SdmPrecision::half16 : sdm::SdmPrecision::float32;
             progress("  checking the map (decoded at level 3)");
-            const sdm::SurfaceCoverage carried = check_carried(mesh, sdm::decode_sdm(im, sdm::DecodeOptions{}), o->strict);
+            const sdm::SurfaceCoverage carried = check_carried(mesh, sdm::decode_sdm(stored(im, precision), sdm::DecodeOptions{}), o->strict);
             const double check_s = clock.lap();
-            sdm::write_sdm_exr(im, o->out);
+            sdm::write_sdm_exr(im, o->out, precision);
             if (!o->png.empty()) sdm::write_png(false_colour(im), o->png);
             const double own = st.texels ? double(st.own_hits) / st.texels : 0.0;
             if (o->json) {

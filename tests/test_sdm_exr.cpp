@@ -8,6 +8,7 @@
 #include <OpenEXR/ImfHeader.h>
 #include <OpenEXR/ImfIntAttribute.h>
 #include <OpenEXR/ImfOutputFile.h>
+#include <OpenEXR/ImfRgbaFile.h>
 #include <OpenEXR/ImfStringAttribute.h>
 #include <catch2/catch.hpp>
 #include <filesystem>
@@ -90,4 +91,48 @@ TEST_CASE("Wrong SDM files get a message that names the problem", "[sdm_exr]") {
   CHECK(error_of(dir / "badjson.exr").find("invalid layout") != std::string::npos);
   write_raw_exr(dir / "v99.exr", {"A", "D"}, &layout, 99);
   CHECK(error_of(dir / "v99.exr").find("format version 99") != std::string::npos);
+}
+
+TEST_CASE("Format 2 stores the displacement as luminance Y and the mask as alpha: RGBA readers see the map", "[sdm_exr]") {
+  test_util::TempDir dir;
+  const SdmImage im = ramp(16, 8);
+  write_sdm_exr(im, dir / "m.exr");
+  Imf::RgbaInputFile file((dir / "m.exr").c_str());
+  CHECK((file.channels() & Imf::WRITE_Y));
+  CHECK((file.channels() & Imf::WRITE_A));
+  std::vector<Imf::Rgba> px(16 * 8);
+  file.setFrameBuffer(px.data(), 1, 16);
+  file.readPixels(0, 7);
+  for (int i = 0; i < 16 * 8; ++i) {
+    // A luminance-only image reads back as grey: r = g = b = Y = D (half precision in Rgba).
+    CHECK(float(px[i].r) == Approx(im.D[i]).epsilon(1e-3));
+    CHECK(float(px[i].g) == Approx(im.D[i]).epsilon(1e-3));
+    CHECK(float(px[i].a) == im.A[i]);
+  }
+}
+
+TEST_CASE("Half precision keeps 11 significant bits of D and an exact mask, in a smaller file", "[sdm_exr]") {
+  test_util::TempDir dir;
+  const SdmImage im = ramp(64, 64);
+  write_sdm_exr(im, dir / "f.exr");
+  write_sdm_exr(im, dir / "h.exr", SdmPrecision::half16);
+  const SdmImage r = read_sdm_exr(dir / "h.exr");
+  for (size_t i = 0; i < im.D.size(); ++i) {
+    CHECK(std::abs(r.D[i] - im.D[i]) <= std::ldexp(std::abs(im.D[i]), -11));  // half: 10 stored bits + 1 implied
+    CHECK(r.A[i] == im.A[i]);
+  }
+  CHECK(std::filesystem::file_size(dir / "h.exr") < std::filesystem::file_size(dir / "f.exr"));
+}
+
+TEST_CASE("Format 1 files (channels D and A) still read", "[sdm_exr]") {
+  test_util::TempDir dir;
+  const std::string layout = R"({"format":"sdm-layout"})";
+  write_raw_exr(dir / "v1.exr", {"A", "D"}, &layout, 1);
+  const SdmImage r = read_sdm_exr(dir / "v1.exr");
+  CHECK(r.width == 4);
+  CHECK(r.D == std::vector<float>(16, 0.5f));
+  CHECK(r.A == std::vector<float>(16, 0.5f));
+  // A version 2 file needs its own names: D and A alone are not a version 2 map.
+  write_raw_exr(dir / "v2.exr", {"A", "D"}, &layout, 2);
+  CHECK(error_of(dir / "v2.exr").find("lacks channel 'Y'") != std::string::npos);
 }

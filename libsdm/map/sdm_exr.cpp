@@ -49,21 +49,45 @@ void check_window(const std::string& path, const Imath::Box2i& dw, int channels)
                      std::to_string(int64_t(file)) + " bytes; the header was altered");
 }
 
+
+// The channel names of each format version: displacement, mask, vector x, y, z.
+struct ChannelNames {
+  const char *D, *A, *X, *Y, *Z;
+};
+ChannelNames channel_names(int version) {
+  if (version == 1) return {"D", "A", "X", "Y", "Z"};
+  return {"Y", "A", "vector.X", "vector.Y", "vector.Z"};
+}
+
 }  // namespace
 
-void write_sdm_exr(const SdmImage& im, const std::string& path) {
+void write_sdm_exr(const SdmImage& im, const std::string& path, SdmPrecision precision) {
   check_size(im);
+  const ChannelNames names = channel_names(kSdmFormatVersion);
+  const Imf::PixelType stored = precision == SdmPrecision::half16 ? Imf::HALF : Imf::FLOAT;
   write_atomically(path, [&](const std::string& tmp) {
     Imf::Header header(im.width, im.height);
     header.compression() = Imf::ZIP_COMPRESSION;
     header.insert(kLayoutAttribute, Imf::StringAttribute(im.layout.dump()));
     header.insert(kVersionAttribute, Imf::IntAttribute(kSdmFormatVersion));
-    std::vector<std::pair<const char*, const std::vector<float>*>> channels = {{"D", &im.D}, {"A", &im.A}};
-    if (!im.X.empty()) channels.insert(channels.end(), {{"X", &im.X}, {"Y", &im.Y}, {"Z", &im.Z}});
+    struct Out {
+      const char* name;
+      const std::vector<float>* data;
+      Imf::PixelType type;
+    };
+    std::vector<Out> channels = {{names.D, &im.D, stored}, {names.A, &im.A, Imf::HALF}};
+    if (!im.X.empty()) channels.insert(channels.end(), {{names.X, &im.X, stored}, {names.Y, &im.Y, stored}, {names.Z, &im.Z, stored}});
     Imf::FrameBuffer fb;
-    for (const auto& [name, data] : channels) {
-      header.channels().insert(name, Imf::Channel(Imf::FLOAT));
-      fb.insert(name, Imf::Slice(Imf::FLOAT, (char*)data->data(), sizeof(float), sizeof(float) * im.width));
+    std::vector<std::vector<half>> halves;  // the frame buffer's type must be the file's
+    halves.reserve(channels.size());
+    for (const Out& c : channels) {
+      header.channels().insert(c.name, Imf::Channel(c.type));
+      if (c.type == Imf::FLOAT) {
+        fb.insert(c.name, Imf::Slice(Imf::FLOAT, (char*)c.data->data(), sizeof(float), sizeof(float) * im.width));
+        continue;
+      }
+      halves.emplace_back(c.data->begin(), c.data->end());
+      fb.insert(c.name, Imf::Slice(Imf::HALF, (char*)halves.back().data(), sizeof(half), sizeof(half) * im.width));
     }
     try {
       Imf::OutputFile file(tmp.c_str(), header);
@@ -88,9 +112,10 @@ SdmImage read_sdm_exr(const std::string& path) {
     if (!layout || !version)
       throw InputError("SDM " + path + " is an OpenEXR image without the sdm layout header (attribute '" +
                        std::string(kLayoutAttribute) + "'): it was not written by 'sdm encode'");
-    if (version->value() != kSdmFormatVersion)
+    if (version->value() < 1 || version->value() > kSdmFormatVersion)
       throw InputError("SDM " + path + " has format version " + std::to_string(version->value()) +
-                       ", this sdm reads version " + std::to_string(kSdmFormatVersion) + ": re-encode it with this sdm");
+                       ", this sdm reads versions 1 to " + std::to_string(kSdmFormatVersion) + ": re-encode it with this sdm");
+    const ChannelNames names = channel_names(version->value());
     im.layout = nlohmann::json::parse(layout->value(), nullptr, false);
     if (im.layout.is_discarded() || !im.layout.is_object())
       throw InputError("SDM " + path + " has an invalid layout header: not a JSON object");
@@ -101,19 +126,20 @@ SdmImage read_sdm_exr(const std::string& path) {
     im.width = dw.max.x + 1;
     im.height = dw.max.y + 1;
     const size_t n = size_t(im.width) * size_t(im.height);
-    for (const char* c : {"D", "A"})
+    for (const char* c : {names.D, names.A})
       if (!h.channels().findChannel(c))
-        throw InputError("SDM " + path + " lacks channel '" + std::string(c) + "' (it needs D and A)");
-    const bool vec = h.channels().findChannel("X") && h.channels().findChannel("Y") && h.channels().findChannel("Z");
+        throw InputError("SDM " + path + " lacks channel '" + std::string(c) + "' (format version " + std::to_string(version->value()) +
+                         " needs " + names.D + " and " + names.A + ")");
+    const bool vec = h.channels().findChannel(names.X) && h.channels().findChannel(names.Y) && h.channels().findChannel(names.Z);
     Imf::FrameBuffer fb;
     auto slice = [&](const char* name, std::vector<float>& data) {
       data.assign(n, 0.0f);
       char* base = (char*)(data.data() - dw.min.x - size_t(dw.min.y) * im.width);
       fb.insert(name, Imf::Slice(Imf::FLOAT, base, sizeof(float), sizeof(float) * im.width));
     };
-    slice("D", im.D);
-    slice("A", im.A);
-    if (vec) slice("X", im.X), slice("Y", im.Y), slice("Z", im.Z);
+    slice(names.D, im.D);
+    slice(names.A, im.A);
+    if (vec) slice(names.X, im.X), slice(names.Y, im.Y), slice(names.Z, im.Z);
     file.setFrameBuffer(fb);
     if (!file.isComplete())
       throw InputError("SDM " + path + " is truncated: some pixel data is missing (copy the file again)");

@@ -8,6 +8,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <fstream>
+#include <regex>
 #include <sstream>
 #include <vector>
 
@@ -16,14 +17,24 @@ namespace {
 
 // Lines of a text file with their numbers; `comments` strips '#' to the end of the line.
 struct Lines {
+  std::string path;
   std::ifstream in;
   long number = 0;
   bool comments = false;
-  explicit Lines(const std::string& path) : in(path, std::ios::binary) {}
+  explicit Lines(const std::string& p) : path(p), in(p, std::ios::binary) {}
+  // The next line, or false at the end. A NUL byte is refused: the readers split lines at it
+  // differently than these checks would (a face 'f \0 /1 2' reached OpenMesh's assertion).
+  bool read(std::string& line) {
+    if (!std::getline(in, line)) return false;
+    ++number;
+    if (line.find('\0') != std::string::npos)
+      throw InputError("mesh " + path + " holds a NUL byte on line " + std::to_string(number) +
+                       ": it is not a text mesh file (a binary file with a text extension, or damaged)");
+    return true;
+  }
   // The next line with something on it (after stripping comments), or false at the end.
   bool next_data(std::string& line) {
-    while (std::getline(in, line)) {
-      ++number;
+    while (read(line)) {
       if (comments) {
         const auto p = line.find('#');
         if (p != std::string::npos) line.resize(p);
@@ -131,6 +142,12 @@ void check_off(const std::string& path, std::uintmax_t bytes) {
   if (!lines.next_data(line)) return;
   auto head = tokens(line);
   const std::string magic = head[0];
+  // OpenMesh reads [ST][C][N][4][n]OFF; on anything else ('OFFB4', found by the fuzzer) it read
+  // its counts from the end of the file into uninitialised variables and reserved what they held.
+  static const std::regex off_magic("(ST)?C?N?4?n?OFF");
+  if (!std::regex_match(magic, off_magic))
+    throw InputError("cannot read mesh " + path + ": the first line starts with '" + magic.substr(0, 40) +
+                     "', not an OFF header (OFF, optionally prefixed by ST, C, N, 4 and n)");
   // Plain ASCII OFF with optional per-vertex colours, normals or texture coordinates.
   if (magic.size() < 3 || magic.compare(magic.size() - 3, 3, "OFF") != 0 || magic.find_first_of("n4") != std::string::npos) return;
   if (line.find("BINARY") != std::string::npos) return;
@@ -171,6 +188,7 @@ struct PlyElement {
   long long count = 0;
   double min_bytes = 0;  // the least bytes one of them takes
   long line = 0;
+  std::vector<bool> is_list;  // per property, in order
 };
 
 // Bytes of a PLY scalar type, or 0 for a name that is not one.
@@ -188,8 +206,7 @@ std::vector<PlyElement> read_ply_header(const std::string& path, Lines& lines, b
   std::string line;
   std::vector<PlyElement> elements;
   auto bad = [&](const std::string& why) { return InputError("mesh " + path + ": the PLY header " + at_line(lines.number) + " " + why); };
-  while (std::getline(lines.in, line)) {
-    ++lines.number;
+  while (lines.read(line)) {
     const auto t = tokens(line);
     if (t.empty()) continue;
     const std::string& key = t[0];
@@ -200,7 +217,7 @@ std::vector<PlyElement> read_ply_header(const std::string& path, Lines& lines, b
         throw bad("names an unknown format (PLY 1.0 is ascii, binary_little_endian or binary_big_endian)");
       ascii = t[1] == "ascii";
     } else if (key == "element") {
-      PlyElement e{t.size() > 1 ? t[1] : "", 0, 0, lines.number};
+      PlyElement e{t.size() > 1 ? t[1] : "", 0, 0, lines.number, {}};
       if (t.size() < 3 || !parse_integer(t[2], e.count)) throw bad("does not give an element name and count");
       elements.push_back(e);
     } else if (key == "property") {
@@ -209,11 +226,40 @@ std::vector<PlyElement> read_ply_header(const std::string& path, Lines& lines, b
       if (t.size() < (list ? 5u : 3u) || ply_scalar_size(t[1 + list]) == 0 || (list && ply_scalar_size(t[3]) == 0))
         throw bad("has a property of unknown type");
       elements.back().min_bytes += ascii ? 2 : ply_scalar_size(t[1 + list]);
+      elements.back().is_list.push_back(list);
     } else if (key != "ply" && key != "comment" && key != "obj_info") {
       throw bad("has the unknown keyword '" + key + "'");
     }
   }
   throw InputError("mesh " + path + ": the PLY header has no end_header line (the file is truncated or not PLY)");
+}
+
+// One ASCII PLY element line: a number per scalar property, a count and that many numbers per list
+// property, nothing else. OpenMesh's ASCII reader went on with uninitialised values after a token it
+// could not parse (a flipped byte in a vertex line, found by the mutation fuzzer) and reserved what
+// they held.
+void check_ply_line(const std::string& path, const PlyElement& e, const std::string& line, long lineno) {
+  const auto t = tokens(line);
+  auto bad = [&](const std::string& why) {
+    return InputError("mesh " + path + ": " + e.name + " " + at_line(lineno) + " " + why + " (its element has " +
+                      std::to_string(e.is_list.size()) + " properties)");
+  };
+  size_t k = 0;
+  auto number = [&](double& x) {
+    if (k >= t.size()) throw bad("has too few values");
+    char* end = nullptr;
+    x = std::strtod(t[k].c_str(), &end);
+    if (end == t[k].c_str() || *end != '\0') throw bad("has '" + t[k].substr(0, 40) + "', not a number");
+    ++k;
+  };
+  double x = 0;
+  for (bool list : e.is_list) {
+    number(x);
+    if (!list) continue;
+    if (!(x >= 0) || x != std::floor(x) || x > double(t.size())) throw bad("has a list of " + t[k - 1].substr(0, 40) + " values");
+    for (long long n = (long long)x; n > 0; --n) number(x);
+  }
+  if (k != t.size()) throw bad("has more values than its properties take");
 }
 
 void check_ply(const std::string& path, std::uintmax_t bytes) {
@@ -228,10 +274,13 @@ void check_ply(const std::string& path, std::uintmax_t bytes) {
   if (!ascii) return;
   std::string line;
   long long seen = 0;
-  while (seen < total && lines.next_data(line)) ++seen;
-  if (seen < total)
-    throw InputError("mesh " + path + " is truncated at line " + std::to_string(lines.number) + ": the header announces " +
-                     std::to_string(total) + " elements (vertices, faces, ...), the file ends after " + std::to_string(seen));
+  for (const auto& e : elements)
+    for (long long i = 0; i < e.count; ++i, ++seen) {
+      if (!lines.next_data(line))
+        throw InputError("mesh " + path + " is truncated at line " + std::to_string(lines.number) + ": the header announces " +
+                         std::to_string(total) + " elements (vertices, faces, ...), the file ends after " + std::to_string(seen));
+      check_ply_line(path, e, line, lines.number);
+    }
 }
 
 // One OBJ face corner v[/vt[/vn]]: every index present, non-zero, and (relative ones) resolvable.
@@ -266,8 +315,7 @@ void check_obj(const std::string& path) {
   CoordinateCheck coords(path);
   long long nv = 0, nt = 0, max_v = 0, max_t = 0;
   long max_v_line = 0, max_t_line = 0;
-  while (std::getline(lines.in, line)) {
-    ++lines.number;
+  while (lines.read(line)) {
     const size_t p = line.find_first_not_of(" \t");
     if (p == std::string::npos || p + 1 >= line.size()) continue;
     const std::string key = line.substr(p, line.find_first_of(" \t", p) - p);
@@ -325,8 +373,7 @@ void check_stl(const std::string& path, std::uintmax_t bytes) {
                      ": truncated?) nor ASCII STL (starting with 'solid')");
   Lines lines(path);
   std::string line;
-  while (std::getline(lines.in, line)) {
-    ++lines.number;
+  while (lines.read(line)) {
     const auto p = line.find_first_not_of(" \t");
     if (p == std::string::npos || line.compare(p, 6, "vertex") != 0) continue;
     double xyz[3];
