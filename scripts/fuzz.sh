@@ -29,6 +29,7 @@ for t in $TARGETS; do
   mkdir -p "$corpus"
   cp -n tests/fuzz/corpus/$t/* "$corpus/" 2>/dev/null || true
   log="$BUILD/findings/$t.log"
+  rm -f "$BUILD/findings/$t-"*
   parallel=()
   if [ "$JOBS" -gt 1 ]; then parallel=(-jobs="$JOBS" -workers="$JOBS"); fi
   # detect_leaks: a reader that leaks on a refused input fails too.
@@ -41,7 +42,7 @@ for t in $TARGETS; do
     result="FAILED (see $log)"
     status=1
   fi
-  runs=$(grep -h 'stat::number_of_executed_units' "$log" fuzz-*.log 2>/dev/null | awk '{s += $2} END {print s + 0}')
+  runs=$(cat "$log" fuzz-*.log 2>/dev/null | awk '/stat::number_of_executed_units/ {s += $2} END {print s + 0}')
   rate=$(awk -v r="$runs" -v s="$SECONDS_PER_TARGET" 'BEGIN {printf "%.0f", r / s}')
   printf '%-20s %12s %10s %8s %s\n' "$t" "$runs" "$rate" "$(ls "$corpus" | wc -l)" "$result"
   rm -f fuzz-*.log

@@ -157,9 +157,14 @@ void check_off(const std::string& path, std::uintmax_t bytes) {
     if (!lines.next_data(line)) throw InputError("mesh " + path + " is truncated at line " + std::to_string(lines.number) + ": no counts");
     head = tokens(line), header_line = lines.number;
   }
-  long long nv = 0, nf = 0;
+  long long nv = 0, nf = 0, ne = 0;
   if (head.size() < 2 || !parse_integer(head[0], nv) || !parse_integer(head[1], nf))
     throw InputError("mesh " + path + ": the OFF header " + at_line(header_line) + " does not give vertex and face counts");
+  // OpenMesh reads the edge count before the vertices: without it, it took the first coordinate (or,
+  // at the end of the file, an uninitialised value: 1 GB reserved for 'OFF 0 0', found by libFuzzer).
+  if (head.size() < 3 || !parse_integer(head[2], ne))
+    throw InputError("mesh " + path + ": the OFF header " + at_line(header_line) +
+                     " gives no edge count after the vertex and face counts (write 0: 'V F 0')");
   check_counts_fit(path, "vertices", nv, 6, bytes, header_line);
   check_counts_fit(path, "faces", nf, 2, bytes, header_line);
   check_counts_fit(path, "vertices and faces", nv + nf, 2, bytes, header_line);
