@@ -60,6 +60,8 @@ Command add_skeleton_command(CLI::App& parent) {
                                 {"proxy_seconds", st.proxy_seconds},
                                 {"medial_seconds", st.medial_seconds},
                                 {"medial_parts", st.medial_parts},
+                                {"area_ratio", st.area_ratio},
+                                {"kept", st.kept},
                                 {"outside_edges", st.outside_edges}};
             if (o->json) {
               print_json(j);

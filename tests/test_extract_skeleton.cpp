@@ -158,6 +158,12 @@ TEST_CASE("torus: one cycle, every vertex mapped, inside", "[skeleton]") {
   check_map(s, m);
   CHECK(outside_samples(s, m) == 0);
   for (const auto& p : s.nodes) CHECK(std::abs(std::hypot(p.x(), p.y()) - 2.0) < 0.1 * 0.5);
+  // The statistics say how far the contraction got and which candidate each part kept.
+  CHECK(st.area_ratio >= 0);
+  CHECK(st.area_ratio < 1e-3);  // a well-shaped torus contracts to a curve
+  REQUIRE(st.kept.size() == 1);
+  CHECK((st.kept[0] == "contraction" || st.kept[0] == "medial"));
+  CHECK(st.medial_parts == (st.kept[0] == "medial" ? 1 : 0));
 }
 
 TEST_CASE("cylinder and capsule: nodes on the axis, spanning it", "[skeleton]") {

@@ -120,6 +120,7 @@ TEST_CASE("Mesh files whose headers or tokens lie are refused by name with exit 
       // from the checks, and OpenMesh's OBJ reader asserted on the corner '/1' behind it.
       {"OFF magic OpenMesh misreads", "magic.off", "OFFB4", "not an OFF header"},
       {"OFF header without its edge count", "noedges.off", "OFF 0 0 ", "no edge count"},
+      {"OFF header with more than three counts", "extra.off", "OFF 0 0 0\v3OFF 0 2 2 2 H ", "after its three counts"},
       {"NUL byte in an OBJ face", "nul.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf " + std::string(1, '\0') + " /1 2\n", "NUL byte"},
       // Found by the mutation fuzzer (test_fuzz_readers.cpp): OpenMesh loops for ever, crashes, or
       // reads faces token by token and reserves a shifted count.

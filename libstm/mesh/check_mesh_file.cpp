@@ -165,6 +165,11 @@ void check_off(const std::string& path, std::uintmax_t bytes) {
   if (head.size() < 3 || !parse_integer(head[2], ne))
     throw InputError("mesh " + path + ": the OFF header " + at_line(header_line) +
                      " gives no edge count after the vertex and face counts (write 0: 'V F 0')");
+  // Anything after the three counts was read by OpenMesh as counts or vertices of its own ('OFF 0 0
+  // 0 3OFF 0 2 2': 1 GB reserved, found by libFuzzer).
+  if (head.size() > 3)
+    throw InputError("mesh " + path + ": the OFF header " + at_line(header_line) + " has '" + head[3].substr(0, 40) +
+                     "' after its three counts (vertices, faces, edges)");
   check_counts_fit(path, "vertices", nv, 6, bytes, header_line);
   check_counts_fit(path, "faces", nf, 2, bytes, header_line);
   check_counts_fit(path, "vertices and faces", nv + nf, 2, bytes, header_line);

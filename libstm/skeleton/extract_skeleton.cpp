@@ -165,6 +165,7 @@ void PartSkeleton::contraction_candidate() {
   Stopwatch t;
   const ContractResult cr = contract_mesh(XV_, XF_, use_proxy_ ? opt_.contraction : opt_.raw_contraction, say_);
   st_.iterations = std::max(st_.iterations, cr.iterations);
+  if (!cr.area_ratio.empty()) st_.area_ratio = std::max(st_.area_ratio, cr.area_ratio.back());
   st_.contraction_seconds += t.seconds();
   pole_work_->work();
   SkeletonGraph g = cut(cr.positions, "contraction", contraction_st_);
@@ -195,6 +196,7 @@ void PartSkeleton::build_candidates() {
 SkeletonGraph PartSkeleton::choose(std::vector<int>& owner) {
   const bool medial = choose_candidate(contraction_, medial_, genus_, opt_) == SkeletonMethod::medial;
   if (medial) ++st_.medial_parts;
+  st_.kept.push_back(medial ? "medial" : "contraction");
   SkeletonCandidate& best = medial ? medial_ : contraction_;
   SkeletonGraph& g = best.graph;
   split_lone_node(g, XV_, *inside_);

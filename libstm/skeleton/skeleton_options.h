@@ -4,6 +4,9 @@
 // depending on the whole extraction.
 #include "libstm/skeleton/contract_mesh.h"
 
+#include <string>
+#include <vector>
+
 namespace sdm {
 
 inline ContractOptions uniform_contraction() {
@@ -59,6 +62,10 @@ struct SkeletonStats {
   double proxy_seconds = 0;        // remeshing and mapping (counted in contraction/refinement too)
   int outside_edges = 0;           // edges still crossing the surface after refinement (should be 0)
   int medial_parts = 0;            // parts whose skeleton came from the medial poles
+  // The contraction's last area ratio (contracted area over the original; largest over the parts,
+  // -1 when no part was contracted) and, per part, the candidate kept: "contraction" or "medial".
+  double area_ratio = -1;
+  std::vector<std::string> kept;
   double medial_seconds = 0;       // computing the poles (summed over the threads that took part)
 };
 
