@@ -151,12 +151,15 @@ void check_off(const std::string& path, std::uintmax_t bytes) {
   // Plain ASCII OFF with optional per-vertex colours, normals or texture coordinates.
   if (magic.size() < 3 || magic.compare(magic.size() - 3, 3, "OFF") != 0 || magic.find_first_of("n4") != std::string::npos) return;
   if (line.find("BINARY") != std::string::npos) return;
-  head.erase(head.begin());
+  // OpenMesh takes the counts from the line after the magic and ignores the rest of the magic's
+  // line: 'OFF 4 4 0' on one line read the first vertex as the counts ('OFF 0 0 0' then a long
+  // number: 1.6 GB reserved, found by libFuzzer).
+  if (head.size() > 1)
+    throw InputError("mesh " + path + ": line " + std::to_string(lines.number) + " has the counts beside '" + magic +
+                     "', where this reader does not look for them: put them on the next line ('" + magic + "' alone, then 'V F 0')");
   long header_line = lines.number;
-  if (head.empty()) {
-    if (!lines.next_data(line)) throw InputError("mesh " + path + " is truncated at line " + std::to_string(lines.number) + ": no counts");
-    head = tokens(line), header_line = lines.number;
-  }
+  if (!lines.next_data(line)) throw InputError("mesh " + path + " is truncated at line " + std::to_string(lines.number) + ": no counts");
+  head = tokens(line), header_line = lines.number;
   long long nv = 0, nf = 0, ne = 0;
   if (head.size() < 2 || !parse_integer(head[0], nv) || !parse_integer(head[1], nf))
     throw InputError("mesh " + path + ": the OFF header " + at_line(header_line) + " does not give vertex and face counts");
