@@ -39,7 +39,7 @@ struct Lines {
         const auto p = line.find('#');
         if (p != std::string::npos) line.resize(p);
       }
-      if (line.find_first_not_of(" \t\r\n") != std::string::npos) return true;
+      if (line.find_first_not_of(" \t\r\n\v\f") != std::string::npos) return true;
     }
     return false;
   }
