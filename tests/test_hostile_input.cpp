@@ -122,6 +122,8 @@ TEST_CASE("Mesh files whose headers or tokens lie are refused by name with exit 
       {"OFF header without its edge count", "noedges.off", "OFF\n0 0 ", "no edge count"},
       {"OFF header with more than three counts", "extra.off", "OFF\n0 0 0\v3OFF 0 2 2 2 H ", "after its three counts"},
       {"a line of a vertical tab before the OFF magic", "vtab.off", "\n\v\n OO?", "not an OFF header"},
+      {"OFF faces with colours", "colours.off", "OFF\n4 4 0\n" + tetra_points + "3 0 2 1 255 0 0\n3 0 1 3 255 0 0\n3 0 3 2 255 0 0\n3 1 2 3 255 0 0\n",
+       "values after its 3 corners"},
       {"OFF counts on the magic's line", "sameline.off", "OFF 4 4 0\n" + tetra_points + off_faces, "put them on the next line"},
       {"NUL byte in an OBJ face", "nul.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf " + std::string(1, '\0') + " /1 2\n", "NUL byte"},
       // Found by the mutation fuzzer (test_fuzz_readers.cpp): OpenMesh loops for ever, crashes, or
