@@ -5,6 +5,7 @@
 # time on FUZZ_JOBS processes. The corpus grows in build-fuzz/corpus/; a crash, a sanitizer report,
 # a leak, a hang (-timeout) or an allocation over -malloc_limit_mb stops the target with its input
 # saved in build-fuzz/findings/ and fails the script. Prints a table: executions, rate, corpus.
+# FUZZ_TARGETS picks targets (default: all seven).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 SECONDS_PER_TARGET="${FUZZ_SECONDS:-60}"
@@ -17,9 +18,12 @@ if ! command -v clang++ >/dev/null || ! ls /usr/lib/llvm-*/lib/clang/*/lib/linux
   SUDO=""; if [ "$(id -u)" -ne 0 ]; then SUDO="sudo"; fi
   DEBIAN_FRONTEND=noninteractive $SUDO apt-get install -y -qq --no-install-recommends clang >/dev/null
 fi
-cmake -S . -B "$BUILD" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_COMPILER=clang++ \
-  -DSDM_FUZZ=ON -DSDM_BUILD_TESTS=OFF >/dev/null
-cmake --build "$BUILD" --target fuzz_targets -j "$(nproc)"
+# FUZZ_NO_BUILD=1: use the targets already built (two runs of this script side by side).
+if [ -z "${FUZZ_NO_BUILD:-}" ]; then
+  cmake -S . -B "$BUILD" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_COMPILER=clang++ \
+    -DSDM_FUZZ=ON -DSDM_BUILD_TESTS=OFF >/dev/null
+  cmake --build "$BUILD" --target fuzz_targets -j "$(nproc)"
+fi
 
 mkdir -p "$BUILD/findings"
 status=0
@@ -42,7 +46,7 @@ for t in $TARGETS; do
     result="FAILED (see $log)"
     status=1
   fi
-  runs=$(cat "$log" fuzz-*.log 2>/dev/null | awk '/stat::number_of_executed_units/ {s += $2} END {print s + 0}')
+  runs=$({ cat "$log"; cat fuzz-*.log 2>/dev/null || true; } | awk '/stat::number_of_executed_units/ {s += $2} END {print s + 0}')
   rate=$(awk -v r="$runs" -v s="$SECONDS_PER_TARGET" 'BEGIN {printf "%.0f", r / s}')
   printf '%-20s %12s %10s %8s %s\n' "$t" "$runs" "$rate" "$(ls "$corpus" | wc -l)" "$result"
   rm -f fuzz-*.log

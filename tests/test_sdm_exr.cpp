@@ -91,6 +91,11 @@ TEST_CASE("Wrong SDM files get a message that names the problem", "[sdm_exr]") {
   CHECK(error_of(dir / "badjson.exr").find("invalid layout") != std::string::npos);
   write_raw_exr(dir / "v99.exr", {"A", "D"}, &layout, 99);
   CHECK(error_of(dir / "v99.exr").find("format version 99") != std::string::npos);
+  // An attribute whose size field claims 1.6 GB: OpenEXR allocated it before reading (libFuzzer).
+  std::string big("\x76\x2f\x31\x01\x02\x00\x00\x00", 8);
+  big += std::string("junk\0opaque\0", 12) + std::string("\x00\x00\x60\x61", 4) + "0123456789";
+  test_util::write_file(dir / "big.exr", big);
+  CHECK(error_of(dir / "big.exr").find("claims 1633681408 bytes") != std::string::npos);
 }
 
 TEST_CASE("Format 2 stores the displacement as luminance Y and the mask as alpha: RGBA readers see the map", "[sdm_exr]") {
