@@ -123,6 +123,8 @@ TEST_CASE("Mesh files whose headers or tokens lie are refused by name with exit 
       {"OFF header with more than three counts", "extra.off", "OFF\n0 0 0\v3OFF 0 2 2 2 H ", "after its three counts"},
       {"a line of a vertical tab before the OFF magic", "vtab.off", "\n\v\n OO?", "not an OFF header"},
       {"binary OFF", "binary.off", "OFF BINARY\n\xb2", "binary OFF"},
+      {"ASCII PLY colour that is not a uchar", "colour.ply", "ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nproperty float y\n"
+                                                          "property float z\nproperty uchar red\nend_header\n1 0 0 2.5\n", "for a property of type uchar"},
       {"NOFF vertices without their normals", "noff.off", "NOFF\n4 4 0\n" + tetra_points + off_faces, "has 3 values where NOFF has 6"},
       {"OBJ face key ended by a carriage return", "cr.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf\r /3/0 1 2\n", "has no vertex index"},
       {"PLY header line with extra words", "extra.ply", "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\n"

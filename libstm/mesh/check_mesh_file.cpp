@@ -227,7 +227,20 @@ struct PlyElement {
   double min_bytes = 0;  // the least bytes one of them takes
   long line = 0;
   std::vector<bool> is_list;  // per property, in order
+  std::vector<std::string> count_type, value_type;  // per property (count_type: lists only)
 };
+
+// The range of a PLY integer type, or false for a floating-point one.
+bool ply_integer_range(const std::string& type, double& lo, double& hi) {
+  if (type == "char" || type == "int8") lo = -128, hi = 127;
+  else if (type == "uchar" || type == "uint8") lo = 0, hi = 255;
+  else if (type == "short" || type == "int16") lo = -32768, hi = 32767;
+  else if (type == "ushort" || type == "uint16") lo = 0, hi = 65535;
+  else if (type == "int" || type == "int32") lo = -2147483648.0, hi = 2147483647.0;
+  else if (type == "uint" || type == "uint32") lo = 0, hi = 4294967295.0;
+  else return false;
+  return true;
+}
 
 // Bytes of a PLY scalar type, or 0 for a name that is not one.
 double ply_scalar_size(const std::string& type) {
@@ -255,7 +268,7 @@ std::vector<PlyElement> read_ply_header(const std::string& path, Lines& lines, b
         throw bad("names an unknown format (PLY 1.0 is ascii, binary_little_endian or binary_big_endian)");
       ascii = t[1] == "ascii";
     } else if (key == "element") {
-      PlyElement e{t.size() > 1 ? t[1] : "", 0, 0, lines.number, {}};
+      PlyElement e{t.size() > 1 ? t[1] : "", 0, 0, lines.number, {}, {}, {}};
       // Exactly three words: OpenMesh read a line with more ('... z\velement face (4', found by
       // libFuzzer) into an element count of its own and reserved 1.2 GB.
       if (t.size() != 3 || !parse_integer(t[2], e.count)) throw bad("does not give just an element name and count");
@@ -267,6 +280,8 @@ std::vector<PlyElement> read_ply_header(const std::string& path, Lines& lines, b
         throw bad("has a property that is not 'property TYPE NAME' or 'property list TYPE TYPE NAME'");
       elements.back().min_bytes += ascii ? 2 : ply_scalar_size(t[1 + list]);
       elements.back().is_list.push_back(list);
+      elements.back().count_type.push_back(list ? t[2] : "");
+      elements.back().value_type.push_back(t[1 + 2 * list]);
     } else if (key != "ply" && key != "comment" && key != "obj_info") {
       throw bad("has the unknown keyword '" + key + "'");
     }
@@ -285,19 +300,28 @@ void check_ply_line(const std::string& path, const PlyElement& e, const std::str
                       std::to_string(e.is_list.size()) + " properties)");
   };
   size_t k = 0;
-  auto number = [&](double& x) {
+  // Integer types take whole numbers in range: OpenMesh read '2.5' for a uchar as 2 and then '.5'
+  // as the next value, which shifted the faces into a 1 GB count (found by libFuzzer).
+  auto number = [&](double& x, const std::string& type) {
     if (k >= t.size()) throw bad("has too few values");
     char* end = nullptr;
     x = std::strtod(t[k].c_str(), &end);
     if (end == t[k].c_str() || *end != '\0') throw bad("has '" + t[k].substr(0, 40) + "', not a number");
+    double lo = 0, hi = 0;
+    long long i = 0;
+    if (ply_integer_range(type, lo, hi) && (!parse_integer(t[k], i) || double(i) < lo || double(i) > hi))
+      throw bad("has '" + t[k].substr(0, 40) + "' for a property of type " + type);
     ++k;
   };
   double x = 0;
-  for (bool list : e.is_list) {
-    number(x);
-    if (!list) continue;
+  for (size_t p = 0; p < e.is_list.size(); ++p) {
+    if (!e.is_list[p]) {
+      number(x, e.value_type[p]);
+      continue;
+    }
+    number(x, e.count_type[p]);
     if (!(x >= 0) || x != std::floor(x) || x > double(t.size())) throw bad("has a list of " + t[k - 1].substr(0, 40) + " values");
-    for (long long n = (long long)x; n > 0; --n) number(x);
+    for (long long n = (long long)x; n > 0; --n) number(x, e.value_type[p]);
   }
   if (k != t.size()) throw bad("has more values than its properties take");
 }
