@@ -2,6 +2,7 @@
 #include "apps/memory_budget.h"
 #include "libstm/mesh/isotropic_remesh.h"
 #include "libstm/mesh/mesh.h"
+#include "libstm/mesh/mesh_geometry.h"
 #include "libstm/geometry/triangle_bvh.h"
 
 #include <cmath>
@@ -14,13 +15,11 @@ namespace {
 // An edge length beyond a quarter of the model's diagonal collapses it to a speck (exit 0 with
 // garbage, issue 15); a tiny one asks for more triangles than memory holds (about A / (sqrt(3)/4
 // L^2) triangles, 300 bytes each with the remesher's working copies).
-void check_edge_length(const sdm::Mesh& input, double edge, const std::string& max_memory) {
+void check_edge_length(const sdm::Mesh& input, double area, double edge, const std::string& max_memory) {
   const double diagonal = sdm::bounding_box_diagonal(input);
   if (edge > 0.25 * diagonal)
     throw sdm::InputError("edge length " + sdm::number(edge) + " is more than a quarter of the model's diagonal (" + sdm::number(diagonal) +
                           "): the remesh would collapse the model; use at most " + sdm::number(0.25 * diagonal));
-  double area = 0;
-  for (auto f : input.faces()) area += input.calc_face_area(f);
   const double triangles = area / (std::sqrt(3.0) / 4 * edge * edge);
   check_memory(300 * triangles, max_memory, "remeshing at edge length " + sdm::number(edge) + " (" + sdm::number(triangles) + " triangles)",
                "use a longer --edge-length or a larger --factor");
@@ -48,15 +47,10 @@ Command add_remesh_command(CLI::App& parent) {
   add_max_memory_option(app, o->max_memory);
   return {app, [o]() {
             const sdm::Mesh input = sdm::load_mesh(o->mesh);
-            double edge = o->edge;
-            if (edge <= 0) {
-              // The edge of an equilateral mesh with as many vertices over the same area (F = 2V,
-              // A = 2V * sqrt(3)/4 * L^2): unlike the mean edge, not inflated by long slivers.
-              double area = 0;
-              for (auto f : input.faces()) area += input.calc_face_area(f);
-              edge = std::sqrt(2.0 * area / (std::sqrt(3.0) * double(input.n_vertices()))) * o->factor;
-            }
-            check_edge_length(input, edge, o->max_memory);
+            const double area = sdm::surface_area(input);
+            // Default: the edge of an equilateral mesh with as many vertices over the same area.
+            const double edge = o->edge > 0 ? o->edge : sdm::equilateral_edge_length(area, double(input.n_vertices())) * o->factor;
+            check_edge_length(input, area, edge, o->max_memory);
             const sdm::TriangleBvh bvh(sdm::vertex_matrix(input), sdm::face_matrix(input));
             sdm::Mesh mesh = input;
             mesh.release_halfedge_texcoords2D();

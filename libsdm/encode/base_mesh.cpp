@@ -4,8 +4,8 @@
 #include "libstm/geometry/capsule_ray.h"
 #include "libstm/layout/segments.h"
 #include "libstm/geometry/triangle_bvh.h"
-#include "libstm/geometry/differential_geometry.h"
 #include "libstm/mesh/isotropic_remesh.h"
+#include "libstm/mesh/mesh_geometry.h"
 
 #include <OpenMesh/Tools/Decimater/DecimaterT.hh>
 #include <OpenMesh/Tools/Decimater/ModNormalFlippingT.hh>
@@ -151,7 +151,6 @@ void reassign_folded_faces(const Mesh& m, const Eigen::MatrixX3d& P, const Layou
   }
 }
 
-
 // The share of faces with an angle under 1 degree.
 double needle_share(const Mesh& mesh) {
   long needles = 0;
@@ -186,9 +185,7 @@ BaseSource base_source(const Mesh& mesh, const Skeleton& skeleton, int target_ve
   if (needle_share(mesh) < 0.25) return src;
   const Eigen::MatrixX3d V = vertex_matrix(mesh);
   const Eigen::MatrixX3i F = face_matrix(mesh);
-  double area = 0;
-  for (int f = 0; f < F.rows(); ++f) area += triangle_area(V.row(F(f, 0)), V.row(F(f, 1)), V.row(F(f, 2)));
-  const double len = std::sqrt(2.0 * area / (std::sqrt(3.0) * 4.0 * target_vertices));
+  const double len = equilateral_edge_length(surface_area(mesh), 4.0 * target_vertices);
   const TriangleBvh bvh(V, F);
   isotropic_remesh(src.mesh, len, 5, [&](const Eigen::Vector3d& p) { return bvh.closest_point(p).point; });
   src.node.assign(src.mesh.n_vertices(), 0);

@@ -3,6 +3,7 @@
 // target length and its triangles close to equilateral, without changing its topology.
 #include "libstm/mesh/mesh.h"
 
+#include <cmath>
 #include <functional>
 
 namespace sdm {
@@ -20,6 +21,11 @@ using SurfaceProjection = std::function<Eigen::Vector3d(const Eigen::Vector3d&)>
 // 2-manifold; it is garbage-collected on return. Deterministic: same input, same output.
 void isotropic_remesh(Mesh& mesh, double target_edge_length, int iterations,
                       const SurfaceProjection& project = {});
+
+// The edge length of an equilateral triangle mesh that covers `area` with about `vertices`
+// vertices (F = 2V, so A = 2V sqrt(3)/4 L^2): unlike the mean edge of a mesh, not inflated by
+// long slivers.
+inline double equilateral_edge_length(double area, double vertices) { return std::sqrt(2.0 * area / (std::sqrt(3.0) * vertices)); }
 
 // The smallest interior angle of any triangle, in degrees.
 double min_triangle_angle_degrees(const Mesh& mesh);

@@ -6,6 +6,12 @@
 
 namespace sdm {
 
+double surface_area(const Mesh& m) {
+  double area = 0;
+  for (auto f : m.faces()) area += m.calc_face_area(f);
+  return area;
+}
+
 std::vector<double> vertex_areas(const Mesh& m, double factor) {
   std::vector<double> a(m.n_vertices(), 0.0);
   for (auto f : m.faces()) {

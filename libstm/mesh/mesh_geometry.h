@@ -15,6 +15,9 @@ inline double face_area(const Mesh& m, Mesh::FaceHandle f) {
   return triangle_area(a, b, c);
 }
 
+/// Total area of the faces.
+double surface_area(const Mesh& mesh);
+
 /// Per vertex, a third of the area of its faces (the barycentric dual area), times `factor`.
 std::vector<double> vertex_areas(const Mesh& mesh, double factor = 1.0);
 

@@ -52,7 +52,7 @@ void make_proxy(const Eigen::MatrixX3d& V, const Eigen::MatrixX3i& F, int target
   double area = 0;
   for (int f = 0; f < F.rows(); ++f) area += triangle_area(V.row(F(f, 0)), V.row(F(f, 1)), V.row(F(f, 2)));
   const int target = std::max(target_vertices, 4);
-  const double len = std::sqrt(2.0 * area / (std::sqrt(3.0) * target));
+  const double len = equilateral_edge_length(area, target);
   Mesh m;
   std::vector<Mesh::VertexHandle> h(V.rows());
   for (int i = 0; i < V.rows(); ++i) h[i] = m.add_vertex({V(i, 0), V(i, 1), V(i, 2)});
