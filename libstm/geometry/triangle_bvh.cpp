@@ -33,7 +33,9 @@ bool ray_meets_box(const Eigen::Vector3d& o, const Eigen::Vector3d& inv, const E
 // there, which exceeds this bound but not an infinite one.
 constexpr double kFar = std::numeric_limits<double>::max();
 
-// Moller-Trumbore, without culling.
+
+}  // namespace
+
 bool ray_triangle(const Eigen::Vector3d& o, const Eigen::Vector3d& d, const Eigen::Vector3d& a, const Eigen::Vector3d& b,
                   const Eigen::Vector3d& c, double& t, double& u, double& v) {
   const Eigen::Vector3d e1 = b - a, e2 = c - a;
@@ -50,8 +52,6 @@ bool ray_triangle(const Eigen::Vector3d& o, const Eigen::Vector3d& d, const Eige
   t = e2.dot(qv) * inv;
   return true;
 }
-
-}  // namespace
 
 Eigen::Vector3d closest_point_on_triangle(const Eigen::Vector3d& p, const Eigen::Vector3d& a, const Eigen::Vector3d& b,
                                           const Eigen::Vector3d& c) {

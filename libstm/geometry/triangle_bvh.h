@@ -72,6 +72,11 @@ class TriangleBvh {
   std::vector<Tri> tris_;
 };
 
+// The ray o + t d meets triangle (a, b, c) at barycentric (u, v), for some t of either sign
+// (Moller & Trumbore 1997, no culling); false when it misses or the ray is parallel to the plane.
+bool ray_triangle(const Eigen::Vector3d& o, const Eigen::Vector3d& d, const Eigen::Vector3d& a, const Eigen::Vector3d& b,
+                  const Eigen::Vector3d& c, double& t, double& u, double& v);
+
 // Closest point on triangle (a, b, c) to p.
 Eigen::Vector3d closest_point_on_triangle(const Eigen::Vector3d& p, const Eigen::Vector3d& a, const Eigen::Vector3d& b,
                                           const Eigen::Vector3d& c);

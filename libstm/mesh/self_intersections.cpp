@@ -7,22 +7,14 @@
 namespace sdm {
 namespace {
 
-// Where the closed segment p-q crosses triangle (a, b, c), if it does (Moller & Trumbore).
+// Where the closed segment p-q crosses triangle (a, b, c), if it does. A segment within 1e-12
+// (relative) of parallel to the plane, or a degenerate triangle, does not cross it.
 bool segment_crosses_triangle(const Eigen::Vector3d& p, const Eigen::Vector3d& q, const Eigen::Vector3d& a,
                               const Eigen::Vector3d& b, const Eigen::Vector3d& c, Eigen::Vector3d& at) {
   const Eigen::Vector3d d = q - p, e1 = b - a, e2 = c - a;
-  const Eigen::Vector3d h = d.cross(e2);
-  const double det = e1.dot(h);
-  const double scale = e1.norm() * e2.norm() * d.norm();
-  if (std::abs(det) <= 1e-12 * scale) return false;  // parallel (or degenerate)
-  const Eigen::Vector3d s = p - a;
-  const double u = s.dot(h) / det;
-  if (u < 0 || u > 1) return false;
-  const Eigen::Vector3d k = s.cross(e1);
-  const double v = d.dot(k) / det;
-  if (v < 0 || u + v > 1) return false;
-  const double t = e2.dot(k) / det;
-  if (t < 0 || t > 1) return false;
+  if (std::abs(e1.dot(d.cross(e2))) <= 1e-12 * e1.norm() * e2.norm() * d.norm()) return false;
+  double t, u, v;
+  if (!ray_triangle(p, d, a, b, c, t, u, v) || t < 0 || t > 1) return false;
   at = p + t * d;
   return true;
 }
