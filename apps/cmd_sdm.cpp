@@ -93,11 +93,6 @@ std::string point_text(const Eigen::Vector3d& p) {
   return s.str();
 }
 
-double mesh_diagonal(const sdm::Mesh& m) {
-  const Eigen::MatrixX3d V = sdm::vertex_matrix(m);
-  return (V.colwise().maxCoeff() - V.colwise().minCoeff()).norm();
-}
-
 // The quality gate of encode and roundtrip (issue 15). A surface that crosses itself has two sheets
 // where a map holds one per ray (a Spot with its head pushed through its body encoded silently to
 // 1.2 % RMS): named on stderr, refused under --strict.
@@ -114,10 +109,9 @@ sdm::SelfIntersections check_self_intersections(const sdm::Mesh& mesh, bool stri
 }
 
 // The share of the input's surface (by vertex area) that the decoded surface carries within 1 % of
-// the diagonal. Under 90 %: a warning, or a refusal under --strict.
+// the diagonal (diag: the input's). Under 90 %: a warning, or a refusal under --strict.
 constexpr double kCarriedTolerance = 0.01, kCarriedFloor = 0.9;
-sdm::SurfaceCoverage check_carried(const sdm::Mesh& input, const sdm::Mesh& decoded, bool strict) {
-  const double diag = mesh_diagonal(input);
+sdm::SurfaceCoverage check_carried(const sdm::Mesh& input, const sdm::Mesh& decoded, double diag, bool strict) {
   sdm::SurfaceCoverage c = sdm::surface_coverage(input, decoded, kCarriedTolerance * diag);
   if (c.share >= kCarriedFloor) return c;
   std::ostringstream what;
@@ -173,7 +167,9 @@ Command add_encode_command(CLI::App& parent) {
             const double encode_s = clock.lap();
             const sdm::SdmPrecision precision = o->precision == "half" ? sdm::SdmPrecision::half16 : sdm::SdmPrecision::float32;
             progress("  checking the map (decoded at level 3)");
-            const sdm::SurfaceCoverage carried = check_carried(mesh, sdm::decode_sdm(stored(im, precision), sdm::DecodeOptions{}), o->strict);
+            const double diag = sdm::bounding_box_diagonal(mesh);
+            const sdm::SurfaceCoverage carried =
+                check_carried(mesh, sdm::decode_sdm(stored(im, precision), sdm::DecodeOptions{}), diag, o->strict);
             const double check_s = clock.lap();
             sdm::write_sdm_exr(im, o->out, precision);
             if (!o->png.empty()) sdm::write_png(false_colour(im), o->png);
@@ -183,13 +179,13 @@ Command add_encode_command(CLI::App& parent) {
                           {"texels", st.texels}, {"own_hits", st.own_hits}, {"other_hits", st.other_hits},
                           {"filled", st.filled}, {"base_faces", st.base_faces}, {"layout_seconds", layout_s},
                           {"encode_seconds", encode_s}, {"check_seconds", check_s}, {"carried", carried.share},
-                          {"carried_rms", carried.rms / mesh_diagonal(mesh)}, {"self_intersections", crossings.pairs}});
+                          {"carried_rms", carried.rms / diag}, {"self_intersections", crossings.pairs}});
             } else {
               std::cout << o->out << ": " << im.width << "x" << im.height << ", " << layout.segments.size() << " segments, "
                         << st.base_faces << " base faces, " << std::round(1000 * own) / 10 << " % of segment texels on their own surface\n"
                         << "  carries " << std::round(1000 * carried.share) / 10 << " % of the surface within "
                         << 100 * kCarriedTolerance << " % of the diagonal at level 3 (RMS "
-                        << 100 * carried.rms / mesh_diagonal(mesh) << " %)\n"
+                        << 100 * carried.rms / diag << " %)\n"
                         << "  layout " << layout_s << " s, encode " << encode_s << " s, check " << check_s << " s\n";
             }
             return 0;
@@ -291,7 +287,7 @@ Command add_roundtrip_command(CLI::App& parent) {
                          "use a lower --lod (each level quadruples the triangles)");
             const sdm::Mesh out = sdm::decode_sdm(im, d);
             const double decode_s = stage.lap();
-            const sdm::SurfaceCoverage carried = check_carried(mesh, out, o->strict);
+            const sdm::SurfaceCoverage carried = check_carried(mesh, out, sdm::bounding_box_diagonal(mesh), o->strict);
             if (!o->out.empty()) sdm::write_mesh(out, o->out);
             progress("measuring");
             const sdm::SurfaceDistance dist = sdm::surface_distance(mesh, out, o->samples);

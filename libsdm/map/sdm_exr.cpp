@@ -50,7 +50,6 @@ void check_window(const std::string& path, const Imath::Box2i& dw, int channels)
                      std::to_string(int64_t(file)) + " bytes; the header was altered");
 }
 
-
 // OpenEXR allocates an attribute's value at the size its header claims before reading it (a
 // crafted attribute of an unknown type claimed 1.6 GB; found by libFuzzer). The header is walked
 // here first: name, type, 32-bit size, value, until an empty name; every size must fit in what

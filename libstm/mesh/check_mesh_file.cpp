@@ -75,7 +75,8 @@ struct CoordinateCheck {
 };
 
 // Up to `n` numbers from the start of `s` with strtod (which reads nan and inf); returns how many.
-int parse_numbers(const char* s, double* out, int n) {
+// Up to n numbers from the start of s; `rest` (when given) gets where parsing stopped.
+int parse_numbers(const char* s, double* out, int n, const char** rest = nullptr) {
   int k = 0;
   while (k < n) {
     char* end = nullptr;
@@ -84,6 +85,7 @@ int parse_numbers(const char* s, double* out, int n) {
     out[k++] = x;
     s = end;
   }
+  if (rest) *rest = s;
   return k;
 }
 
@@ -147,14 +149,15 @@ void check_off_face(const std::string& path, const std::string& line, long linen
 // into counts it reserved gigabytes for.
 void check_off_vertex(const std::string& path, const std::string& line, long lineno, const std::string& magic, int values, bool colour,
                       CoordinateCheck& coords) {
-  std::vector<double> v(size_t(values) + 5);
-  const int n = parse_numbers(line.c_str(), v.data(), values + 5);
+  double v[13];  // at most ST + N + 3 + a colour of 4, and one more to see a surplus
+  const char* rest = nullptr;
+  const int n = parse_numbers(line.c_str(), v, values + 5, &rest);
   const bool ok = colour ? (n == values + 3 || n == values + 4) : n == values;
-  if (!ok || tokens(line).size() != size_t(n))
+  if (!ok || std::strspn(rest, " \t\r\n\v\f") != std::strlen(rest))
     throw InputError("mesh " + path + ": the vertex " + at_line(lineno) + " has " + std::to_string(tokens(line).size()) + " values where " +
                      magic + " has " + std::to_string(values) + (colour ? " and a colour of 3 or 4" : "") + " (x y z" +
                      (values >= 6 ? ", a normal" : "") + (values == 5 || values == 8 ? ", texture coordinates" : "") + ")");
-  coords.add(v.data(), at_line(lineno));
+  coords.add(v, at_line(lineno));
 }
 
 void check_off(const std::string& path, std::uintmax_t bytes) {
