@@ -400,9 +400,7 @@ TEST_CASE("The capsule round trip at scales 1e-9 and 1e9 is as accurate as at sc
     write_file(path, scaled.str());
     const auto r = run_sdm("roundtrip " + path + " --json");
     REQUIRE(r.exit_code == 0);
-    const size_t json = r.output.rfind("\n{\n");  // after the progress lines
-    REQUIRE(json != std::string::npos);
-    return nlohmann::json::parse(r.output.substr(json + 1));
+    return test_util::last_json(r);
   };
   const nlohmann::json one = roundtrip(1), tiny = roundtrip(1e-9), huge = roundtrip(1e9);
   // Relative errors: no absolute epsilon may show. The skeleton itself differs a little between
@@ -441,24 +439,18 @@ std::string pushed_spot(const TempDir& dir) {
   return dir / "pushed.obj";
 }
 
-nlohmann::json last_json(const test_util::RunResult& r) {
-  const size_t at = r.output.rfind("\n{\n");
-  REQUIRE(at != std::string::npos);
-  return nlohmann::json::parse(r.output.substr(at + 1));
-}
-
 }  // namespace
 
 TEST_CASE("A self-intersecting Spot is named as such, and --strict refuses it writing nothing", "[hostile]") {
   TempDir dir;
   const std::string spot = std::string(SDM_EXAMPLES) + "/spot/spot_triangulated.obj", out = dir / "m.exr";
   // The clean Spot has no crossing faces.
-  CHECK(last_json(run_sdm("encode " + spot + " --size 256 -o " + out + " --json"))["self_intersections"] == 0);
+  CHECK(test_util::last_json(run_sdm("encode " + spot + " --size 256 -o " + out + " --json"))["self_intersections"] == 0);
   const std::string pushed = pushed_spot(dir);
   const auto warned = run_sdm("encode " + pushed + " --size 256 -o " + out + " --json");
   CHECK(warned.exit_code == 0);
   CHECK(warned.output.find("warning: the surface intersects itself") != std::string::npos);
-  CHECK(last_json(warned)["self_intersections"].get<long>() > 100);
+  CHECK(test_util::last_json(warned)["self_intersections"].get<long>() > 100);
   fs::remove(out);
   expect_refused(run_sdm("encode " + pushed + " --size 256 -o " + out + " --strict"), "the surface intersects itself");
   expect_refused(run_sdm("roundtrip " + pushed + " --size 256 --strict"), "the surface intersects itself");
@@ -474,10 +466,10 @@ TEST_CASE("A map that carries under 90 % of the surface is said so, and --strict
   const auto warned = run_sdm("encode " + cap.mesh + " --size 20 -o " + out + " --json");
   CHECK(warned.exit_code == 0);
   CHECK(warned.output.find("warning: the map carries only") != std::string::npos);
-  CHECK(last_json(warned)["carried"].get<double>() < 0.9);
+  CHECK(test_util::last_json(warned)["carried"].get<double>() < 0.9);
   fs::remove(out);
   expect_refused(run_sdm("encode " + cap.mesh + " --size 20 -o " + out + " --strict"), "the map carries only");
   CHECK(!fs::exists(out));
   // The capsule's own layout at 256^2 carries all of it.
-  CHECK(last_json(run_sdm("encode " + cap.mesh + " --layout " + cap.layout + " -o " + out + " --json"))["carried"].get<double>() == 1.0);
+  CHECK(test_util::last_json(run_sdm("encode " + cap.mesh + " --layout " + cap.layout + " -o " + out + " --json"))["carried"].get<double>() == 1.0);
 }

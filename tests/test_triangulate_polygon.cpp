@@ -161,9 +161,7 @@ TEST_CASE("A prism with 3000-gon caps and needle sides round-trips like a well-s
   test_util::TempDir dir;
   const auto r = test_util::run_sdm("roundtrip " + write_prism(dir, 3000) + " --json");
   REQUIRE(r.exit_code == 0);
-  const size_t json = r.output.rfind("\n{\n");
-  REQUIRE(json != std::string::npos);
-  const auto j = nlohmann::json::parse(r.output.substr(json + 1));
+  const auto j = test_util::last_json(r);
   CHECK(j["rms"].get<double>() <= 5e-4);        // 0.05 % of the diagonal
   CHECK(j["hausdorff"].get<double>() <= 1e-2);  // 1 %
   CHECK(j["closed"].get<bool>());

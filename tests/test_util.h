@@ -1,6 +1,8 @@
 #pragma once
 // Helpers shared by the tests: temporary folders and running the sdm binary.
 #include <cstdio>
+#include <nlohmann/json.hpp>
+#include <stdexcept>
 #include <filesystem>
 #include <fstream>
 #include <random>
@@ -41,6 +43,14 @@ inline RunResult run_sdm(const std::string& args) {
   int status = pclose(p);
   r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
   return r;
+}
+
+// The JSON object a command printed last (`--json`), after its progress lines: the object that
+// starts a line of its own. Throws (the test fails) when there is none.
+inline nlohmann::json last_json(const RunResult& r) {
+  const size_t at = r.output.rfind("\n{\n");
+  if (at == std::string::npos) throw std::runtime_error("no JSON object in the output:\n" + r.output);
+  return nlohmann::json::parse(r.output.substr(at + 1));
 }
 
 inline void write_file(const std::string& path, const std::string& text) {
