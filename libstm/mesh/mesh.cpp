@@ -377,6 +377,28 @@ Mesh load_mesh(const std::string& path, std::string* texture, std::vector<Eigen:
   return build_mesh(soup);
 }
 
+Mesh mesh_from_arrays(const Eigen::MatrixX3d& V, const Eigen::MatrixX3i& F, const Eigen::MatrixX2d& uv, const std::string& what) {
+  if (uv.rows() != 0 && uv.rows() != 3 * F.rows())
+    throw InputError(what + ": uv has " + std::to_string(uv.rows()) + " rows; give one per face corner (" +
+                     std::to_string(3 * F.rows()) + ") or none");
+  MeshSoup soup;
+  soup.points.reserve(V.rows());
+  for (Eigen::Index i = 0; i < V.rows(); ++i) soup.points.push_back(V.row(i).transpose());
+  soup.triangles.reserve(F.rows());
+  for (Eigen::Index f = 0; f < F.rows(); ++f) soup.triangles.push_back({F(f, 0), F(f, 1), F(f, 2)});
+  for (Eigen::Index c = 0; c < uv.rows(); ++c) soup.uv.push_back(uv.row(c).transpose());
+  MeshReport report = validate_mesh(soup);
+  if (!report.usable()) throw InputError(report.refusal(what));
+  const std::vector<char> used = used_points(soup);
+  const auto unused = std::find(used.begin(), used.end(), char(0));
+  if (unused != used.end())
+    throw InputError(what + ": vertex " + std::to_string(unused - used.begin()) + " is used by no face (" +
+                     std::to_string(std::count(used.begin(), used.end(), char(0))) +
+                     " such vertices); remove them so that vertex indices stay those of the arrays");
+  orient_outward(soup, report);
+  return build_mesh(soup);
+}
+
 namespace {
 
 void write_obj(const Mesh& mesh, const std::string& tmp, const std::string& final_path, const std::string& texture) {

@@ -51,6 +51,14 @@ MeshSoup mesh_to_soup(const Mesh& mesh);
 // file has no vertex colours.
 Mesh load_mesh(const std::string& path, std::string* texture = nullptr, std::vector<Eigen::Vector3f>* colors = nullptr);
 
+// Validates and builds a mesh from arrays (V: n x 3 positions, F: m x 3 vertex indices, uv: empty or
+// 3m x 2, per corner in F's order), as load_mesh does for a file: vertex i of the result is V's row
+// i, face f is F's row f (its corners turned, or flipped when its part was inside out). `what`
+// names the arrays in messages. Throws InputError for what load_mesh refuses, and for vertices no
+// face uses (they would shift the indices of the rest).
+Mesh mesh_from_arrays(const Eigen::MatrixX3d& V, const Eigen::MatrixX3i& F, const Eigen::MatrixX2d& uv = {},
+                      const std::string& what = "the mesh");
+
 // Writes OBJ (with uv and an MTL naming `texture` when the mesh has uv), PLY, OFF or STL, chosen by
 // extension. Written to a temporary name and renamed, so a failure leaves nothing behind.
 void write_mesh(const Mesh& mesh, const std::string& path, const std::string& texture = "");

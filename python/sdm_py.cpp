@@ -1,0 +1,229 @@
+// sdm_py: the skeleton, the layout (STM uv), skeleton displacement maps and texture transfer of sdm
+// for Python, on numpy arrays (pybind11). Vertices are float64 (n, 3), faces int (m, 3); every
+// function validates its mesh as the command line does (closed, manifold, no NaN) and raises
+// ValueError with the same message where the command would exit 2.
+#include "libsdm/decode/decode_sdm.h"
+#include "libsdm/encode/encode_sdm.h"
+#include "libsdm/map/sdm_exr.h"
+#include "libstm/core/errors.h"
+#include "libstm/core/version.h"
+#include "libstm/layout/layout.h"
+#include "libstm/mesh/mesh.h"
+#include "libstm/render/gl_context.h"
+#include "libstm/skeleton/extract_skeleton.h"
+#include "libstm/transfer/carry_attributes.h"
+#include "libstm/transfer/transfer_texture.h"
+
+#include <pybind11/eigen.h>
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
+
+#include <memory>
+#include <string>
+
+namespace py = pybind11;
+using RowMatrix3d = Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor>;
+using RowMatrix3i = Eigen::Matrix<int, Eigen::Dynamic, 3, Eigen::RowMajor>;
+using RowMatrix2d = Eigen::Matrix<double, Eigen::Dynamic, 2, Eigen::RowMajor>;
+
+namespace {
+
+// (m, 3, 2) corner uv (or (3m, 2)) flattened to one row per corner.
+Eigen::MatrixX2d corner_uv(const std::optional<py::array_t<double, py::array::c_style | py::array::forcecast>>& uv) {
+  if (!uv) return {};
+  const auto& a = *uv;
+  if (!((a.ndim() == 3 && a.shape(1) == 3 && a.shape(2) == 2) || (a.ndim() == 2 && a.shape(1) == 2)))
+    throw sdm::InputError("uv must have the shape (faces, 3, 2) or (3 * faces, 2)");
+  const Eigen::Index rows = a.ndim() == 3 ? a.shape(0) * 3 : a.shape(0);
+  return Eigen::Map<const RowMatrix2d>(a.data(), rows, 2);
+}
+
+sdm::Mesh mesh_of(const RowMatrix3d& V, const RowMatrix3i& F, const Eigen::MatrixX2d& uv, const std::string& what) {
+  return sdm::mesh_from_arrays(V, F, uv, what);
+}
+
+// Per face corner (in the faces' order of the mesh), the halfedge texcoords: (m, 3, 2).
+py::array_t<double> uv_array(const sdm::Mesh& mesh) {
+  py::array_t<double> uv({py::ssize_t(mesh.n_faces()), py::ssize_t(3), py::ssize_t(2)});
+  auto u = uv.mutable_unchecked<3>();
+  for (auto f : mesh.faces()) {
+    int c = 0;
+    for (auto h : mesh.fh_range(f)) {
+      const auto& t = mesh.texcoord2D(h);
+      u(f.idx(), c, 0) = t[0];
+      u(f.idx(), c, 1) = t[1];
+      ++c;
+    }
+  }
+  return uv;
+}
+
+py::dict skeleton_dict(const sdm::Skeleton& s) {
+  RowMatrix3d nodes(s.nodes.size(), 3);
+  for (size_t i = 0; i < s.nodes.size(); ++i) nodes.row(i) = s.nodes[i].transpose();
+  Eigen::Matrix<int, Eigen::Dynamic, 2, Eigen::RowMajor> edges(s.edges.size(), 2);
+  for (size_t i = 0; i < s.edges.size(); ++i) edges.row(i) << s.edges[i][0], s.edges[i][1];
+  py::dict d;
+  d["nodes"] = nodes;
+  d["edges"] = edges;
+  d["vertex_node"] = Eigen::VectorXi(Eigen::Map<const Eigen::VectorXi>(s.vertex_node.data(), s.vertex_node.size()));
+  d["cycles"] = s.cycles();
+  d["ends"] = s.end_nodes();
+  d["branch_nodes"] = s.branch_nodes();
+  return d;
+}
+
+sdm::Skeleton skeleton_from_dict(const py::dict& d) {
+  sdm::Skeleton s;
+  const RowMatrix3d nodes = d["nodes"].cast<RowMatrix3d>();
+  const auto edges = d["edges"].cast<Eigen::Matrix<int, Eigen::Dynamic, 2, Eigen::RowMajor>>();
+  const Eigen::VectorXi vn = d["vertex_node"].cast<Eigen::VectorXi>();
+  for (Eigen::Index i = 0; i < nodes.rows(); ++i) s.nodes.push_back(nodes.row(i).transpose());
+  for (Eigen::Index i = 0; i < edges.rows(); ++i) s.edges.push_back({edges(i, 0), edges(i, 1)});
+  s.vertex_node.assign(vn.data(), vn.data() + vn.size());
+  sdm::check_skeleton_geometry(s);
+  return s;
+}
+
+sdm::GlContext& gl() {
+  static std::unique_ptr<sdm::GlContext> context;
+  if (!context) context = std::make_unique<sdm::GlContext>();
+  return *context;
+}
+
+py::tuple mesh_arrays(const sdm::Mesh& m) {
+  return py::make_tuple(RowMatrix3d(sdm::vertex_matrix(m)), RowMatrix3i(sdm::face_matrix(m)));
+}
+
+py::dict skeleton(const RowMatrix3d& V, const RowMatrix3i& F) {
+  const sdm::Mesh mesh = mesh_of(V, F, {}, "(V, F)");
+  sdm::Skeleton s;
+  {
+    py::gil_scoped_release release;  // other Python threads run meanwhile
+    s = sdm::extract_skeleton(mesh);
+  }
+  return skeleton_dict(s);
+}
+
+py::dict layout(const RowMatrix3d& V, const RowMatrix3i& F, int size, int margin, const std::optional<py::dict>& skel) {
+  const sdm::Mesh mesh = mesh_of(V, F, {}, "(V, F)");
+  sdm::LayoutOptions options;
+  options.size = size;
+  options.margin = margin;
+  const sdm::Skeleton s = skel ? skeleton_from_dict(*skel) : sdm::extract_skeleton(mesh);
+  const sdm::Layout l = sdm::compute_layout(mesh, s, options);
+  const sdm::StmCoordinates stm = sdm::stm_coordinates(mesh, l);
+  py::dict d;
+  d["uv"] = uv_array(stm.mesh);
+  d["faces"] = RowMatrix3i(sdm::face_matrix(stm.mesh));
+  d["face_segment"] = Eigen::VectorXi(Eigen::Map<const Eigen::VectorXi>(stm.face_segment.data(), stm.face_segment.size()));
+  d["stretch"] = stm.stretch;
+  d["coverage"] = stm.coverage;
+  d["segments"] = l.segments.size();
+  d["skeleton"] = skeleton_dict(l.skeleton);
+  d["json"] = sdm::layout_to_json(l).dump();
+  return d;
+}
+
+py::dict encode(const RowMatrix3d& V, const RowMatrix3i& F, const std::string& path, int size, const std::string& precision) {
+  if (precision != "float" && precision != "half") throw sdm::InputError("precision must be 'float' or 'half', not '" + precision + "'");
+  const sdm::Mesh mesh = mesh_of(V, F, {}, "(V, F)");
+  sdm::LayoutOptions options;
+  options.size = size;
+  const sdm::Layout l = sdm::compute_layout(mesh, sdm::extract_skeleton(mesh), options);
+  sdm::EncodeStats st;
+  const sdm::SdmImage im = sdm::encode_sdm(mesh, l, {}, &st);
+  sdm::write_sdm_exr(im, path, precision == "half" ? sdm::SdmPrecision::half16 : sdm::SdmPrecision::float32);
+  py::dict d;
+  d["path"] = path;
+  d["size"] = im.width;
+  d["segments"] = l.segments.size();
+  d["texels"] = st.texels;
+  d["own_hits"] = st.own_hits;
+  d["other_hits"] = st.other_hits;
+  d["filled"] = st.filled;
+  d["base_faces"] = st.base_faces;
+  return d;
+}
+
+py::tuple decode(const std::string& path, int level) {
+  const sdm::SdmImage im = sdm::read_sdm_exr(path);
+  sdm::DecodeOptions o;
+  o.level = level;
+  return mesh_arrays(sdm::decode_sdm(im, o));
+}
+
+py::dict transfer(const RowMatrix3d& Vs, const RowMatrix3i& Fs, const RowMatrix3d& Vt, const RowMatrix3i& Ft,
+                  const std::optional<py::array_t<double, py::array::c_style | py::array::forcecast>>& uv,
+                  const std::optional<py::array_t<uint8_t, py::array::c_style | py::array::forcecast>>& texture, int size,
+                  bool force) {
+  if (bool(uv) != bool(texture)) throw sdm::InputError("give uv and texture together, or neither (the correspondence alone)");
+  sdm::Mesh source = mesh_of(Vs, Fs, corner_uv(uv), "(source_V, source_F)");
+  const sdm::Mesh target = mesh_of(Vt, Ft, {}, "(target_V, target_F)");
+  const sdm::Skeleton a = sdm::extract_skeleton(source, sdm::transfer_skeleton_options());
+  const sdm::Skeleton b = sdm::extract_skeleton(target, sdm::transfer_skeleton_options());
+  sdm::Image image;
+  if (texture) {
+    const auto& t = *texture;
+    if (t.ndim() != 3 || (t.shape(2) != 3 && t.shape(2) != 4)) throw sdm::InputError("texture must have the shape (height, width, 3 or 4)");
+    image = sdm::Image(int(t.shape(1)), int(t.shape(0)), 4, 255);
+    for (py::ssize_t y = 0; y < t.shape(0); ++y)
+      for (py::ssize_t x = 0; x < t.shape(1); ++x)
+        for (py::ssize_t c = 0; c < t.shape(2); ++c) image.at(int(x), int(y))[c] = t.at(y, x, c);
+  } else {  // a grey source texture: only the correspondence is wanted
+    sdm::TexturedMesh g = sdm::texture_from_vertex_colors(gl(), source, std::vector<Eigen::Vector3f>(source.n_vertices(), Eigen::Vector3f::Constant(0.5f)), a, size, 8);
+    source = std::move(g.mesh);
+    image = std::move(g.texture);
+  }
+  sdm::TransferOptions o;
+  o.size = size;
+  o.force = force;
+  const sdm::TextureTransfer r = sdm::transfer_texture(gl(), source, image, a, target, b, o);
+  py::dict d;
+  Eigen::VectorXi face(r.correspondence.size());
+  RowMatrix3d bary(r.correspondence.size(), 3);
+  for (size_t i = 0; i < r.correspondence.size(); ++i) {
+    face(i) = r.correspondence[i].face;
+    bary.row(i) = r.correspondence[i].barycentric.transpose();
+  }
+  d["face"] = face;
+  d["barycentric"] = bary;
+  d["uv"] = uv_array(r.target);
+  d["faces"] = RowMatrix3i(sdm::face_matrix(r.target));
+  py::array_t<uint8_t> atlas({py::ssize_t(r.atlas.height), py::ssize_t(r.atlas.width), py::ssize_t(4)});
+  std::copy(r.atlas.pixels.begin(), r.atlas.pixels.end(), atlas.mutable_data());
+  d["atlas"] = atlas;
+  d["fit_rms"] = r.fit_rms;
+  d["fit_p99"] = r.fit_p99;
+  d["registered"] = r.registered;
+  return d;
+}
+
+}  // namespace
+
+PYBIND11_MODULE(sdm_py, m) {
+  m.doc() = "sdm: skeleton texture maps and skeleton displacement maps on numpy arrays";
+  m.attr("__version__") = SDM_VERSION;
+  py::register_exception<sdm::InputError>(m, "InputError", PyExc_ValueError);
+  m.def("read_mesh", [](const std::string& path) { return mesh_arrays(sdm::load_mesh(path)); }, py::arg("path"),
+        "Reads and validates a mesh file (.obj, .off, .ply, .stl): returns (V, F).");
+  m.def("write_mesh", [](const std::string& path, const RowMatrix3d& V, const RowMatrix3i& F) {
+          sdm::write_mesh(mesh_of(V, F, {}, "(V, F)"), path); }, py::arg("path"), py::arg("V"), py::arg("F"),
+        "Writes a mesh file, the format chosen by the extension.");
+  m.def("skeleton", &skeleton, py::arg("V"), py::arg("F"),
+        "Curve skeleton of a closed mesh: dict with nodes (k, 3), edges (e, 2), vertex_node (n,), cycles, ends, branch_nodes.");
+  m.def("layout", &layout, py::arg("V"), py::arg("F"), py::arg("size") = 1024, py::arg("margin") = 4, py::arg("skeleton") = py::none(),
+        "Skeleton texture map: dict with uv (m, 3, 2) per corner of faces (m, 3), face_segment, stretch, coverage, "
+        "segments, skeleton and the layout as JSON text.");
+  m.def("encode", &encode, py::arg("V"), py::arg("F"), py::arg("path"), py::arg("size") = 1024, py::arg("precision") = "float",
+        "Encodes the mesh as a skeleton displacement map (OpenEXR) at path; returns its statistics.");
+  m.def("decode", &decode, py::arg("path"), py::arg("level") = 3,
+        "Rebuilds the surface from a skeleton displacement map at a level of detail: returns (V, F).");
+  m.def("transfer", &transfer, py::arg("source_V"), py::arg("source_F"), py::arg("target_V"), py::arg("target_F"),
+        py::arg("uv") = py::none(), py::arg("texture") = py::none(), py::arg("size") = 1024, py::arg("force") = false,
+        "Texture transfer between models with the same skeleton branching: dict with face (n,) and barycentric "
+        "(n, 3), the source point of every target vertex; uv (m, 3, 2) per corner of faces (m, 3) of the target "
+        "into atlas (h, w, 4); fit_rms, fit_p99 (fractions of the diagonal). uv (per source face corner) and "
+        "texture (h, w, 3 or 4, uint8) are optional.");
+}
