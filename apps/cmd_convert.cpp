@@ -16,7 +16,7 @@ Command add_convert_command(CLI::App& parent) {
   auto* app = parent.add_subcommand(
       "convert", "Validate a mesh and write it in another format (OBJ with uv and MTL, PLY, OFF, STL).\n"
                  "Refuses (exit 2, nothing written) a mesh the pipeline cannot take.");
-  app->add_option("mesh", o->mesh, "Input mesh (.obj, .off, .ply, .stl)")->required();
+  app->add_option("mesh", o->mesh, "Input mesh (.obj, .off, .ply, .stl, .glb, .gltf)")->required();
   app->add_option("-o,--output", o->out, "Output mesh; the format follows the extension")->required();
   app->add_flag("--strict", o->strict, "Also refuse meshes with tolerated findings (degenerate faces, isolated vertices)");
   return {app, [o]() {

@@ -17,7 +17,7 @@ Command add_info_command(CLI::App& parent) {
   auto* app = parent.add_subcommand(
       "info", "Describe a mesh: counts, parts, genus, boundary loops, bounding box and validation findings.\n"
               "Exits 2 when the mesh cannot go through the pipeline, so scripts can use it as a check.");
-  app->add_option("mesh", o->mesh, "Input mesh (.obj, .off, .ply, .stl)")->required();
+  app->add_option("mesh", o->mesh, "Input mesh (.obj, .off, .ply, .stl, .glb, .gltf)")->required();
   app->add_flag("--json", o->json, "Print one JSON object instead of text");
   app->add_flag("--strict", o->strict, "Exit 2 also for tolerated findings (degenerate faces, isolated vertices)");
   return {app, [o]() {

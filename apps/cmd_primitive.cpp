@@ -20,7 +20,7 @@ Command add_primitive_command(CLI::App& parent) {
       "primitive", "Write one of the paper's test shapes (or an analytic cylinder/capsule) as a closed 2-manifold\n"
                    "triangle mesh with well-shaped triangles. Names: " + names);
   app->add_option("name", o->name, "Shape: " + names)->required();
-  app->add_option("-o,--output", o->output, "Output mesh (.obj, .off, .ply, .stl)")->required();
+  app->add_option("-o,--output", o->output, "Output mesh (.obj, .off, .ply, .stl, .glb, .gltf)")->required();
   app->add_option("--resolution", o->resolution,
                   "Approximate number of vertices (0 = the paper's count for its shapes, 1200 for cylinder/capsule)")
       ->check(CLI::NonNegativeNumber);

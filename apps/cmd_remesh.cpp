@@ -38,7 +38,7 @@ Command add_remesh_command(CLI::App& parent) {
       "remesh", "Isotropic remeshing: the same surface with new, well-shaped triangles of about one edge length\n"
                 "(vertices projected back onto the input). Topology is kept; uv is not. Walls thinner than about\n"
                 "the edge length can snap together: use a smaller --factor for thin CAD parts.");
-  app->add_option("mesh", o->mesh, "Input mesh (.obj, .off, .ply, .stl)")->required();
+  app->add_option("mesh", o->mesh, "Input mesh (.obj, .off, .ply, .stl, .glb, .gltf)")->required();
   app->add_option("-o,--output", o->out, "Output mesh")->required();
   app->add_option("--edge-length", o->edge, "Target edge length in model units (default: the equilateral edge for the input's area and vertex count, times --factor)")
       ->check(CLI::PositiveNumber);

@@ -30,7 +30,7 @@ struct RenderArgs {
 };
 
 void declare_render_options(CLI::App* app, RenderArgs* o) {
-  app->add_option("mesh", o->mesh, "Input mesh (.obj, .off, .ply, .stl)")->required();
+  app->add_option("mesh", o->mesh, "Input mesh (.obj, .off, .ply, .stl, .glb, .gltf)")->required();
   app->add_option("-o,--output", o->output, "Output image (.png)")->required();
   app->add_option("--width", o->width, "Image width in pixels")->capture_default_str()->check(CLI::Range(1, 16384));
   app->add_option("--height", o->height, "Image height in pixels")->capture_default_str()->check(CLI::Range(1, 16384));

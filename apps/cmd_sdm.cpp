@@ -138,7 +138,7 @@ Command add_encode_command(CLI::App& parent) {
   auto* app = parent.add_subcommand(
       "encode", "Encode a closed mesh as a skeleton displacement map: one float OpenEXR file (channels D and A)\n"
                 "with the layout and base mesh in its header, so 'sdm decode' needs nothing else.");
-  app->add_option("mesh", o->mesh, "Input mesh (.obj, .off, .ply, .stl)")->required();
+  app->add_option("mesh", o->mesh, "Input mesh (.obj, .off, .ply, .stl, .glb, .gltf)")->required();
   app->add_option("-o,--output", o->out, "Output map (.exr)")->required();
   app->add_option("--size", o->size, "Atlas size in texels")->capture_default_str()->check(CLI::Range(16, 16384));
   app->add_option("--layout", o->layout, "Use this layout (from 'sdm stm') instead of computing one");
@@ -205,7 +205,7 @@ Command add_decode_command(CLI::App& parent) {
       "decode", "Rebuild a closed mesh from a skeleton displacement map, with a level of detail chosen globally\n"
                 "or per segment, optionally around a skeleton with moved nodes (same graph).");
   app->add_option("map", o->map, "Input map (.exr from 'sdm encode')")->required();
-  app->add_option("-o,--output", o->out, "Output mesh (.obj, .ply, .off, .stl)")->required();
+  app->add_option("-o,--output", o->out, "Output mesh (.obj, .ply, .off, .stl, .glb, .gltf)")->required();
   app->add_option("--lod", o->lod, "Level of detail: every base edge is cut into 2^L pieces")->capture_default_str()->check(CLI::Range(0, 8));
   app->add_option("--lod-segment", o->segment_lod, "Per-segment level, ID=L (repeatable)");
   app->add_option("--skeleton", o->skeleton,
@@ -259,7 +259,7 @@ Command add_roundtrip_command(CLI::App& parent) {
       "roundtrip", "Encode a mesh, decode it, and measure the reconstruction error: symmetric Hausdorff and RMS\n"
                    "distance by dense sampling, as fractions of the bounding-box diagonal, and PSNR.\n"
                    "Exits 3 when the RMS exceeds --max-rms.");
-  app->add_option("mesh", o->mesh, "Input mesh (.obj, .off, .ply, .stl)")->required();
+  app->add_option("mesh", o->mesh, "Input mesh (.obj, .off, .ply, .stl, .glb, .gltf)")->required();
   app->add_option("--size", o->size, "Atlas size in texels")->capture_default_str()->check(CLI::Range(16, 16384));
   app->add_option("--lod", o->lod, "Level of detail of the decode")->capture_default_str()->check(CLI::Range(0, 8));
   app->add_option("--samples", o->samples, "Points sampled on each surface")->capture_default_str()->check(CLI::Range(1000, 10000000));

@@ -17,7 +17,7 @@ Command add_skeleton_command(CLI::App& parent) {
   auto* app = parent.add_subcommand(
       "skeleton", "Extract the curve skeleton of a closed mesh (Laplacian contraction or medial poles, then\n"
                   "connectivity surgery) and write it as JSON (nodes, edges, the node of every vertex).");
-  app->add_option("mesh", o->mesh, "Input mesh (.obj, .off, .ply, .stl), closed and manifold")->required();
+  app->add_option("mesh", o->mesh, "Input mesh (.obj, .off, .ply, .stl, .glb, .gltf), closed and manifold")->required();
   app->add_option("-o,--output", o->out, "Output skeleton JSON file")->required();
   app->add_option("--obj", o->obj, "Also write the skeleton as an OBJ polyline");
   app->add_flag("--json", o->json, "Print the summary as one JSON object");

@@ -27,7 +27,7 @@ Command add_stm_command(CLI::App& parent) {
       "stm", "Compute the skeleton texture map layout of a mesh: one capsule per skeleton segment, its\n"
              "rectangle packed into one square atlas. Writes the layout (JSON, it includes the skeleton) and\n"
              "prints the segments, the atlas coverage and the L2 stretch of the STM coordinates.");
-  app->add_option("mesh", o->mesh, "Input mesh (.obj, .off, .ply, .stl), closed and manifold")->required();
+  app->add_option("mesh", o->mesh, "Input mesh (.obj, .off, .ply, .stl, .glb, .gltf), closed and manifold")->required();
   app->add_option("-o,--output", o->out, "Layout file to write (.json, format sdm-layout)")->required();
   app->add_option("--skeleton", o->skeleton,
                   "Use this skeleton (JSON, format sdm-skeleton, made for this mesh) instead of extracting one\n"

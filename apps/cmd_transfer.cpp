@@ -111,8 +111,9 @@ struct TransferInputs {
 void check_output_paths(const TransferArgs& o) {
   if (o.source.empty() || o.target.empty())
     throw sdm::InputError("transfer needs --source and --target (texture), or --sdm and --target-skeleton (geometry)");
-  if (std::filesystem::path(o.output).extension() != ".obj")
-    throw sdm::InputError("--output must be an .obj file (it carries the uv and names the atlas)");
+  const std::string oext = std::filesystem::path(o.output).extension().string();
+  if (oext != ".obj" && oext != ".glb" && oext != ".gltf")
+    throw sdm::InputError("--output must be an .obj file (it carries the uv and names the atlas) or a .glb/.gltf file (the atlas embedded)");
   const std::string cext = std::filesystem::path(o.correspondence).extension().string();
   if (!o.correspondence.empty() && cext != ".txt" && cext != ".json")
     throw sdm::InputError("--correspondence must name a .txt or .json file, not '" + o.correspondence + "'");
@@ -126,10 +127,14 @@ TransferInputs read_inputs(const TransferArgs& o) {
   check_output_paths(o);
   TransferInputs in;
   std::string material;
-  in.source = sdm::load_mesh(o.source, &material, &in.source_colors);
+  sdm::Image embedded;  // a glTF source's own texture
+  in.source = sdm::load_mesh(o.source, &material, &in.source_colors, &embedded);
   in.texture_path = o.texture.empty() ? material : o.texture;
   const bool colored = !in.source_colors.empty();
-  if (!colored || (!in.texture_path.empty() && in.source.has_halfedge_texcoords2D())) {
+  if (in.texture_path.empty() && !embedded.pixels.empty() && in.source.has_halfedge_texcoords2D()) {
+    in.texture = std::move(embedded);
+    in.texture_path = o.source + " (embedded)";
+  } else if (!colored || (!in.texture_path.empty() && in.source.has_halfedge_texcoords2D())) {
     if (in.texture_path.empty())
       throw sdm::InputError("'" + o.source + "' names no texture in its material and has no vertex colours: pass --texture TEX.png");
     if (!in.source.has_halfedge_texcoords2D())
@@ -373,11 +378,13 @@ int run_texture_transfer(const TransferArgs& o) {
 // The command's options, bound to o.
 void declare_options(CLI::App* app, TransferArgs& o) {
   app->add_option("--source", o.source,
-                  "Source mesh with uv and a texture (.obj with its MTL), or with vertex colours (e.g. .ply with red, green, blue)");
+                  "Source mesh with uv and a texture (.obj with its MTL, .glb/.gltf with its base colour texture), or with vertex\n"
+                  "colours (e.g. .ply with red, green, blue)");
   app->add_option("--texture", o.texture, "Source texture (.png); default: the map_Kd of the source's MTL");
-  app->add_option("--target", o.target, "Target mesh (.obj, .off, .ply, .stl), closed and manifold");
+  app->add_option("--target", o.target, "Target mesh (.obj, .off, .ply, .stl, .glb, .gltf), closed and manifold");
   app->add_option("-o,--output", o.output,
-                  "Output mesh: .obj, the target with uv into OUT_atlas.png (with --sdm: the decoded mesh, any format)")
+                  "Output mesh: .obj, the target with uv into OUT_atlas.png, or .glb/.gltf with the atlas embedded (with --sdm:\n"
+                  "the decoded mesh, any format)")
       ->required();
   app->add_option("--sdm", o.sdm, "Displacement map (.exr from 'sdm encode') to decode around --target-skeleton");
   app->add_option("--lod", o.lod, "With --sdm: level of detail of the decode (every base edge cut into 2^L pieces)")

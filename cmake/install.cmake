@@ -20,7 +20,7 @@ write_basic_package_version_file(${PROJECT_BINARY_DIR}/sdmConfigVersion.cmake CO
 install(FILES ${PROJECT_BINARY_DIR}/sdmConfig.cmake ${PROJECT_BINARY_DIR}/sdmConfigVersion.cmake DESTINATION ${SDM_CMAKE_DIR})
 
 # pkg-config: the static libraries in link order and what they need.
-set(SDM_PC_LIBS "-lsdm_maps -lsdm_transfer -lsdm_render -lsdm_core -lOpenMeshTools -lOpenMeshCore ${OSD_CPU_LIBRARY}")
+set(SDM_PC_LIBS "-lsdm_maps -lsdm_transfer -lsdm_render -lsdm_core -lOpenMeshTools -lOpenMeshCore -ltinygltf ${OSD_CPU_LIBRARY}")
 if(CHOLMOD_LIBRARY AND CHOLMOD_INCLUDE_DIR)
   string(APPEND SDM_PC_LIBS " ${CHOLMOD_LIBRARY}")
 endif()

@@ -62,14 +62,19 @@ void check_exr_header(const std::string& path) {
   unsigned char head[8];
   if (!in.read(reinterpret_cast<char*>(head), 8)) throw bad("the OpenEXR header is cut short");
   if (head[5] & 0x1e) throw bad("it is a tiled, deep or multi-part OpenEXR file; an SDM is one scanline image");
+  // Names are read as OpenEXR's Header::readFrom reads them (Xdr::read with its name limit): up to
+  // 32 bytes (256 with the long-names flag) or a NUL, whichever comes first; a longer name runs on
+  // into the next field there, so it must here too, or the walk and OpenEXR part ways (a fuzzed
+  // file then reached OpenEXR's reader with a 1.6 GB attribute this walk had not seen).
+  const int max_name = (head[5] & 0x04) ? 255 : 31;
   auto read_name = [&](std::string& out) {
     out.clear();
-    for (char c; in.get(c);) {
-      if (c == '\0') return true;
-      if (out.size() >= 255) throw bad("the header holds a name longer than 255 bytes");
+    for (int n = max_name; n >= 0; --n) {
+      char c;
+      if (!in.get(c)) throw bad("the header is cut short");
+      if (c == '\0') return;
       out.push_back(c);
     }
-    throw bad("the header is cut short");
   };
   for (std::string name, type;;) {
     read_name(name);

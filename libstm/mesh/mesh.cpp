@@ -3,6 +3,7 @@
 #include "libstm/core/atomic_file.h"
 #include "libstm/core/errors.h"
 #include "libstm/mesh/check_mesh_file.h"
+#include "libstm/mesh/gltf_io.h"
 #include "libstm/mesh/triangulate_polygon.h"
 #include "libstm/mesh/validate_mesh.h"
 
@@ -253,9 +254,14 @@ MeshSoup read_mesh_soup(const std::string& path) {
   if (fs::is_directory(path, ec)) throw InputError("cannot read mesh " + path + ": it is a folder");
   if (fs::file_size(path, ec) == 0) throw InputError("cannot read mesh " + path + ": the file is empty");
   const std::string ext = lower_extension(path);
+  if (ext == ".glb" || ext == ".gltf") {
+    GltfScene scene = read_gltf(path);
+    scene.soup.texture_image = std::move(scene.texture);
+    return std::move(scene.soup);
+  }
   if (ext != ".obj" && ext != ".off" && ext != ".ply" && ext != ".stl")
     throw InputError("cannot read mesh " + path + ": unknown format '" + ext +
-                     "' (supported: .obj, .off, .ply, .stl)");
+                     "' (supported: .obj, .off, .ply, .stl, .glb, .gltf)");
 
   check_mesh_file(path, ext, fs::file_size(path, ec));  // before any reader trusts the file
 
@@ -362,12 +368,13 @@ MeshSoup mesh_to_soup(const Mesh& mesh) {
   return soup;
 }
 
-Mesh load_mesh(const std::string& path, std::string* texture, std::vector<Eigen::Vector3f>* colors) {
+Mesh load_mesh(const std::string& path, std::string* texture, std::vector<Eigen::Vector3f>* colors, Image* texture_image) {
   MeshSoup soup = read_mesh_soup(path);
   MeshReport report = validate_mesh(soup);
   if (!report.usable()) throw InputError(report.refusal(path));
   orient_outward(soup, report);
   if (texture) *texture = soup.texture;
+  if (texture_image) *texture_image = std::move(soup.texture_image);
   if (colors) {
     colors->clear();
     const std::vector<char> used = used_points(soup);
@@ -454,8 +461,12 @@ void write_through_openmesh(const Mesh& mesh, const std::string& tmp, const std:
 
 void write_mesh(const Mesh& mesh, const std::string& path, const std::string& texture) {
   const std::string ext = lower_extension(path);
+  if (ext == ".glb" || ext == ".gltf") {
+    write_gltf(mesh, path, texture);
+    return;
+  }
   if (ext != ".obj" && ext != ".ply" && ext != ".off" && ext != ".stl")
-    throw InputError("cannot write " + path + ": unknown format '" + ext + "' (use .obj, .ply, .off or .stl)");
+    throw InputError("cannot write " + path + ": unknown format '" + ext + "' (use .obj, .ply, .off, .stl, .glb or .gltf)");
   write_atomically(path, [&](const std::string& tmp) {
     if (ext == ".obj") {
       // OpenMesh's OBJ writer names no texture map in its material, so OBJ is written here.

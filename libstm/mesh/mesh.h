@@ -1,6 +1,8 @@
 #pragma once
 // The one mesh type of the project: an OpenMesh triangle mesh with double-precision points,
 // optional per-halfedge texture coordinates, and the texture image its material names.
+#include "libstm/core/image.h"
+
 #include <OpenMesh/Core/Mesh/TriMesh_ArrayKernelT.hh>
 #include <Eigen/Dense>
 #include <array>
@@ -28,11 +30,13 @@ struct MeshSoup {
   std::vector<std::array<int, 3>> triangles;     // polygons are ear-clipped on read
   std::vector<Eigen::Vector2d> uv;                // per triangle corner (3 per triangle), or empty
   std::string texture;                            // absolute path of the material's map_Kd, or empty
+  Image texture_image;                            // the texture itself when the file embeds it (glTF), or empty
   std::vector<Eigen::Vector3f> colors;            // per point, RGB in [0, 1], when the file has vertex colours; else empty
   int polygons_triangulated = 0;                  // input faces with more than three corners
 };
 
-// Reads OBJ (with uv and the MTL's map_Kd), OFF, PLY or STL through OpenMesh's readers, with the
+// Reads OBJ (with uv and the MTL's map_Kd), OFF, PLY or STL through OpenMesh's readers (glTF through
+// gltf_io.h, its uv and embedded texture included), with the
 // vertex colours the file has (PLY red/green/blue properties, COFF, OBJ `v x y z r g b`).
 // Throws InputError when the file is missing, empty, unreadable or of an unknown format.
 MeshSoup read_mesh_soup(const std::string& path);
@@ -48,8 +52,9 @@ MeshSoup mesh_to_soup(const Mesh& mesh);
 // validation report when the mesh cannot go through the pipeline (open, non-manifold, NaN, empty).
 // `texture` receives the material's texture path when there is one; `colors`, when given, the
 // colours of the built mesh's vertices (in its vertex order, RGB in [0, 1]), or nothing when the
-// file has no vertex colours.
-Mesh load_mesh(const std::string& path, std::string* texture = nullptr, std::vector<Eigen::Vector3f>* colors = nullptr);
+// file has no vertex colours; `texture_image`, the texture a glTF file embeds (empty otherwise).
+Mesh load_mesh(const std::string& path, std::string* texture = nullptr, std::vector<Eigen::Vector3f>* colors = nullptr,
+               Image* texture_image = nullptr);
 
 // Validates and builds a mesh from arrays (V: n x 3 positions, F: m x 3 vertex indices, uv: empty or
 // 3m x 2, per corner in F's order), as load_mesh does for a file: vertex i of the result is V's row
@@ -59,7 +64,8 @@ Mesh load_mesh(const std::string& path, std::string* texture = nullptr, std::vec
 Mesh mesh_from_arrays(const Eigen::MatrixX3d& V, const Eigen::MatrixX3i& F, const Eigen::MatrixX2d& uv = {},
                       const std::string& what = "the mesh");
 
-// Writes OBJ (with uv and an MTL naming `texture` when the mesh has uv), PLY, OFF or STL, chosen by
+// Writes OBJ (with uv and an MTL naming `texture` when the mesh has uv), PLY, OFF, STL or glTF (.glb,
+// .gltf: uv and the PNG `texture` embedded, gltf_io.h), chosen by
 // extension. Written to a temporary name and renamed, so a failure leaves nothing behind.
 void write_mesh(const Mesh& mesh, const std::string& path, const std::string& texture = "");
 

@@ -1,0 +1,339 @@
+#include "libstm/mesh/gltf_io.h"
+
+#include "libstm/core/atomic_file.h"
+#include "libstm/core/errors.h"
+
+#include <stb/stb_image.h>
+#include <tiny_gltf.h>
+
+#include <Eigen/Geometry>
+
+#include <algorithm>
+#include <cstring>
+#include <filesystem>
+#include <map>
+#include <sstream>
+
+namespace sdm {
+namespace {
+
+namespace fs = std::filesystem;
+
+std::string lower_ext(const std::string& path) {
+  std::string e = fs::path(path).extension().string();
+  std::transform(e.begin(), e.end(), e.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+  return e;
+}
+
+// The bytes of element i of an accessor, after checking that the whole accessor lies inside its
+// buffer view and the view inside its buffer (tinygltf does not check every combination).
+class AccessorView {
+ public:
+  AccessorView(const tinygltf::Model& m, int index, const std::string& what) : what_(what) {
+    if (index < 0 || index >= int(m.accessors.size())) throw InputError(what + ": accessor " + std::to_string(index) + " does not exist");
+    const tinygltf::Accessor& a = m.accessors[index];
+    count_ = a.count;
+    components_ = tinygltf::GetNumComponentsInType(a.type);
+    component_size_ = tinygltf::GetComponentSizeInBytes(a.componentType);
+    type_ = a.componentType;
+    normalized_ = a.normalized;
+    if (components_ <= 0 || component_size_ <= 0) throw InputError(what + ": accessor " + std::to_string(index) + " has an unknown type");
+    if (a.sparse.isSparse) throw InputError(what + ": sparse accessors are not supported");
+    if (a.bufferView < 0 || a.bufferView >= int(m.bufferViews.size()))
+      throw InputError(what + ": accessor " + std::to_string(index) + " has no buffer view");
+    const tinygltf::BufferView& v = m.bufferViews[a.bufferView];
+    if (v.buffer < 0 || v.buffer >= int(m.buffers.size())) throw InputError(what + ": buffer view " + std::to_string(a.bufferView) + " has no buffer");
+    const std::vector<unsigned char>& data = m.buffers[v.buffer].data;
+    const size_t element = size_t(components_) * component_size_;
+    stride_ = v.byteStride ? v.byteStride : element;
+    const size_t need = count_ == 0 ? 0 : a.byteOffset + stride_ * (count_ - 1) + element;
+    if (v.byteOffset > data.size() || v.byteLength > data.size() - v.byteOffset || need > v.byteLength || stride_ < element)
+      throw InputError(what + ": accessor " + std::to_string(index) + " reaches outside its buffer (the file is truncated or corrupt)");
+    base_ = data.data() + v.byteOffset + a.byteOffset;
+  }
+  size_t count() const { return count_; }
+  int components() const { return components_; }
+  // Component c of element i as a double (normalized integers mapped to [0, 1]).
+  double get(size_t i, int c) const {
+    const unsigned char* p = base_ + i * stride_ + size_t(c) * component_size_;
+    switch (type_) {
+      case TINYGLTF_COMPONENT_TYPE_FLOAT: { float f; std::memcpy(&f, p, 4); return f; }
+      case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE: return normalized_ ? *p / 255.0 : *p;
+      case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: { uint16_t s; std::memcpy(&s, p, 2); return normalized_ ? s / 65535.0 : s; }
+      case TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT: { uint32_t u; std::memcpy(&u, p, 4); return u; }
+      default: throw InputError(what_ + ": unsupported component type " + std::to_string(type_));
+    }
+  }
+
+ private:
+  std::string what_;
+  const unsigned char* base_ = nullptr;
+  size_t count_ = 0, stride_ = 0;
+  int components_ = 0, component_size_ = 0, type_ = 0;
+  bool normalized_ = false;
+};
+
+Eigen::Affine3d node_transform(const tinygltf::Node& n) {
+  Eigen::Affine3d t = Eigen::Affine3d::Identity();
+  if (n.matrix.size() == 16) {
+    Eigen::Matrix4d m;
+    for (int i = 0; i < 16; ++i) m(i % 4, i / 4) = n.matrix[i];  // column-major
+    t.matrix() = m;
+    return t;
+  }
+  if (n.translation.size() == 3) t.translate(Eigen::Vector3d(n.translation[0], n.translation[1], n.translation[2]));
+  if (n.rotation.size() == 4) t.rotate(Eigen::Quaterniond(n.rotation[3], n.rotation[0], n.rotation[1], n.rotation[2]).normalized());
+  if (n.scale.size() == 3) t.scale(Eigen::Vector3d(n.scale[0], n.scale[1], n.scale[2]));
+  return t;
+}
+
+struct Reader {
+  const tinygltf::Model& model;
+  std::string path;
+  GltfScene out;
+  std::map<std::array<double, 3>, int> weld;
+  std::vector<Eigen::Vector2d> uv;  // per corner, while every primitive has TEXCOORD_0
+  bool all_uv = true;
+  int textured_material = -1;
+
+  void primitive(const tinygltf::Primitive& p, const Eigen::Affine3d& t) {
+    const std::string what = "glTF " + path;
+    if (p.mode != TINYGLTF_MODE_TRIANGLES)
+      throw InputError(what + ": a primitive of mode " + std::to_string(p.mode) + " (only triangle lists, mode 4, are read)");
+    const auto pos = p.attributes.find("POSITION");
+    if (pos == p.attributes.end()) throw InputError(what + ": a primitive without POSITION");
+    const AccessorView P(model, pos->second, what);
+    if (P.components() != 3 || model.accessors[pos->second].componentType != TINYGLTF_COMPONENT_TYPE_FLOAT)
+      throw InputError(what + ": POSITION is not a float VEC3 accessor");
+    std::vector<int> point(P.count());
+    for (size_t i = 0; i < P.count(); ++i) {
+      const Eigen::Vector3d x = t * Eigen::Vector3d(P.get(i, 0), P.get(i, 1), P.get(i, 2));
+      const auto [it, added] = weld.emplace(std::array<double, 3>{x.x(), x.y(), x.z()}, int(out.soup.points.size()));
+      if (added) out.soup.points.push_back(x);
+      point[i] = it->second;
+    }
+    std::vector<size_t> corners;
+    if (p.indices >= 0) {
+      const AccessorView I(model, p.indices, what);
+      for (size_t i = 0; i < I.count(); ++i) corners.push_back(size_t(I.get(i, 0)));
+    } else {
+      for (size_t i = 0; i < P.count(); ++i) corners.push_back(i);
+    }
+    if (corners.size() % 3) throw InputError(what + ": a triangle list of " + std::to_string(corners.size()) + " indices (not a multiple of 3)");
+    for (size_t c : corners)
+      if (c >= P.count()) throw InputError(what + ": index " + std::to_string(c) + " beyond the primitive's " + std::to_string(P.count()) + " vertices");
+    const auto tex = p.attributes.find("TEXCOORD_0");
+    all_uv = all_uv && tex != p.attributes.end();
+    if (all_uv) {
+      const AccessorView T(model, tex->second, what);
+      if (T.count() != P.count() || T.components() != 2) throw InputError(what + ": TEXCOORD_0 does not match POSITION");
+      for (size_t c : corners) uv.emplace_back(T.get(c, 0), 1.0 - T.get(c, 1));
+      if (textured_material < 0 && p.material >= 0) textured_material = p.material;
+    }
+    for (size_t k = 0; k < corners.size(); k += 3)
+      out.soup.triangles.push_back({point[corners[k]], point[corners[k + 1]], point[corners[k + 2]]});
+  }
+
+  void node(int index, const Eigen::Affine3d& parent, int depth) {
+    if (index < 0 || index >= int(model.nodes.size()) || depth > 64)
+      throw InputError("glTF " + path + ": node " + std::to_string(index) + " does not exist or the node tree is cyclic");
+    const tinygltf::Node& n = model.nodes[index];
+    const Eigen::Affine3d t = parent * node_transform(n);
+    if (n.mesh >= 0) {
+      if (n.mesh >= int(model.meshes.size())) throw InputError("glTF " + path + ": node " + std::to_string(index) + " names a missing mesh");
+      for (const auto& p : model.meshes[n.mesh].primitives) primitive(p, t);
+    }
+    for (int c : n.children) node(c, t, depth + 1);
+  }
+};
+
+// The base colour texture of material m as RGBA, or an empty image.
+Image base_color_texture(const tinygltf::Model& model, int m) {
+  if (m < 0 || m >= int(model.materials.size())) return {};
+  const int t = model.materials[m].pbrMetallicRoughness.baseColorTexture.index;
+  if (t < 0 || t >= int(model.textures.size())) return {};
+  const int s = model.textures[t].source;
+  if (s < 0 || s >= int(model.images.size())) return {};
+  const tinygltf::Image& im = model.images[s];
+  if (im.width <= 0 || im.height <= 0 || im.bits != 8 || im.component < 1 || im.component > 4 ||
+      im.image.size() != size_t(im.width) * im.height * im.component)
+    return {};
+  Image out(im.width, im.height, 4, 255);
+  for (size_t i = 0; i < size_t(im.width) * im.height; ++i)
+    for (int c = 0; c < 4; ++c) {
+      const int from = im.component >= 3 ? c : (c < 3 ? 0 : 1);  // grey (+ alpha) to RGBA
+      if (from < im.component) out.pixels[4 * i + c] = im.image[i * im.component + from];
+    }
+  return out;
+}
+
+// tinygltf's image decoder, after checking the image's own header: a crafted PNG announcing
+// 20000^2 pixels would otherwise allocate 1.6 GB before anything refuses it.
+bool guarded_image_loader(tinygltf::Image* image, const int index, std::string* err, std::string* warn, int req_width,
+                          int req_height, const unsigned char* bytes, int size, void* user) {
+  int w = 0, h = 0, c = 0;
+  if (stbi_info_from_memory(bytes, size, &w, &h, &c) && (w > 16384 || h > 16384)) {
+    if (err) *err += "image " + std::to_string(index) + " is " + std::to_string(w) + " x " + std::to_string(h) + " pixels (at most 16384 per side)";
+    return false;
+  }
+  return tinygltf::LoadImageData(image, index, err, warn, req_width, req_height, bytes, size, user);
+}
+
+}  // namespace
+
+GltfScene read_gltf(const std::string& path) {
+  tinygltf::Model model;
+  tinygltf::TinyGLTF loader;
+  loader.SetImageLoader(guarded_image_loader, nullptr);
+  std::string err, warn;
+  const bool ok = lower_ext(path) == ".glb" ? loader.LoadBinaryFromFile(&model, &err, &warn, path)
+                                            : loader.LoadASCIIFromFile(&model, &err, &warn, path);
+  if (!ok) throw InputError("cannot read glTF " + path + ": " + (err.empty() ? "the file could not be parsed" : err));
+  Reader r{model, path, {}, {}, {}, true, -1};
+  if (!model.scenes.empty()) {
+    const int s = model.defaultScene >= 0 && model.defaultScene < int(model.scenes.size()) ? model.defaultScene : 0;
+    for (int n : model.scenes[s].nodes) r.node(n, Eigen::Affine3d::Identity(), 0);
+  } else {
+    for (const auto& mesh : model.meshes)
+      for (const auto& p : mesh.primitives) r.primitive(p, Eigen::Affine3d::Identity());
+  }
+  if (r.out.soup.triangles.empty()) throw InputError("glTF " + path + " has no triangles");
+  if (r.all_uv) {
+    r.out.soup.uv = std::move(r.uv);
+    r.out.texture = base_color_texture(model, r.textured_material);
+  }
+  return std::move(r.out);
+}
+
+namespace {
+
+// Appends `bytes` to the buffer (4-byte aligned) as a new buffer view; returns its index.
+int add_view(tinygltf::Model& m, const void* bytes, size_t size, int target) {
+  std::vector<unsigned char>& data = m.buffers[0].data;
+  while (data.size() % 4) data.push_back(0);
+  tinygltf::BufferView v;
+  v.buffer = 0;
+  v.byteOffset = data.size();
+  v.byteLength = size;
+  v.target = target;
+  const auto* p = static_cast<const unsigned char*>(bytes);
+  data.insert(data.end(), p, p + size);
+  m.bufferViews.push_back(v);
+  return int(m.bufferViews.size()) - 1;
+}
+
+int add_accessor(tinygltf::Model& m, int view, int component, int type, size_t count, std::vector<double> lo = {}, std::vector<double> hi = {}) {
+  tinygltf::Accessor a;
+  a.bufferView = view;
+  a.componentType = component;
+  a.type = type;
+  a.count = count;
+  a.minValues = std::move(lo);
+  a.maxValues = std::move(hi);
+  m.accessors.push_back(a);
+  return int(m.accessors.size()) - 1;
+}
+
+// One glTF vertex per (mesh vertex, uv) pair: positions, normals, uv and the triangle indices.
+struct SplitVertices {
+  std::vector<float> position, normal, uv;
+  std::vector<uint32_t> index;
+};
+
+SplitVertices split_vertices(const Mesh& mesh) {
+  Mesh m = mesh;
+  m.request_face_normals();
+  m.request_vertex_normals();
+  m.update_normals();
+  const bool has_uv = m.has_halfedge_texcoords2D();
+  SplitVertices s;
+  std::map<std::tuple<int, double, double>, uint32_t> id;
+  for (auto f : m.faces())
+    for (auto h : m.fh_range(f)) {
+      const auto v = m.to_vertex_handle(h);
+      const double u = has_uv ? m.texcoord2D(h)[0] : 0, w = has_uv ? 1.0 - m.texcoord2D(h)[1] : 0;
+      const auto [it, added] = id.emplace(std::make_tuple(v.idx(), u, w), uint32_t(s.position.size() / 3));
+      if (added) {
+        for (int c = 0; c < 3; ++c) s.position.push_back(float(m.point(v)[c]));
+        for (int c = 0; c < 3; ++c) s.normal.push_back(float(m.normal(v)[c]));
+        if (has_uv) s.uv.insert(s.uv.end(), {float(u), float(w)});
+      }
+      s.index.push_back(it->second);
+    }
+  return s;
+}
+
+void add_texture(tinygltf::Model& m, const std::string& png, tinygltf::Primitive& p) {
+  const std::string bytes = read_text_file(png);
+  if (bytes.size() < 8 || bytes.compare(0, 8, "\x89PNG\r\n\x1a\n") != 0) throw InputError("texture " + png + " is not a PNG file");
+  tinygltf::Image image;
+  image.bufferView = add_view(m, bytes.data(), bytes.size(), 0);
+  image.mimeType = "image/png";
+  image.name = fs::path(png).stem().string();
+  m.images.push_back(image);
+  tinygltf::Sampler sampler;
+  sampler.magFilter = TINYGLTF_TEXTURE_FILTER_LINEAR;
+  sampler.minFilter = TINYGLTF_TEXTURE_FILTER_LINEAR_MIPMAP_LINEAR;
+  m.samplers.push_back(sampler);
+  tinygltf::Texture t;
+  t.source = 0;
+  t.sampler = 0;
+  m.textures.push_back(t);
+  tinygltf::Material mat;
+  mat.name = "sdm_texture";
+  mat.pbrMetallicRoughness.baseColorTexture.index = 0;
+  mat.pbrMetallicRoughness.metallicFactor = 0;
+  mat.pbrMetallicRoughness.roughnessFactor = 1;
+  m.materials.push_back(mat);
+  p.material = 0;
+}
+
+}  // namespace
+
+void write_gltf(const Mesh& mesh, const std::string& path, const std::string& texture_png) {
+  const std::string ext = lower_ext(path);
+  if (ext != ".glb" && ext != ".gltf") throw InputError("cannot write glTF " + path + ": name a .glb or .gltf file");
+  const SplitVertices s = split_vertices(mesh);
+  tinygltf::Model m;
+  m.asset.version = "2.0";
+  m.asset.generator = "sdm";
+  m.buffers.resize(1);
+  std::vector<double> lo(3, INFINITY), hi(3, -INFINITY);
+  for (size_t i = 0; i < s.position.size(); ++i) {
+    lo[i % 3] = std::min(lo[i % 3], double(s.position[i]));
+    hi[i % 3] = std::max(hi[i % 3], double(s.position[i]));
+  }
+  const size_t n = s.position.size() / 3;
+  tinygltf::Primitive p;
+  p.mode = TINYGLTF_MODE_TRIANGLES;
+  p.attributes["POSITION"] = add_accessor(m, add_view(m, s.position.data(), 4 * s.position.size(), TINYGLTF_TARGET_ARRAY_BUFFER),
+                                          TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_VEC3, n, lo, hi);
+  p.attributes["NORMAL"] = add_accessor(m, add_view(m, s.normal.data(), 4 * s.normal.size(), TINYGLTF_TARGET_ARRAY_BUFFER),
+                                        TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_VEC3, n);
+  if (!s.uv.empty())
+    p.attributes["TEXCOORD_0"] = add_accessor(m, add_view(m, s.uv.data(), 4 * s.uv.size(), TINYGLTF_TARGET_ARRAY_BUFFER),
+                                              TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_TYPE_VEC2, n);
+  p.indices = add_accessor(m, add_view(m, s.index.data(), 4 * s.index.size(), TINYGLTF_TARGET_ELEMENT_ARRAY_BUFFER),
+                           TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT, TINYGLTF_TYPE_SCALAR, s.index.size());
+  if (!s.uv.empty() && !texture_png.empty()) add_texture(m, texture_png, p);
+  m.buffers[0].data.resize((m.buffers[0].data.size() + 3) / 4 * 4, 0);
+  tinygltf::Mesh gm;
+  gm.name = fs::path(path).stem().string();
+  gm.primitives.push_back(p);
+  m.meshes.push_back(gm);
+  tinygltf::Node node;
+  node.mesh = 0;
+  m.nodes.push_back(node);
+  tinygltf::Scene scene;
+  scene.nodes.push_back(0);
+  m.scenes.push_back(scene);
+  m.defaultScene = 0;
+  std::ostringstream bytes;
+  tinygltf::TinyGLTF writer;
+  if (!writer.WriteGltfSceneToStream(&m, bytes, false, ext == ".glb"))
+    throw std::runtime_error("cannot write glTF " + path + ": tinygltf refused the model");
+  const std::string data = bytes.str();
+  write_atomically(path, [&](const std::string& tmp) { write_bytes_checked(tmp, data.data(), data.size(), path); });
+}
+
+}  // namespace sdm
