@@ -47,7 +47,7 @@ int iterations() {
 }
 
 const std::vector<std::string> kHostileTokens = {"-1", "0", "2147483647", "-2147483648", "4294967296", "2000000000", "nan", "inf",
-                                                 "-inf", "1e39", "1e308", "-1e308", "1e-320", "/", "//", "/1", "1//", "x", "", "3.5"};
+                                                 "-inf", "1e39", "1e308", "-1e308", "1e-320", "/", "//", "/1", "1//", "x", "", "3.5", "3e12"};
 
 // One text mutation: replace a token, drop or repeat a line, cut the text, or flip a byte.
 std::string mutate_text(const std::string& seed, std::mt19937& rng) {
@@ -94,7 +94,7 @@ void mutate_json(nlohmann::json& j, std::mt19937& rng) {
     }
     node = &*it;
   }
-  static const std::vector<nlohmann::json> values = {0, -1, 1, 2147483647, -2147483648LL, 4294967296LL, 1e308, -1e308, 1e-300, 0.5, "x",
+  static const std::vector<nlohmann::json> values = {0, -1, 1, 2147483647, -2147483648LL, 4294967296LL, 1e308, -1e308, 1e-300, 0.5, 3e12, "x",
                                                       nullptr, nlohmann::json::array(), nlohmann::json::object()};
   *node = values[rng() % values.size()];
 }
@@ -165,4 +165,25 @@ TEST_CASE("Mutated skeleton, layout and SDM headers are accepted or refused with
     d.level = 1;
     expect_no_failure("SDM header", i, [&] { decode_sdm(im, d); });
   }
+}
+
+// Inputs the libFuzzer runs found (tests/fuzz/regressions; `make fuzz`): each reader refuses its
+// own with InputError, within the memory cap. An SDM whose attribute name runs past OpenEXR's 32
+// bytes (the header walk and OpenEXR parted ways: a 1.6 GB allocation); a skeleton and a layout
+// with 3e12 where an index belongs (a float-to-int cast, undefined).
+TEST_CASE("Fuzzer findings are refused with InputError", "[hostile][fuzz]") {
+  const MemoryCap cap;
+  const std::string dir = std::string(SDM_TEST_DATA) + "/../fuzz/regressions/";
+  auto refused = [](auto&& read) {
+    try {
+      read();
+    } catch (const InputError& e) {
+      INFO(e.what());
+      return true;
+    }
+    return false;
+  };
+  CHECK(refused([&] { read_sdm_exr(dir + "sdm_exr_attribute_name_32_bytes.exr"); }));
+  CHECK(refused([&] { read_skeleton_json(dir + "skeleton_json_float_index.json"); }));
+  CHECK(refused([&] { read_layout_json(dir + "layout_json_float_index.json"); }));
 }

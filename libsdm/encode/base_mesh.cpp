@@ -1,6 +1,7 @@
 #include "libsdm/encode/base_mesh.h"
 
 #include "libstm/core/errors.h"
+#include "libstm/core/json_int.h"
 #include "libstm/geometry/capsule_ray.h"
 #include "libstm/layout/segments.h"
 #include "libstm/geometry/triangle_bvh.h"
@@ -320,8 +321,8 @@ BaseMesh base_mesh_from_json(const nlohmann::json& j, int segments) {
   std::vector<int> tris;
   std::vector<double> uv;
   try {
-    tris = j.at("triangles").get<std::vector<int>>();
-    base.face_segment = j.at("face_segment").get<std::vector<int>>();
+    tris = json_ints(j.at("triangles"));
+    base.face_segment = json_ints(j.at("face_segment"));
     uv = j.at("corner_uv").get<std::vector<double>>();
   } catch (const nlohmann::json::exception& e) {
     throw InputError(std::string("invalid base mesh in the SDM header: ") + e.what());

@@ -2,6 +2,7 @@
 
 #include "libstm/core/atomic_file.h"
 #include "libstm/core/errors.h"
+#include "libstm/core/json_int.h"
 #include "libstm/core/limits.h"
 #include "libstm/geometry/differential_geometry.h"
 #include "libstm/layout/pack_rectangles.h"
@@ -214,19 +215,19 @@ Layout layout_from_json(const nlohmann::json& j) {
   Layout L;
   try {
     if (j.value("format", std::string()) != "sdm-layout") throw InputError("not an sdm layout (format is not \"sdm-layout\")");
-    if (j.at("version").get<int>() != 1)
-      throw InputError("sdm layout version " + std::to_string(j.at("version").get<int>()) + " is not supported (this build reads 1)");
-    L.size = j.at("size").get<int>();
-    L.margin = j.at("margin").get<int>();
+    if (json_int(j.at("version")) != 1)
+      throw InputError("sdm layout version " + std::to_string(json_int(j.at("version"))) + " is not supported (this build reads 1)");
+    L.size = json_int(j.at("size"));
+    L.margin = json_int(j.at("margin"));
     L.scale = j.at("scale").get<double>();
     L.coverage = j.value("coverage", 0.0);
     L.coverage_inner = j.value("coverage_inner", 0.0);
     L.skeleton = skeleton_from_json(j.at("skeleton"));
     for (const auto& s : j.at("segments")) {
       LayoutSegment g;
-      g.edge = s.at("edge").get<int>();
-      g.a = s.at("a").get<int>();
-      g.b = s.at("b").get<int>();
+      g.edge = json_int(s.at("edge"));
+      g.a = json_int(s.at("a"));
+      g.b = json_int(s.at("b"));
       g.axis = vec(s.at("axis"));
       g.e1 = vec(s.at("e1"));
       g.e2 = vec(s.at("e2"));
@@ -236,11 +237,11 @@ Layout layout_from_json(const nlohmann::json& j) {
       g.area = s.value("area", 0.0);
       g.weight = s.value("weight", 1.0);
       const auto& r = s.at("rect");
-      g.x = r.at(0).get<int>(), g.y = r.at(1).get<int>(), g.w = r.at(2).get<int>(), g.h = r.at(3).get<int>();
+      g.x = json_int(r.at(0)), g.y = json_int(r.at(1)), g.w = json_int(r.at(2)), g.h = json_int(r.at(3));
       g.rotated = s.at("rotated").get<bool>();
       g.d = s.at("d").get<double>();
-      g.neighbours_a = s.value("neighbours_a", std::vector<int>());
-      g.neighbours_b = s.value("neighbours_b", std::vector<int>());
+      if (s.contains("neighbours_a")) g.neighbours_a = json_ints(s["neighbours_a"]);
+      if (s.contains("neighbours_b")) g.neighbours_b = json_ints(s["neighbours_b"]);
       L.segments.push_back(g);
     }
   } catch (const nlohmann::json::exception& e) {
@@ -255,7 +256,11 @@ void write_layout_json(const Layout& L, const std::string& path) { write_text_fi
 Layout read_layout_json(const std::string& path) {
   const nlohmann::json j = nlohmann::json::parse(read_text_file(path), nullptr, false);
   if (j.is_discarded()) throw InputError("cannot read layout " + path + ": not JSON");
-  return layout_from_json(j);
+  try {
+    return layout_from_json(j);
+  } catch (const InputError& e) {
+    throw InputError("layout " + path + ": " + e.what());
+  }
 }
 
 namespace {

@@ -2,6 +2,7 @@
 
 #include "libstm/core/atomic_file.h"
 #include "libstm/core/errors.h"
+#include "libstm/core/json_int.h"
 #include "libstm/core/limits.h"
 #include "libstm/core/union_find.h"
 
@@ -62,8 +63,8 @@ Skeleton skeleton_from_json(const nlohmann::json& j) {
   try {
     if (j.contains("skeleton")) return skeleton_from_json(j.at("skeleton"));  // a layout holds one
     for (const auto& n : j.at("nodes")) s.nodes.emplace_back(n.at(0).get<double>(), n.at(1).get<double>(), n.at(2).get<double>());
-    for (const auto& e : j.at("edges")) s.edges.push_back({e.at(0).get<int>(), e.at(1).get<int>()});
-    s.vertex_node = j.at("vertex_node").get<std::vector<int>>();
+    for (const auto& e : j.at("edges")) s.edges.push_back({json_int(e.at(0)), json_int(e.at(1))});
+    s.vertex_node = json_ints(j.at("vertex_node"));
   } catch (const nlohmann::json::exception& e) {
     throw InputError(std::string("not a valid skeleton: ") + e.what());
   }
@@ -110,7 +111,11 @@ Skeleton read_skeleton_json(const std::string& path) {
   const std::string text = read_text_file(path);
   nlohmann::json j = nlohmann::json::parse(text, nullptr, false);
   if (j.is_discarded()) throw InputError("cannot read skeleton " + path + ": not JSON");
-  return skeleton_from_json(j);
+  try {
+    return skeleton_from_json(j);
+  } catch (const InputError& e) {
+    throw InputError("skeleton " + path + ": " + e.what());
+  }
 }
 
 void write_skeleton_obj(const Skeleton& s, const std::string& path) {
