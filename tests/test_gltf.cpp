@@ -17,6 +17,7 @@
 #include <nlohmann/json.hpp>
 
 #include <cstring>
+#include <functional>
 #include <fstream>
 #include <sstream>
 
@@ -145,7 +146,8 @@ std::string make_glb(const nlohmann::json& json, std::string bin) {
 
 // A unit cube as glTF writes a hard-edged one: 4 vertices per side (24), 12 triangles, in a node
 // translated by (10, 0, 0) and scaled by 2.
-std::string split_cube_glb(size_t count_override = 0) {
+// `edit` changes the JSON before it is packed (hostile variants).
+std::string split_cube_glb(size_t count_override = 0, const std::function<void(nlohmann::json&)>& edit = {}) {
   std::vector<float> p;
   std::vector<uint32_t> idx;
   for (int axis = 0; axis < 3; ++axis)
@@ -176,6 +178,7 @@ std::string split_cube_glb(size_t count_override = 0) {
       {"nodes", {{{"mesh", 0}, {"translation", {10, 0, 0}}, {"scale", {2, 2, 2}}}}},
       {"scenes", {{{"nodes", {0}}}}},
       {"scene", 0}};
+  if (edit) edit(j);
   return make_glb(j, bin);
 }
 
@@ -238,6 +241,21 @@ TEST_CASE("Hostile glTF files are refused by name", "[gltf][hostile]") {
     const auto r = test_util::run_sdm("info " + dir / "long.glb");
     CHECK(r.exit_code == 2);
     CHECK(r.output.find("reaches outside its buffer") != std::string::npos);
+  }
+  SECTION("a node reached twice (nodes form a tree), which would instance its subtree exponentially") {
+    test_util::write_file(dir / "dag.glb", split_cube_glb(0, [](nlohmann::json& j) {
+      j["nodes"] = {{{"mesh", 0}}, {{"children", {0, 0}}}, {{"children", {1, 1}}}};
+      j["scenes"][0]["nodes"] = {2};
+    }));
+    const auto r = test_util::run_sdm("info " + dir / "dag.glb");
+    CHECK(r.exit_code == 2);
+    CHECK(r.output.find("reached twice") != std::string::npos);
+  }
+  SECTION("a node scale that throws the vertices beyond the float range") {
+    test_util::write_file(dir / "far.glb", split_cube_glb(0, [](nlohmann::json& j) { j["nodes"][0]["scale"] = {1e300, 1, 1}; }));
+    const auto r = test_util::run_sdm("info " + dir / "far.glb");
+    CHECK(r.exit_code == 2);
+    CHECK(r.output.find("beyond the float range") != std::string::npos);
   }
   SECTION("a truncated file") {
     const std::string whole = split_cube_glb();

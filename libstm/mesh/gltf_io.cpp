@@ -2,6 +2,7 @@
 
 #include "libstm/core/atomic_file.h"
 #include "libstm/core/errors.h"
+#include "libstm/core/limits.h"
 
 #include <stb/stb_image.h>
 #include <tiny_gltf.h>
@@ -87,6 +88,10 @@ Eigen::Affine3d node_transform(const tinygltf::Node& n) {
   return t;
 }
 
+// Triangles one file may place (instancing multiplies what the buffers hold): 20 million, ten
+// times the largest meshes sdm is benchmarked on.
+constexpr size_t kMaxTriangles = 20000000;
+
 struct Reader {
   const tinygltf::Model& model;
   std::string path;
@@ -95,6 +100,7 @@ struct Reader {
   std::vector<Eigen::Vector2d> uv;  // per corner, while every primitive has TEXCOORD_0
   bool all_uv = true;
   int textured_material = -1;
+  std::vector<char> visited;  // per node: glTF's node hierarchy is a tree (one parent at most)
 
   void primitive(const tinygltf::Primitive& p, const Eigen::Affine3d& t) {
     const std::string what = "glTF " + path;
@@ -108,6 +114,9 @@ struct Reader {
     std::vector<int> point(P.count());
     for (size_t i = 0; i < P.count(); ++i) {
       const Eigen::Vector3d x = t * Eigen::Vector3d(P.get(i, 0), P.get(i, 1), P.get(i, 2));
+      if (!(x.cwiseAbs().maxCoeff() <= kMaxCoordinate))  // NaN too
+        throw InputError(what + ": its node transforms place a vertex at (" + std::to_string(x.x()) + ", " + std::to_string(x.y()) +
+                         ", " + std::to_string(x.z()) + "), beyond the float range sdm reads");
       const auto [it, added] = weld.emplace(std::array<double, 3>{x.x(), x.y(), x.z()}, int(out.soup.points.size()));
       if (added) out.soup.points.push_back(x);
       point[i] = it->second;
@@ -120,6 +129,9 @@ struct Reader {
       for (size_t i = 0; i < P.count(); ++i) corners.push_back(i);
     }
     if (corners.size() % 3) throw InputError(what + ": a triangle list of " + std::to_string(corners.size()) + " indices (not a multiple of 3)");
+    if (out.soup.triangles.size() + corners.size() / 3 > kMaxTriangles)
+      throw InputError(what + ": its nodes place more than " + std::to_string(kMaxTriangles) +
+                       " triangles (meshes instanced many times); sdm reads at most that many");
     for (size_t c : corners)
       if (c >= P.count()) throw InputError(what + ": index " + std::to_string(c) + " beyond the primitive's " + std::to_string(P.count()) + " vertices");
     const auto tex = p.attributes.find("TEXCOORD_0");
@@ -137,6 +149,9 @@ struct Reader {
   void node(int index, const Eigen::Affine3d& parent, int depth) {
     if (index < 0 || index >= int(model.nodes.size()) || depth > 64)
       throw InputError("glTF " + path + ": node " + std::to_string(index) + " does not exist or the node tree is cyclic");
+    if (visited.empty()) visited.assign(model.nodes.size(), 0);
+    if (visited[index]++)
+      throw InputError("glTF " + path + ": node " + std::to_string(index) + " is reached twice (glTF nodes form a tree: one parent each)");
     const tinygltf::Node& n = model.nodes[index];
     const Eigen::Affine3d t = parent * node_transform(n);
     if (n.mesh >= 0) {
@@ -172,8 +187,10 @@ Image base_color_texture(const tinygltf::Model& model, int m) {
 bool guarded_image_loader(tinygltf::Image* image, const int index, std::string* err, std::string* warn, int req_width,
                           int req_height, const unsigned char* bytes, int size, void* user) {
   int w = 0, h = 0, c = 0;
-  if (stbi_info_from_memory(bytes, size, &w, &h, &c) && (w > 16384 || h > 16384)) {
-    if (err) *err += "image " + std::to_string(index) + " is " + std::to_string(w) + " x " + std::to_string(h) + " pixels (at most 16384 per side)";
+  if (stbi_info_from_memory(bytes, size, &w, &h, &c) && (w > kMaxImageSide || h > kMaxImageSide)) {
+    if (err)
+      *err += "image " + std::to_string(index) + " is " + std::to_string(w) + " x " + std::to_string(h) + " pixels (at most " +
+              std::to_string(kMaxImageSide) + " per side)";
     return false;
   }
   return tinygltf::LoadImageData(image, index, err, warn, req_width, req_height, bytes, size, user);
@@ -189,7 +206,7 @@ GltfScene read_gltf(const std::string& path) {
   const bool ok = lower_ext(path) == ".glb" ? loader.LoadBinaryFromFile(&model, &err, &warn, path)
                                             : loader.LoadASCIIFromFile(&model, &err, &warn, path);
   if (!ok) throw InputError("cannot read glTF " + path + ": " + (err.empty() ? "the file could not be parsed" : err));
-  Reader r{model, path, {}, {}, {}, true, -1};
+  Reader r{model, path, {}, {}, {}, true, -1, {}};
   if (!model.scenes.empty()) {
     const int s = model.defaultScene >= 0 && model.defaultScene < int(model.scenes.size()) ? model.defaultScene : 0;
     for (int n : model.scenes[s].nodes) r.node(n, Eigen::Affine3d::Identity(), 0);
