@@ -83,7 +83,10 @@ void check_render_size(const RenderArgs& o) {
 
 // A picture is useful for any mesh, so unlike the pipeline commands, render also draws open
 // meshes (lighting is two-sided); only input the halfedge structure cannot hold is refused.
-sdm::Mesh load_any_mesh(const std::string& path, std::string* material_texture) {
+// A glTF file's own texture: `material_texture` then names it with this marker.
+const char* const kEmbeddedTexture = "(the texture embedded in the mesh file)";
+
+sdm::Mesh load_any_mesh(const std::string& path, std::string* material_texture, sdm::Image* embedded) {
   sdm::MeshSoup soup = sdm::read_mesh_soup(path);
   sdm::MeshReport report = sdm::validate_mesh(soup);
   if (report.usable()) sdm::orient_outward(soup, report);
@@ -94,6 +97,10 @@ sdm::Mesh load_any_mesh(const std::string& path, std::string* material_texture) 
     throw sdm::InputError(report.refusal(path));
   }
   *material_texture = soup.texture;
+  if (soup.texture.empty() && !soup.texture_image.pixels.empty()) {
+    *material_texture = kEmbeddedTexture;
+    *embedded = std::move(soup.texture_image);
+  }
   return mesh;
 }
 
@@ -193,13 +200,14 @@ void report_render(const RenderArgs& o, const sdm::GlContext& gl, const sdm::Ima
 int run_render(const RenderArgs& o) {
   check_render_size(o);
   std::string material_texture;
-  const sdm::Mesh mesh = load_any_mesh(o.mesh, &material_texture);
+  sdm::Image embedded;
+  const sdm::Mesh mesh = load_any_mesh(o.mesh, &material_texture, &embedded);
   const std::string texture_path = own_texture_path(o, material_texture);
   sdm::Image texture;
   if (!texture_path.empty()) {
     if (!mesh.has_halfedge_texcoords2D())
       throw sdm::InputError("'" + o.mesh + "' has no texture coordinates, so texture '" + texture_path + "' cannot be applied");
-    texture = sdm::read_png(texture_path);
+    texture = texture_path == kEmbeddedTexture ? std::move(embedded) : sdm::read_png(texture_path);
   }
   check_render_flags(o, texture_path);
   const bool from_stm = !o.stm.empty() || o.checker;

@@ -308,3 +308,25 @@ TEST_CASE("sdm convert writes .gltf with embedded buffers that reads back as the
   CHECK(back.n_vertices() == spot.n_vertices());
   CHECK(back.n_faces() == spot.n_faces());
 }
+
+TEST_CASE("sdm render draws a .glb with its embedded texture as the OBJ with its PNG", "[gltf][render]") {
+  test_util::TempDir dir;
+  sdm::write_gltf(sdm::load_mesh(kSpot), dir / "spot.glb", kSpotTexture);
+  const auto a = test_util::run_sdm("render " + dir / "spot.glb" + " --unlit --width 256 --height 256 -o " + dir / "glb.png");
+  const auto b = test_util::run_sdm("render " + kSpot + " --texture " + kSpotTexture + " --unlit --width 256 --height 256 -o " + dir / "obj.png");
+  INFO(a.output << b.output);
+  REQUIRE(a.exit_code == 0);
+  REQUIRE(b.exit_code == 0);
+  const sdm::Image ia = sdm::read_png(dir / "glb.png"), ib = sdm::read_png(dir / "obj.png");
+  REQUIRE(ia.pixels.size() == ib.pixels.size());
+  double diff = 0;
+  long textured = 0;  // pixels neither background nor the flat colour: the texture is drawn
+  for (size_t i = 0; i < ia.pixels.size(); ++i) diff += std::abs(int(ia.pixels[i]) - int(ib.pixels[i]));
+  for (int y = 0; y < ia.height; ++y)
+    for (int x = 0; x < ia.width; ++x)
+      if (ia.at(x, y)[0] != ia.at(0, 0)[0] || ia.at(x, y)[1] != ia.at(0, 0)[1]) ++textured;
+  diff /= double(ia.pixels.size());
+  INFO("mean absolute difference " << diff << " of 255, " << textured << " object pixels");
+  CHECK(diff < 1.0);
+  CHECK(textured > 5000);
+}
