@@ -16,6 +16,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <fstream>
+#include <map>
 
 namespace sdm {
 namespace {
@@ -50,6 +51,52 @@ void check_window(const std::string& path, const Imath::Box2i& dw, int channels)
                      std::to_string(int64_t(file)) + " bytes; the header was altered");
 }
 
+// OpenEXR reads a known attribute type by its own size, not by the size field before it (a box2i
+// is 16 bytes whatever the field says, a channel list runs to its empty name), and allocates
+// other values at the size they claim. So the walk below checks that the two agree, type by
+// type: fixed-size types must say their size, a channel list must end exactly at its size with
+// at most 8 channels, the data window must be one an SDM can have (check_window) before OpenEXR
+// sizes its buffers by it, and the types OpenEXR sizes by their content (preview images, vectors,
+// manifests) are refused: an SDM holds none.
+template <class Bad>
+void check_attribute_value(std::istream& in, const std::string& name, const std::string& type, int64_t size,
+                           const std::string& attribute, const Bad& bad) {
+  static const std::map<std::string, int> fixed = {
+      {"box2i", 16}, {"box2f", 16}, {"chromaticities", 32}, {"compression", 1}, {"double", 8}, {"envmap", 1}, {"float", 4},
+      {"int", 4}, {"keycode", 28}, {"lineOrder", 1}, {"m33f", 36}, {"m33d", 72}, {"m44f", 64}, {"m44d", 128}, {"rational", 8},
+      {"tiledesc", 9}, {"timecode", 8}, {"v2i", 8}, {"v2f", 8}, {"v2d", 16}, {"v3i", 12}, {"v3f", 12}, {"v3d", 24},
+      {"deepImageState", 1}};
+  const auto f = fixed.find(type);
+  if (f != fixed.end() && size != f->second)
+    throw bad(attribute + " says " + std::to_string(size) + " bytes; its type has " + std::to_string(f->second));
+  if (type == "preview" || type == "stringvector" || type == "floatvector" || type == "idmanifest")
+    throw bad(attribute + ": an SDM holds no attribute of this type");
+  auto i32 = [&]() {
+    unsigned char b[4];
+    if (!in.read(reinterpret_cast<char*>(b), 4)) throw bad("the header is cut short");
+    return int32_t(uint32_t(b[0]) | uint32_t(b[1]) << 8 | uint32_t(b[2]) << 16 | uint32_t(b[3]) << 24);
+  };
+  if (name == "dataWindow" && type == "box2i") {
+    Imath::Box2i dw;
+    dw.min.x = i32(), dw.min.y = i32(), dw.max.x = i32(), dw.max.y = i32();
+    const int64_t w = int64_t(dw.max.x) - dw.min.x + 1, h = int64_t(dw.max.y) - dw.min.y + 1;
+    if (dw.min.x != 0 || dw.min.y != 0 || w < 1 || h < 1 || w > kMaxImageSide || h > kMaxImageSide)
+      throw bad("it has a data window of " + std::to_string(w) + "x" + std::to_string(h) + " at (" + std::to_string(dw.min.x) + ", " +
+                std::to_string(dw.min.y) + "); an SDM starts at (0, 0) and has at most " + std::to_string(kMaxImageSide) + " texels a side");
+  }
+  if (type != "chlist") return;
+  int64_t used = 0;
+  for (int channels = 0;; ++channels) {
+    std::string channel;
+    for (char c; used < size && in.get(c) && (++used, c != '\0');) channel.push_back(c);
+    if (channel.empty()) break;
+    if (channels >= 8 || channel.size() > 255) throw bad(attribute + ": more than 8 channels or a name over 255 bytes");
+    in.seekg(16, std::ios::cur);  // pixel type, pLinear, 3 reserved, x and y sampling
+    used += 16;
+  }
+  if (used != size) throw bad(attribute + " says " + std::to_string(size) + " bytes; its channels take " + std::to_string(used));
+}
+
 // OpenEXR allocates an attribute's value at the size its header claims before reading it (a
 // crafted attribute of an unknown type claimed 1.6 GB; found by libFuzzer). The header is walked
 // here first: name, type, 32-bit size, value, until an empty name; every size must fit in what
@@ -76,18 +123,23 @@ void check_exr_header(const std::string& path) {
       out.push_back(c);
     }
   };
+  auto read_i32 = [&]() {
+    unsigned char b[4];
+    if (!in.read(reinterpret_cast<char*>(b), 4)) throw bad("the header is cut short");
+    return int32_t(uint32_t(b[0]) | uint32_t(b[1]) << 8 | uint32_t(b[2]) << 16 | uint32_t(b[3]) << 24);
+  };
   for (std::string name, type;;) {
     read_name(name);
     if (name.empty()) return;
     read_name(type);
-    unsigned char sz[4];
-    if (!in.read(reinterpret_cast<char*>(sz), 4)) throw bad("the header is cut short");
-    const int64_t size = int64_t(sz[0]) | int64_t(sz[1]) << 8 | int64_t(sz[2]) << 16 | int64_t(sz[3]) << 24;
-    const int64_t left = bytes - int64_t(in.tellg());
-    if (size > left)
-      throw bad("the header's attribute '" + name.substr(0, 40) + "' claims " + std::to_string(size) + " bytes, more than the " +
-                std::to_string(left) + " left in the file");
-    in.seekg(size, std::ios::cur);
+    const int64_t size = read_i32();
+    const int64_t at = int64_t(in.tellg()), left = bytes - at;
+    const std::string attribute = "the header's attribute '" + name.substr(0, 40) + "' (" + type.substr(0, 20) + ")";
+    if (size < 0 || size > left)
+      throw bad(attribute + " claims " + std::to_string(size) + " bytes, " + std::to_string(left) + " are left in the file");
+    check_attribute_value(in, name, type, size, attribute, bad);
+    in.clear();
+    in.seekg(at + size);
   }
 }
 

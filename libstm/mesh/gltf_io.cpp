@@ -10,6 +10,7 @@
 #include <Eigen/Geometry>
 
 #include <algorithm>
+#include <climits>
 #include <cstring>
 #include <filesystem>
 #include <map>
@@ -162,38 +163,61 @@ struct Reader {
   }
 };
 
-// The base colour texture of material m as RGBA, or an empty image.
-Image base_color_texture(const tinygltf::Model& model, int m) {
+// tinygltf hands an image in a buffer view to its decoder with the view's length unchecked against
+// the buffer (a fuzzed .glb made stb read past the file's bytes), and decodes whatever format stb
+// recognises. So images are not decoded while loading: a buffer-view image is left for
+// encoded_image, which checks its view; an image from a URI (data or file, whose bytes tinygltf
+// read itself) is kept encoded in image->image, width 0 marking it as such.
+bool keep_encoded_image(tinygltf::Image* image, const int, std::string*, std::string*, int, int, const unsigned char* bytes, int size,
+                        void*) {
+  if (image->bufferView == -1 && bytes && size > 0) image->image.assign(bytes, bytes + size);
+  image->width = image->height = image->component = image->bits = 0;
+  return true;
+}
+
+// The encoded bytes of an image (its checked buffer view, or what keep_encoded_image kept).
+std::pair<const unsigned char*, size_t> encoded_image(const tinygltf::Model& m, const tinygltf::Image& im) {
+  if (im.bufferView == -1) return {im.image.data(), im.image.size()};
+  if (im.bufferView < 0 || im.bufferView >= int(m.bufferViews.size())) return {nullptr, 0};
+  const tinygltf::BufferView& v = m.bufferViews[im.bufferView];
+  if (v.buffer < 0 || v.buffer >= int(m.buffers.size())) return {nullptr, 0};
+  const std::vector<unsigned char>& data = m.buffers[v.buffer].data;
+  if (v.byteOffset > data.size() || v.byteLength > data.size() - v.byteOffset) return {nullptr, 0};
+  return {data.data() + v.byteOffset, v.byteLength};
+}
+
+// Decodes a PNG or JPEG (the two formats glTF allows; stb's other decoders are not offered
+// fuzzed bytes) to RGBA, after its own header: at most kMaxImageSide a side, and no more pixels
+// than its bytes can hold (deflate's ratio is at most 1032:1; 4096:1 is allowed). Throws
+// InputError naming the problem.
+Image decode_texture(const unsigned char* bytes, size_t size, const std::string& what) {
+  const bool png = size >= 8 && std::memcmp(bytes, "\x89PNG\r\n\x1a\n", 8) == 0;
+  const bool jpeg = size >= 3 && bytes[0] == 0xFF && bytes[1] == 0xD8 && bytes[2] == 0xFF;
+  if (!png && !jpeg) throw InputError(what + ": its texture is neither PNG nor JPEG");
+  int w = 0, h = 0, c = 0;
+  if (size > size_t(INT_MAX) || !stbi_info_from_memory(bytes, int(size), &w, &h, &c))
+    throw InputError(what + ": its texture's header cannot be read");
+  if (w < 1 || h < 1 || w > kMaxImageSide || h > kMaxImageSide || 4.0 * w * h > 4096.0 * double(size) + (1 << 20))
+    throw InputError(what + ": its texture claims " + std::to_string(w) + " x " + std::to_string(h) + " pixels in " +
+                     std::to_string(size) + " bytes (at most " + std::to_string(kMaxImageSide) + " a side, and what the bytes can hold)");
+  unsigned char* p = stbi_load_from_memory(bytes, int(size), &w, &h, &c, 4);
+  if (!p) throw InputError(what + ": its texture cannot be decoded (" + std::string(stbi_failure_reason() ? stbi_failure_reason() : "?") + ")");
+  Image out(w, h, 4);
+  std::memcpy(out.pixels.data(), p, out.pixels.size());
+  stbi_image_free(p);
+  return out;
+}
+
+// The base colour texture of material m as RGBA, or an empty image when it has none.
+Image base_color_texture(const tinygltf::Model& model, int m, const std::string& what) {
   if (m < 0 || m >= int(model.materials.size())) return {};
   const int t = model.materials[m].pbrMetallicRoughness.baseColorTexture.index;
   if (t < 0 || t >= int(model.textures.size())) return {};
   const int s = model.textures[t].source;
   if (s < 0 || s >= int(model.images.size())) return {};
-  const tinygltf::Image& im = model.images[s];
-  if (im.width <= 0 || im.height <= 0 || im.bits != 8 || im.component < 1 || im.component > 4 ||
-      im.image.size() != size_t(im.width) * im.height * im.component)
-    return {};
-  Image out(im.width, im.height, 4, 255);
-  for (size_t i = 0; i < size_t(im.width) * im.height; ++i)
-    for (int c = 0; c < 4; ++c) {
-      const int from = im.component >= 3 ? c : (c < 3 ? 0 : 1);  // grey (+ alpha) to RGBA
-      if (from < im.component) out.pixels[4 * i + c] = im.image[i * im.component + from];
-    }
-  return out;
-}
-
-// tinygltf's image decoder, after checking the image's own header: a crafted PNG announcing
-// 20000^2 pixels would otherwise allocate 1.6 GB before anything refuses it.
-bool guarded_image_loader(tinygltf::Image* image, const int index, std::string* err, std::string* warn, int req_width,
-                          int req_height, const unsigned char* bytes, int size, void* user) {
-  int w = 0, h = 0, c = 0;
-  if (stbi_info_from_memory(bytes, size, &w, &h, &c) && (w > kMaxImageSide || h > kMaxImageSide)) {
-    if (err)
-      *err += "image " + std::to_string(index) + " is " + std::to_string(w) + " x " + std::to_string(h) + " pixels (at most " +
-              std::to_string(kMaxImageSide) + " per side)";
-    return false;
-  }
-  return tinygltf::LoadImageData(image, index, err, warn, req_width, req_height, bytes, size, user);
+  const auto [bytes, size] = encoded_image(model, model.images[s]);
+  if (!bytes || size == 0) throw InputError(what + ": its texture's bytes lie outside its buffer or are missing");
+  return decode_texture(bytes, size, what);
 }
 
 }  // namespace
@@ -201,7 +225,7 @@ bool guarded_image_loader(tinygltf::Image* image, const int index, std::string* 
 GltfScene read_gltf(const std::string& path) {
   tinygltf::Model model;
   tinygltf::TinyGLTF loader;
-  loader.SetImageLoader(guarded_image_loader, nullptr);
+  loader.SetImageLoader(keep_encoded_image, nullptr);
   std::string err, warn;
   const bool ok = lower_ext(path) == ".glb" ? loader.LoadBinaryFromFile(&model, &err, &warn, path)
                                             : loader.LoadASCIIFromFile(&model, &err, &warn, path);
@@ -217,7 +241,7 @@ GltfScene read_gltf(const std::string& path) {
   if (r.out.soup.triangles.empty()) throw InputError("glTF " + path + " has no triangles");
   if (r.all_uv) {
     r.out.soup.uv = std::move(r.uv);
-    r.out.texture = base_color_texture(model, r.textured_material);
+    r.out.texture = base_color_texture(model, r.textured_material, "glTF " + path);
   }
   return std::move(r.out);
 }
