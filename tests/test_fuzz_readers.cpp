@@ -174,7 +174,7 @@ TEST_CASE("Mutated skeleton, layout and SDM headers are accepted or refused with
 // allocated 1.6-1.9 GB) or whose window makes OpenEXR size its buffers at 2 GB; a skeleton and a
 // layout with 3e12 where an index belongs (a float-to-int cast, undefined); glTF files whose image
 // buffer view runs past the buffer (tinygltf handed stb the unchecked length: a heap over-read) or
-// whose image claims a gigabyte of pixels.
+// whose image claims a gigabyte of pixels, or whose indices are floats (a cast to size_t, undefined).
 TEST_CASE("Fuzzer findings are refused with InputError", "[hostile][fuzz]") {
   const MemoryCap cap;
   const std::filesystem::path dir = std::filesystem::path(SDM_TEST_DATA) / ".." / "fuzz" / "regressions";

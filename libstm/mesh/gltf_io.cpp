@@ -125,6 +125,10 @@ struct Reader {
     std::vector<size_t> corners;
     if (p.indices >= 0) {
       const AccessorView I(model, p.indices, what);
+      const int type = model.accessors[p.indices].componentType;
+      if (I.components() != 1 || (type != TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE && type != TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT &&
+                                  type != TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT))
+        throw InputError(what + ": indices must be unsigned byte, short or int scalars (component type " + std::to_string(type) + ")");
       for (size_t i = 0; i < I.count(); ++i) corners.push_back(size_t(I.get(i, 0)));
     } else {
       for (size_t i = 0; i < P.count(); ++i) corners.push_back(i);
