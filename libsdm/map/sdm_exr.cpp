@@ -85,12 +85,23 @@ void check_attribute_value(std::istream& in, const std::string& name, const std:
                 std::to_string(dw.min.y) + "); an SDM starts at (0, 0) and has at most " + std::to_string(kMaxImageSide) + " texels a side");
   }
   if (type != "chlist") return;
+  // Every byte of the list, its closing NUL included, within the size: OpenEXR reads the list to
+  // that NUL whatever the size says (a fuzzed list one byte short of its NUL let the walk end the
+  // header there while OpenEXR read on into a 1.7 GB attribute).
   int64_t used = 0;
+  auto next = [&]() {
+    char c;
+    if (used >= size || !in.get(c)) throw bad(attribute + " runs past the " + std::to_string(size) + " bytes it says it has");
+    ++used;
+    return c;
+  };
   for (int channels = 0;; ++channels) {
     std::string channel;
-    for (char c; used < size && in.get(c) && (++used, c != '\0');) channel.push_back(c);
+    for (char c = next(); c != '\0'; c = next())
+      if (channel.size() < 256) channel.push_back(c);
     if (channel.empty()) break;
     if (channels >= 8 || channel.size() > 255) throw bad(attribute + ": more than 8 channels or a name over 255 bytes");
+    if (used + 16 > size) throw bad(attribute + " runs past the " + std::to_string(size) + " bytes it says it has");
     in.seekg(16, std::ios::cur);  // pixel type, pLinear, 3 reserved, x and y sampling
     used += 16;
   }
