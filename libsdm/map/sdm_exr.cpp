@@ -120,19 +120,18 @@ void check_exr_header(const std::string& path) {
   unsigned char head[8];
   if (!in.read(reinterpret_cast<char*>(head), 8)) throw bad("the OpenEXR header is cut short");
   if (head[5] & 0x1e) throw bad("it is a tiled, deep or multi-part OpenEXR file; an SDM is one scanline image");
-  // Names are read as OpenEXR's Header::readFrom reads them (Xdr::read with its name limit): up to
-  // 32 bytes (256 with the long-names flag) or a NUL, whichever comes first; a longer name runs on
-  // into the next field there, so it must here too, or the walk and OpenEXR part ways (a fuzzed
-  // file then reached OpenEXR's reader with a 1.6 GB attribute this walk had not seen).
-  const int max_name = (head[5] & 0x04) ? 255 : 31;
+  // Names end with a NUL within 32 bytes (31 characters; longer names need the long-names flag,
+  // refused above). OpenEXR reads a name without its NUL on into the next field, so a file with
+  // one is refused here rather than walked differently from OpenEXR (fuzzed names of 32 bytes
+  // made OpenEXR allocate 1.6-1.9 GB for an attribute this walk never saw).
   auto read_name = [&](std::string& out) {
     out.clear();
-    for (int n = max_name; n >= 0; --n) {
-      char c;
-      if (!in.get(c)) throw bad("the header is cut short");
+    for (char c; in.get(c);) {
       if (c == '\0') return;
+      if (out.size() == 31) throw bad("the header holds a name of 32 bytes or more without the long-names flag");
       out.push_back(c);
     }
+    throw bad("the header is cut short");
   };
   auto read_i32 = [&]() {
     unsigned char b[4];

@@ -192,16 +192,26 @@ std::pair<const unsigned char*, size_t> encoded_image(const tinygltf::Model& m, 
 
 // Decodes a PNG or JPEG (the two formats glTF allows; stb's other decoders are not offered
 // fuzzed bytes) to RGBA, after its own header: at most kMaxImageSide a side, and no more pixels
-// than its bytes can hold (deflate's ratio is at most 1032:1; 4096:1 is allowed). Throws
-// InputError naming the problem.
+// than its bytes can hold: 8 bytes a pixel (16-bit RGBA, what stb may decode into) at most 1100
+// times the file (deflate's ratio is at most 1032:1; a fuzzed 128 KB file claiming more made stb
+// allocate 1-2 GB). Throws InputError naming the problem.
 Image decode_texture(const unsigned char* bytes, size_t size, const std::string& what) {
   const bool png = size >= 8 && std::memcmp(bytes, "\x89PNG\r\n\x1a\n", 8) == 0;
   const bool jpeg = size >= 3 && bytes[0] == 0xFF && bytes[1] == 0xD8 && bytes[2] == 0xFF;
   if (!png && !jpeg) throw InputError(what + ": its texture is neither PNG nor JPEG");
+  // stb sizes its buffer by a PNG chunk's stated length before reading it (a 2.4 KB image said
+  // 2 GB): every chunk must fit in the bytes, up to IEND.
+  for (size_t at = 8; png;) {
+    if (size - at < 12) throw InputError(what + ": its PNG texture is cut short (no IEND chunk)");
+    const size_t length = size_t(bytes[at]) << 24 | size_t(bytes[at + 1]) << 16 | size_t(bytes[at + 2]) << 8 | bytes[at + 3];
+    if (length > size - at - 12) throw InputError(what + ": a chunk of its PNG texture runs past the texture's bytes");
+    if (std::memcmp(bytes + at + 4, "IEND", 4) == 0) break;
+    at += 12 + length;
+  }
   int w = 0, h = 0, c = 0;
   if (size > size_t(INT_MAX) || !stbi_info_from_memory(bytes, int(size), &w, &h, &c))
     throw InputError(what + ": its texture's header cannot be read");
-  if (w < 1 || h < 1 || w > kMaxImageSide || h > kMaxImageSide || 4.0 * w * h > 4096.0 * double(size) + (1 << 20))
+  if (w < 1 || h < 1 || w > kMaxImageSide || h > kMaxImageSide || 8.0 * w * h > 1100.0 * double(size) + (1 << 20))
     throw InputError(what + ": its texture claims " + std::to_string(w) + " x " + std::to_string(h) + " pixels in " +
                      std::to_string(size) + " bytes (at most " + std::to_string(kMaxImageSide) + " a side, and what the bytes can hold)");
   unsigned char* p = stbi_load_from_memory(bytes, int(size), &w, &h, &c, 4);
