@@ -51,6 +51,14 @@ void check_window(const std::string& path, const Imath::Box2i& dw, int channels)
                      std::to_string(int64_t(file)) + " bytes; the header was altered");
 }
 
+// A little-endian 32-bit integer of the OpenEXR header; `bad` makes the error for a cut-short file.
+template <class Bad>
+int32_t read_le_i32(std::istream& in, const Bad& bad) {
+  unsigned char b[4];
+  if (!in.read(reinterpret_cast<char*>(b), 4)) throw bad("the header is cut short");
+  return int32_t(uint32_t(b[0]) | uint32_t(b[1]) << 8 | uint32_t(b[2]) << 16 | uint32_t(b[3]) << 24);
+}
+
 // OpenEXR reads a known attribute type by its own size, not by the size field before it (a box2i
 // is 16 bytes whatever the field says, a channel list runs to its empty name), and allocates
 // other values at the size they claim. So the walk below checks that the two agree, type by
@@ -71,11 +79,7 @@ void check_attribute_value(std::istream& in, const std::string& name, const std:
     throw bad(attribute + " says " + std::to_string(size) + " bytes; its type has " + std::to_string(f->second));
   if (type == "preview" || type == "stringvector" || type == "floatvector" || type == "idmanifest")
     throw bad(attribute + ": an SDM holds no attribute of this type");
-  auto i32 = [&]() {
-    unsigned char b[4];
-    if (!in.read(reinterpret_cast<char*>(b), 4)) throw bad("the header is cut short");
-    return int32_t(uint32_t(b[0]) | uint32_t(b[1]) << 8 | uint32_t(b[2]) << 16 | uint32_t(b[3]) << 24);
-  };
+  auto i32 = [&]() { return read_le_i32(in, bad); };
   if (name == "dataWindow" && type == "box2i") {
     Imath::Box2i dw;
     dw.min.x = i32(), dw.min.y = i32(), dw.max.x = i32(), dw.max.y = i32();
@@ -133,16 +137,11 @@ void check_exr_header(const std::string& path) {
     }
     throw bad("the header is cut short");
   };
-  auto read_i32 = [&]() {
-    unsigned char b[4];
-    if (!in.read(reinterpret_cast<char*>(b), 4)) throw bad("the header is cut short");
-    return int32_t(uint32_t(b[0]) | uint32_t(b[1]) << 8 | uint32_t(b[2]) << 16 | uint32_t(b[3]) << 24);
-  };
   for (std::string name, type;;) {
     read_name(name);
     if (name.empty()) return;
     read_name(type);
-    const int64_t size = read_i32();
+    const int64_t size = read_le_i32(in, bad);
     const int64_t at = int64_t(in.tellg()), left = bytes - at;
     const std::string attribute = "the header's attribute '" + name.substr(0, 40) + "' (" + type.substr(0, 20) + ")";
     if (size < 0 || size > left)

@@ -3,16 +3,25 @@
 #include "libstm/core/errors.h"
 #include "libstm/core/limits.h"
 
+#include <algorithm>
 #include <cerrno>
 #include <cmath>
 #include <cstdlib>
 #include <cstring>
+#include <filesystem>
 #include <fstream>
 #include <regex>
 #include <sstream>
 #include <vector>
 
 namespace sdm {
+
+std::string lower_extension(const std::string& path) {
+  std::string ext = std::filesystem::path(path).extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+  return ext;
+}
+
 namespace {
 
 // Lines of a text file with their numbers; `comments` strips '#' to the end of the line.

@@ -24,4 +24,7 @@ namespace sdm {
 // Formats it does not know in detail (binary OFF, nOFF, 4OFF) pass through unchecked.
 void check_mesh_file(const std::string& path, const std::string& ext, std::uintmax_t bytes);
 
+// The extension of `path`, dot included, lower-cased: how readers and writers pick a format.
+std::string lower_extension(const std::string& path);
+
 }  // namespace sdm

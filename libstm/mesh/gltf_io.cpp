@@ -3,6 +3,7 @@
 #include "libstm/core/atomic_file.h"
 #include "libstm/core/errors.h"
 #include "libstm/core/limits.h"
+#include "libstm/mesh/check_mesh_file.h"
 
 #include <stb/stb_image.h>
 #include <tiny_gltf.h>
@@ -20,12 +21,6 @@ namespace sdm {
 namespace {
 
 namespace fs = std::filesystem;
-
-std::string lower_ext(const std::string& path) {
-  std::string e = fs::path(path).extension().string();
-  std::transform(e.begin(), e.end(), e.begin(), [](unsigned char c) { return char(std::tolower(c)); });
-  return e;
-}
 
 // The bytes of element i of an accessor, after checking that the whole accessor lies inside its
 // buffer view and the view inside its buffer (tinygltf does not check every combination).
@@ -241,7 +236,7 @@ GltfScene read_gltf(const std::string& path) {
   tinygltf::TinyGLTF loader;
   loader.SetImageLoader(keep_encoded_image, nullptr);
   std::string err, warn;
-  const bool ok = lower_ext(path) == ".glb" ? loader.LoadBinaryFromFile(&model, &err, &warn, path)
+  const bool ok = lower_extension(path) == ".glb" ? loader.LoadBinaryFromFile(&model, &err, &warn, path)
                                             : loader.LoadASCIIFromFile(&model, &err, &warn, path);
   if (!ok) throw InputError("cannot read glTF " + path + ": " + (err.empty() ? "the file could not be parsed" : err));
   Reader r{model, path, {}, {}, {}, true, -1, {}};
@@ -346,7 +341,7 @@ void add_texture(tinygltf::Model& m, const std::string& png, tinygltf::Primitive
 }  // namespace
 
 void write_gltf(const Mesh& mesh, const std::string& path, const std::string& texture_png) {
-  const std::string ext = lower_ext(path);
+  const std::string ext = lower_extension(path);
   if (ext != ".glb" && ext != ".gltf") throw InputError("cannot write glTF " + path + ": name a .glb or .gltf file");
   const SplitVertices s = split_vertices(mesh);
   tinygltf::Model m;

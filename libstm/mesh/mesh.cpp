@@ -120,12 +120,6 @@ class SoupImporter : public OpenMesh::IO::BaseImporter {
   }
 };
 
-std::string lower_extension(const std::string& path) {
-  std::string ext = fs::path(path).extension().string();
-  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
-  return ext;
-}
-
 // Parses up to three numbers with strtod, which, unlike OpenMesh's stream-based readers,
 // understands "nan" and "inf" instead of dropping the line.
 int parse_xyz(const char* s, double xyz[3]) {
