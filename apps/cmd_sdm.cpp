@@ -14,9 +14,11 @@
 #include "libstm/mesh/mesh.h"
 #include "libstm/mesh/validate_mesh.h"
 
-#include <Imath/half.h>
+
+#include <unistd.h>
 
 #include <cmath>
+#include <filesystem>
 #include <memory>
 #include <sstream>
 
@@ -80,11 +82,24 @@ std::map<int, int> parse_segment_levels(const std::vector<std::string>& items) {
 
 bool closed_manifold(const sdm::Mesh& m) { return sdm::validate_mesh(sdm::mesh_to_soup(m)).usable(); }
 
-// The map as a reader will see it: D rounded to half precision when it is stored so.
-sdm::SdmImage stored(sdm::SdmImage im, sdm::SdmPrecision precision) {
-  if (precision == sdm::SdmPrecision::half16)
-    for (float& d : im.D) d = float(half(d));
-  return im;
+constexpr const char* kPrecisionHelp =
+    "Displacement precision in the file: float (32 bits), half (16 bits: 11 significant bits), or a number of bits "
+    "from 4 to 11: the residual against the flat base mesh, quantised (the smallest file; docs/BENCHMARKS.md)";
+
+// The bytes of the map as `sdm encode` would write it, and the map as a reader sees it: written to a
+// temporary file next to nothing the user owns, read back, removed.
+std::pair<sdm::SdmImage, uintmax_t> through_file(const sdm::SdmImage& im, sdm::SdmPrecision precision) {
+  namespace fs = std::filesystem;
+  const fs::path tmp = fs::temp_directory_path() / ("sdm-roundtrip-" + std::to_string(::getpid()) + ".exr");
+  struct Remove {
+    fs::path p;
+    ~Remove() {
+      std::error_code ec;
+      fs::remove(p, ec);
+    }
+  } remove{tmp};
+  sdm::write_sdm_exr(im, tmp.string(), precision);
+  return {sdm::read_sdm_exr(tmp.string()), fs::file_size(tmp)};
 }
 
 std::string point_text(const Eigen::Vector3d& p) {
@@ -146,15 +161,13 @@ Command add_encode_command(CLI::App& parent) {
   app->add_option("--png", o->png, "Also write a false-colour picture of the map (.png)");
   add_min_part_option(app, o->min_part);
   add_max_memory_option(app, o->max_memory);
-  app->add_option("--precision", o->precision,
-                  "Displacement precision in the file: float (32 bits) or half (16 bits: 11 significant bits, a smaller file)")
-      ->capture_default_str()
-      ->check(CLI::IsMember({"float", "half"}));
+  app->add_option("--precision", o->precision, kPrecisionHelp)->capture_default_str();
   app->add_flag("--strict", o->strict,
                 "Refuse (exit 2, nothing written) a self-intersecting input or a map that carries under 90 % of the surface");
   app->add_flag("--json", o->json, "Print one JSON object with the summary");
   return {app, [o]() {
             if (o->layout.empty()) check_atlas_memory(o->size, 10, o->max_memory);
+            const sdm::SdmPrecision precision = sdm::SdmPrecision::parse(o->precision);
             sdm::Stopwatch clock;
             const sdm::Mesh mesh = load_mesh_min_part(o->mesh, o->min_part);
             const sdm::SelfIntersections crossings = check_self_intersections(mesh, o->strict);
@@ -165,11 +178,10 @@ Command add_encode_command(CLI::App& parent) {
             eo.progress = [](const std::string& s) { progress("  " + s); };
             const sdm::SdmImage im = sdm::encode_sdm(mesh, layout, eo, &st);
             const double encode_s = clock.lap();
-            const sdm::SdmPrecision precision = o->precision == "half" ? sdm::SdmPrecision::half16 : sdm::SdmPrecision::float32;
             progress("  checking the map (decoded at level 3)");
             const double diag = sdm::bounding_box_diagonal(mesh);
             const sdm::SurfaceCoverage carried =
-                check_carried(mesh, sdm::decode_sdm(stored(im, precision), sdm::DecodeOptions{}), diag, o->strict);
+                check_carried(mesh, sdm::decode_sdm(sdm::as_stored(im, precision), sdm::DecodeOptions{}), diag, o->strict);
             const double check_s = clock.lap();
             sdm::write_sdm_exr(im, o->out, precision);
             if (!o->png.empty()) sdm::write_png(false_colour(im), o->png);
@@ -248,7 +260,7 @@ Command add_decode_command(CLI::App& parent) {
 
 Command add_roundtrip_command(CLI::App& parent) {
   struct Opts {
-    std::string mesh, out;
+    std::string mesh, out, precision = "float";
     int size = 1024, lod = 3, samples = 100000;
     double max_rms = -1, min_part = 0;
     std::string max_memory;
@@ -264,6 +276,7 @@ Command add_roundtrip_command(CLI::App& parent) {
   app->add_option("--lod", o->lod, "Level of detail of the decode")->capture_default_str()->check(CLI::Range(0, 8));
   app->add_option("--samples", o->samples, "Points sampled on each surface")->capture_default_str()->check(CLI::Range(1000, 10000000));
   app->add_option("--max-rms", o->max_rms, "Fail (exit 3) when the RMS error, as a fraction of the diagonal, is larger");
+  app->add_option("--precision", o->precision, kPrecisionHelp)->capture_default_str();
   app->add_option("-o,--output", o->out, "Also write the decoded mesh");
   add_min_part_option(app, o->min_part);
   add_max_memory_option(app, o->max_memory);
@@ -272,12 +285,13 @@ Command add_roundtrip_command(CLI::App& parent) {
   app->add_flag("--json", o->json, "Print one JSON object with the summary");
   return {app, [o]() {
             const sdm::Stopwatch total;
+            const sdm::SdmPrecision precision = sdm::SdmPrecision::parse(o->precision);
             const sdm::Mesh mesh = load_mesh_min_part(o->mesh, o->min_part);
             const sdm::SelfIntersections crossings = check_self_intersections(mesh, o->strict);
             const sdm::Layout layout = layout_for(mesh, encode_layout_source("", "", o->size)).layout;
             sdm::Stopwatch stage;
             progress("encoding");
-            const sdm::SdmImage im = sdm::encode_sdm(mesh, layout);
+            const auto [im, map_bytes] = through_file(sdm::encode_sdm(mesh, layout), precision);
             const double encode_s = stage.lap();
             progress("decoding");
             sdm::DecodeOptions d;
@@ -296,6 +310,7 @@ Command add_roundtrip_command(CLI::App& parent) {
             const bool closed = closed_manifold(out);
             if (o->json) {
               print_json({{"mesh", o->mesh}, {"size", o->size}, {"lod", o->lod}, {"segments", layout.segments.size()},
+                          {"precision", precision.name()}, {"map_bytes", map_bytes},
                           {"rms", rms}, {"hausdorff", hd}, {"psnr", psnr}, {"faces", out.n_faces()},
                           {"closed", closed}, {"encode_seconds", encode_s}, {"decode_seconds", decode_s},
                           {"total_seconds", total.seconds()}, {"samples", o->samples}, {"carried", carried.share},
@@ -303,12 +318,45 @@ Command add_roundtrip_command(CLI::App& parent) {
             } else {
               std::cout << o->mesh << " at " << o->size << ", level " << o->lod << ": RMS " << 100 * rms << " %, Hausdorff "
                         << 100 * hd << " % of the diagonal, PSNR " << psnr << " dB, " << out.n_faces() << " faces, "
-                        << (closed ? "closed" : "NOT closed") << "\n";
+                        << (closed ? "closed" : "NOT closed") << ", map " << map_bytes << " bytes (" << precision.name() << ")\n";
             }
             if (o->max_rms >= 0 && rms > o->max_rms) {
               std::cerr << "sdm roundtrip: RMS " << rms << " exceeds --max-rms " << o->max_rms << std::endl;
               return 3;
             }
+            return 0;
+          }};
+}
+
+}  // namespace sdm::cli
+
+namespace sdm::cli {
+
+Command add_compare_command(CLI::App& parent) {
+  struct Opts {
+    std::string reference, other;
+    int samples = 100000;
+    bool json = false;
+  };
+  auto o = std::make_shared<Opts>();
+  auto* app = parent.add_subcommand(
+      "compare", "Measure how far a mesh lies from a reference mesh, as 'sdm roundtrip' does: symmetric Hausdorff and\n"
+                 "RMS distance by dense sampling (exact closest points), as fractions of the reference's bounding-box\n"
+                 "diagonal. For comparing any other tool's output (a Draco decode, a decimation) with sdm's.");
+  app->add_option("reference", o->reference, "Reference mesh (.obj, .off, .ply, .stl, .glb, .gltf)")->required();
+  app->add_option("other", o->other, "Mesh to measure against it")->required();
+  app->add_option("--samples", o->samples, "Points sampled on each surface")->capture_default_str()->check(CLI::Range(1000, 10000000));
+  app->add_flag("--json", o->json, "Print one JSON object");
+  return {app, [o]() {
+            const sdm::Mesh a = sdm::load_mesh(o->reference), b = sdm::load_mesh(o->other);
+            const sdm::SurfaceDistance d = sdm::surface_distance(a, b, o->samples);
+            const double rms = d.rms / d.diagonal, hd = d.hausdorff / d.diagonal;
+            if (o->json)
+              print_json({{"reference", o->reference}, {"other", o->other}, {"rms", rms}, {"hausdorff", hd},
+                          {"mean", d.mean / d.diagonal}, {"samples", o->samples}});
+            else
+              std::cout << o->other << " against " << o->reference << ": RMS " << 100 * rms << " %, Hausdorff " << 100 * hd
+                        << " % of the diagonal\n";
             return 0;
           }};
 }

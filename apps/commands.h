@@ -25,6 +25,7 @@ Command add_render_command(CLI::App& parent);
 Command add_encode_command(CLI::App& parent);
 Command add_decode_command(CLI::App& parent);
 Command add_roundtrip_command(CLI::App& parent);
+Command add_compare_command(CLI::App& parent);
 Command add_bench_command(CLI::App& parent);
 Command add_skeleton_command(CLI::App& parent);
 Command add_primitive_command(CLI::App& parent);

@@ -28,6 +28,7 @@ int main(int argc, char** argv) {
       sdm::cli::add_encode_command(app),
       sdm::cli::add_decode_command(app),
       sdm::cli::add_roundtrip_command(app),
+      sdm::cli::add_compare_command(app),
       sdm::cli::add_transfer_command(app),
       sdm::cli::add_bench_command(app),
   };

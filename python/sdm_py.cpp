@@ -134,7 +134,7 @@ py::dict encode(const RowMatrix3d& V, const RowMatrix3i& F, const std::string& p
   const sdm::Layout l = sdm::compute_layout(mesh, sdm::extract_skeleton(mesh), options);
   sdm::EncodeStats st;
   const sdm::SdmImage im = sdm::encode_sdm(mesh, l, {}, &st);
-  sdm::write_sdm_exr(im, path, precision == "half" ? sdm::SdmPrecision::half16 : sdm::SdmPrecision::float32);
+  sdm::write_sdm_exr(im, path, sdm::SdmPrecision::parse(precision));
   py::dict d;
   d["path"] = path;
   d["size"] = im.width;

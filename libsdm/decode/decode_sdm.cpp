@@ -97,17 +97,24 @@ Mesh decode_sdm(const SdmImage& image, const DecodeOptions& options, std::vector
       reference[f][c] = ray.origin + seg.radius * ray.direction;
     }
   }
-  // Where a base face's corners land: their (u, v) are exact, so these are reliable.
-  auto place = [&](int s, const Eigen::Vector3d& q) {
+  // Where a base face's corners land: their (u, v) are exact, and so is their displacement where
+  // the file stores it (format 3); older files read it from the map.
+  auto ray_at = [&](int s, const Eigen::Vector3d& q) {
     const LayoutSegment& seg = layout.segments[s];
     const CapsuleUV uv = capsule_uv(frames[s], seg.w, seg.h, seg.d, q);
-    const CapsuleRay ray = capsule_ray(frames[s], seg.w, seg.h, seg.d, uv.u, uv.v);
-    return Eigen::Vector3d(ray.origin + sample_displacement(image, seg, uv.u, uv.v) * ray.direction);
+    return std::make_pair(capsule_ray(frames[s], seg.w, seg.h, seg.d, uv.u, uv.v), uv);
   };
+  if (image.residual && base.corner_d.empty())
+    throw InputError("the SDM stores residuals but its base mesh has no corner displacements: the file is damaged");
   std::vector<std::array<Eigen::Vector3d, 3>> corner(base.triangles.rows());
   std::vector<double> reach(base.triangles.rows());
   for (int f = 0; f < base.triangles.rows(); ++f) {
-    for (int c = 0; c < 3; ++c) corner[f][c] = place(base.face_segment[f], reference[f][c]);
+    const int s = base.face_segment[f];
+    for (int c = 0; c < 3; ++c) {
+      const auto [ray, uv] = ray_at(s, reference[f][c]);
+      const double d = base.corner_d.empty() ? sample_displacement(image, layout.segments[s], uv.u, uv.v) : base.corner_d[f][c];
+      corner[f][c] = ray.origin + d * ray.direction;
+    }
     double longest = 0;
     for (int c = 0; c < 3; ++c) longest = std::max(longest, (corner[f][c] - corner[f][(c + 1) % 3]).norm());
     reach[f] = 0.5 * longest;
@@ -120,13 +127,19 @@ Mesh decode_sdm(const SdmImage& image, const DecodeOptions& options, std::vector
     const int s = base.face_segment[f];
     const Eigen::Vector3d& b = tess.point_bary[i];
     const Eigen::Vector3d q = b[0] * reference[f][0] + b[1] * reference[f][1] + b[2] * reference[f][2];
-    Eigen::Vector3d p = place(s, q);
-    // Safeguard: near junctions a texel's ray can leave the segment's region and meet a far
-    // surface; a point displaced farther from its decoded base triangle than half the triangle's
-    // longest edge comes from such a ray and is pulled back to that distance.
     const Eigen::Vector3d flat = b[0] * corner[f][0] + b[1] * corner[f][1] + b[2] * corner[f][2];
-    const double off = (p - flat).norm();
-    if (off > reach[f]) p = flat + (p - flat) * (reach[f] / off);
+    const auto [ray, uv] = ray_at(s, q);
+    // A quantised map holds the residual against the flat face's point projected on the ray.
+    const double foot = image.residual ? (flat - ray.origin).dot(ray.direction) : 0.0;
+    const double d = sample_displacement(image, layout.segments[s], uv.u, uv.v);
+    Eigen::Vector3d p = std::isnan(d) ? flat : Eigen::Vector3d(ray.origin + (foot + d) * ray.direction);
+    // Safeguard: near junctions a texel's ray can leave the segment's region and meet a far
+    // surface, or the bilinear lookup mixes texels encoded for faces on another sheet; a point
+    // displaced farther from its decoded base triangle than half the triangle's longest edge is
+    // such a point, and the flat base triangle's own point is the better estimate (pulling it
+    // back only to that distance left Spot's 1024 map at RMS 0.020 %, Hausdorff 0.98 %; the flat
+    // point gives 0.011 % and 0.55 %: DESIGN 6).
+    if ((p - flat).norm() > reach[f]) p = flat;
     vh[i] = out.add_vertex(Mesh::Point(p.x(), p.y(), p.z()));
     if (vertex_segment) (*vertex_segment)[i] = s;
   }

@@ -251,6 +251,7 @@ BaseMesh make_base_mesh(const Mesh& input, const Layout& layout, int target_vert
   base.triangles = face_matrix(m);
   base.corner_uv.resize(m.n_faces());
   base.corner_position.resize(m.n_faces());
+  base.corner_d.resize(m.n_faces());
   for (auto f : m.faces()) {
     const int s = base.face_segment[f.idx()];
     const LayoutSegment& seg = layout.segments[s];
@@ -259,7 +260,9 @@ BaseMesh make_base_mesh(const Mesh& input, const Layout& layout, int target_vert
     for (auto v : m.fv_range(f)) {
       const Eigen::Vector3d p = point(mesh, mesh.vertex_handle(m.property(original, v)));
       const CapsuleUV uv = capsule_uv(frame, seg.w, seg.h, seg.d, p);
+      const CapsuleRay ray = capsule_ray(frame, seg.w, seg.h, seg.d, uv.u, uv.v);
       base.corner_position[f.idx()][c] = p;
+      base.corner_d[f.idx()][c] = (p - ray.origin).dot(ray.direction);
       base.corner_uv[f.idx()][c++] = {uv.u, uv.v};
     }
   }
@@ -269,16 +272,18 @@ BaseMesh make_base_mesh(const Mesh& input, const Layout& layout, int target_vert
 nlohmann::json base_mesh_to_json(const BaseMesh& base) {
   nlohmann::json j;
   std::vector<int> tris;
-  std::vector<double> uv;
+  std::vector<double> uv, d;
   for (int f = 0; f < base.triangles.rows(); ++f)
     for (int c = 0; c < 3; ++c) {
       tris.push_back(base.triangles(f, c));
       uv.push_back(base.corner_uv[f][c].x());
       uv.push_back(base.corner_uv[f][c].y());
+      if (!base.corner_d.empty()) d.push_back(base.corner_d[f][c]);
     }
   j["triangles"] = tris;
   j["face_segment"] = base.face_segment;
   j["corner_uv"] = uv;
+  if (!d.empty()) j["corner_d"] = d;
   return j;
 }
 
@@ -319,11 +324,12 @@ void check_base_topology(const Eigen::MatrixX3i& t) {
 BaseMesh base_mesh_from_json(const nlohmann::json& j, int segments) {
   BaseMesh base;
   std::vector<int> tris;
-  std::vector<double> uv;
+  std::vector<double> uv, d;
   try {
     tris = json_ints(j.at("triangles"));
     base.face_segment = json_ints(j.at("face_segment"));
     uv = j.at("corner_uv").get<std::vector<double>>();
+    if (j.contains("corner_d")) d = j.at("corner_d").get<std::vector<double>>();
   } catch (const nlohmann::json::exception& e) {
     throw InputError(std::string("invalid base mesh in the SDM header: ") + e.what());
   }
@@ -331,8 +337,12 @@ BaseMesh base_mesh_from_json(const nlohmann::json& j, int segments) {
   if (tris.size() != 3 * nf || uv.size() != 6 * nf || nf == 0)
     throw InputError("invalid base mesh in the SDM header: " + std::to_string(nf) + " faces but " +
                      std::to_string(tris.size()) + " corner indices and " + std::to_string(uv.size()) + " uv values");
+  if (!d.empty() && d.size() != 3 * nf)
+    throw InputError("invalid base mesh in the SDM header: " + std::to_string(nf) + " faces but " + std::to_string(d.size()) +
+                     " corner displacements");
   base.triangles.resize(Eigen::Index(nf), 3);
   base.corner_uv.resize(nf);
+  if (!d.empty()) base.corner_d.resize(nf);
   for (size_t f = 0; f < nf; ++f) {
     if (base.face_segment[f] < 0 || base.face_segment[f] >= segments)
       throw InputError("invalid base mesh in the SDM header: face " + std::to_string(f) + " names segment " +
@@ -343,6 +353,11 @@ BaseMesh base_mesh_from_json(const nlohmann::json& j, int segments) {
       base.corner_uv[f][c] = {uv[6 * f + 2 * c], uv[6 * f + 2 * c + 1]};
       if (!base.corner_uv[f][c].allFinite())
         throw InputError("invalid base mesh in the SDM header: face " + std::to_string(f) + " has NaN or infinite texel coordinates");
+      if (!d.empty()) {
+        base.corner_d[f][c] = d[3 * f + c];
+        if (!std::isfinite(d[3 * f + c]))
+          throw InputError("invalid base mesh in the SDM header: face " + std::to_string(f) + " has a NaN or infinite corner displacement");
+      }
     }
   }
   check_base_topology(base.triangles);

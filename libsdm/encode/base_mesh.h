@@ -18,6 +18,9 @@ struct BaseMesh {
   Eigen::MatrixX3i triangles;                           // closed, consistently oriented
   std::vector<int> face_segment;                        // segment of each face
   std::vector<std::array<Eigen::Vector2d, 3>> corner_uv;  // (u, v) of each corner in its face's segment
+  // Displacement of each corner along its capsule ray (model units): with it the decoder places the
+  // base mesh's corners exactly instead of reading them from the map. Empty in maps of format 1-2.
+  std::vector<std::array<double, 3>> corner_d;
   // Position of each corner in the input mesh: known to the encoder only (not stored in the file;
   // empty after base_mesh_from_json).
   std::vector<std::array<Eigen::Vector3d, 3>> corner_position;

@@ -36,7 +36,8 @@ SdmImage encode_sdm(const Mesh& mesh, const Layout& layout, const EncodeOptions&
 
 // The (u, v) of the centre of a segment's texel (ix, iy are atlas texel indices inside the
 // rectangle), and the D lookup used by the decoder: bilinear between texel centres, periodic
-// around the axis, clamped along it. Shared so encoder, decoder and tests agree on texel centres.
+// around the axis, clamped along it, NaN texels (left out of a compact map) skipped; NaN when the
+// four texels are all left out. Shared so encoder, decoder and tests agree on texel centres.
 Eigen::Vector2d texel_local_uv(const LayoutSegment& seg, int ix, int iy);
 double sample_displacement(const SdmImage& image, const LayoutSegment& seg, double u, double v);
 

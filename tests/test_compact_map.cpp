@@ -1,0 +1,158 @@
+// Compact maps (issue 14, format 3): the base mesh in binary, texels no base face reads left out,
+// the residual against the decoder's prediction quantised; old files still decode.
+#include "libsdm/decode/decode_sdm.h"
+#include "libsdm/encode/base_mesh.h"
+#include "libsdm/encode/encode_sdm.h"
+#include "libsdm/map/base_mesh_blob.h"
+#include "libsdm/map/sdm_exr.h"
+#include "libstm/core/errors.h"
+#include "libstm/layout/layout.h"
+#include "libstm/mesh/primitives.h"
+#include "libstm/mesh/surface_distance.h"
+#include "libstm/mesh/validate_mesh.h"
+#include "libstm/skeleton/extract_skeleton.h"
+#include "tests/test_util.h"
+
+#include <OpenEXR/ImfChannelList.h>
+#include <OpenEXR/ImfFrameBuffer.h>
+#include <OpenEXR/ImfHeader.h>
+#include <OpenEXR/ImfIntAttribute.h>
+#include <OpenEXR/ImfOutputFile.h>
+#include <OpenEXR/ImfStringAttribute.h>
+#include <catch2/catch.hpp>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+
+using namespace sdm;
+
+namespace {
+
+struct Encoded {
+  Mesh mesh;
+  SdmImage image;
+};
+
+Encoded encode(const Mesh& mesh, int size) {
+  LayoutOptions lo;
+  lo.size = size;
+  return {mesh, encode_sdm(mesh, compute_layout(mesh, extract_skeleton(mesh), lo))};
+}
+
+double rms_of(const Mesh& a, const Mesh& b) {
+  const SurfaceDistance d = surface_distance(a, b, 100000);
+  return d.rms / d.diagonal;
+}
+
+// A format 2 file as the previous sdm wrote it: float Y and half A, the base mesh (without corner
+// displacements) in the layout JSON, every texel as encoded.
+void write_format_2(const SdmImage& im, const std::string& path) {
+  nlohmann::json layout = im.layout;
+  layout["base_mesh"].erase("corner_d");
+  Imf::Header header(im.width, im.height);
+  header.insert("sdm_layout", Imf::StringAttribute(layout.dump()));
+  header.insert("sdm_format_version", Imf::IntAttribute(2));
+  header.channels().insert("Y", Imf::Channel(Imf::FLOAT));
+  header.channels().insert("A", Imf::Channel(Imf::FLOAT));
+  Imf::FrameBuffer fb;
+  fb.insert("Y", Imf::Slice(Imf::FLOAT, (char*)im.D.data(), sizeof(float), sizeof(float) * im.width));
+  fb.insert("A", Imf::Slice(Imf::FLOAT, (char*)im.A.data(), sizeof(float), sizeof(float) * im.width));
+  Imf::OutputFile f(path.c_str(), header);
+  f.setFrameBuffer(fb);
+  f.writePixels(im.height);
+}
+
+}  // namespace
+
+TEST_CASE("The base mesh packs to binary and back within float rounding, in a fraction of its JSON", "[compact]") {
+  const Encoded e = encode(make_primitive("ypsilon"), 256);
+  const nlohmann::json& j = e.image.layout.at("base_mesh");
+  const std::string packed = pack_base_mesh(j);
+  const nlohmann::json back = unpack_base_mesh(packed);
+  CHECK(back.at("triangles") == j.at("triangles"));
+  CHECK(back.at("face_segment") == j.at("face_segment"));
+  for (const char* key : {"corner_uv", "corner_d"}) {
+    const auto a = j.at(key).get<std::vector<double>>(), b = back.at(key).get<std::vector<double>>();
+    REQUIRE(a.size() == b.size());
+    for (size_t i = 0; i < a.size(); ++i) CHECK(std::abs(a[i] - b[i]) <= 1e-7 * (1 + std::abs(a[i])));
+  }
+  std::printf("base mesh: %zu bytes of JSON, %zu packed\n", j.dump().size(), packed.size());
+  CHECK(packed.size() * 4 < j.dump().size());
+  // Damaged bytes are refused by name, never a crash or an allocation of what they claim.
+  std::string claim = packed;
+  claim[5] = '\x7f';  // an inflated size of petabytes
+  CHECK_THROWS_WITH(unpack_base_mesh(claim), Catch::Contains("inflated from"));
+  std::string cut = packed.substr(0, packed.size() / 2);
+  CHECK_THROWS_AS(unpack_base_mesh(cut), InputError);
+  CHECK_THROWS_AS(unpack_base_mesh("tiny"), InputError);
+}
+
+TEST_CASE("A quantised map stores the residual within half a step and leaves unread texels out", "[compact]") {
+  test_util::TempDir dir;
+  const Encoded e = encode(make_primitive("bottle"), 256);
+  const SdmImage& im = e.image;
+  for (int bits : {6, 8, 11}) {
+    const std::string path = dir / ("q" + std::to_string(bits) + ".exr");
+    write_sdm_exr(im, path, SdmPrecision(SdmPrecision::quantized, bits));
+    const SdmImage r = read_sdm_exr(path);
+    CHECK(r.residual);
+    double largest = 0;
+    for (size_t i = 0; i < im.D.size(); ++i)
+      if (!std::isnan(im.foot[i])) largest = std::max(largest, std::abs(double(im.D[i]) - im.foot[i]));
+    const double step = largest / ((1 << (bits - 1)) - 1);
+    long read = 0, out = 0;
+    for (size_t i = 0; i < im.D.size(); ++i) {
+      if (std::isnan(im.foot[i])) {
+        CHECK(std::isnan(r.D[i]));
+        CHECK(r.A[i] == 0.0f);
+        ++out;
+        continue;
+      }
+      ++read;
+      CHECK(std::abs(double(r.D[i]) - (double(im.D[i]) - im.foot[i])) <= 0.5 * step * (1 + 1e-6) + 1e-7);
+    }
+    CHECK(read > 0);
+    CHECK(out > 0);
+    // What the encoder checks is what a reader gets.
+    const SdmImage s = as_stored(im, SdmPrecision(SdmPrecision::quantized, bits));
+    for (size_t i = 0; i < im.D.size(); ++i) CHECK((std::isnan(s.D[i]) ? std::isnan(r.D[i]) : s.D[i] == r.D[i]));
+  }
+  CHECK_THROWS_AS(SdmPrecision::parse("3"), InputError);
+  CHECK_THROWS_AS(SdmPrecision::parse("12"), InputError);
+  CHECK_THROWS_AS(SdmPrecision::parse("8bits"), InputError);
+  CHECK(SdmPrecision::parse("9").bits == 9);
+}
+
+TEST_CASE("Every precision of format 3 decodes within the float map's error; format 2 files still decode", "[compact]") {
+  test_util::TempDir dir;
+  const Encoded e = encode(make_primitive("ypsilon"), 512);
+  const double exact = rms_of(e.mesh, decode_sdm(e.image));
+  for (const char* p : {"float", "half", "10", "8"}) {
+    const std::string path = dir / (std::string(p) + ".exr");
+    write_sdm_exr(e.image, path, SdmPrecision::parse(p));
+    const Mesh out = decode_sdm(read_sdm_exr(path));
+    const double rms = rms_of(e.mesh, out);
+    std::printf("ypsilon 512, %s: %ju bytes, RMS %.5f %% (in memory %.5f %%)\n", p, std::filesystem::file_size(path), 100 * rms,
+                100 * exact);
+    CHECK(rms <= 1.5 * exact + 2e-5);
+    CHECK(validate_mesh(mesh_to_soup(out)).usable());
+  }
+  write_format_2(e.image, dir / "v2.exr");
+  const Mesh old = decode_sdm(read_sdm_exr(dir / "v2.exr"));
+  CHECK(rms_of(e.mesh, old) <= 1.5 * exact + 2e-5);
+}
+
+TEST_CASE("Spot at level 3 within 0.02 % RMS in a map of at most 150 KB (issue 14)", "[compact]") {
+  test_util::TempDir dir;
+  const Encoded e = encode(load_mesh(std::string(SDM_EXAMPLES) + "/spot/spot_triangulated.obj"), 512);
+  const std::string path = dir / "spot.exr";
+  write_sdm_exr(e.image, path, SdmPrecision::parse("8"));
+  const auto bytes = std::filesystem::file_size(path);
+  const Mesh out = decode_sdm(read_sdm_exr(path));
+  const SurfaceDistance d = surface_distance(e.mesh, out, 100000);
+  std::printf("Spot 512, 8 bits: %ju bytes, level 3 RMS %.4f %%, Hausdorff %.3f %%\n", uintmax_t(bytes), 100 * d.rms / d.diagonal,
+              100 * d.hausdorff / d.diagonal);
+  CHECK(bytes <= 150000);
+  CHECK(d.rms / d.diagonal <= 0.0002);
+  CHECK(d.hausdorff / d.diagonal <= 0.01);
+}
