@@ -5,7 +5,10 @@
 #include "libsdm/decode/decode_sdm.h"
 #include "libsdm/encode/encode_sdm.h"
 #include "libsdm/map/sdm_exr.h"
+#include "libstm/geometry/triangle_bvh.h"
+#include "libstm/mesh/mesh_geometry.h"
 #include "libstm/mesh/self_intersections.h"
+#include "libstm/render/render_mesh.h"
 #include "libstm/mesh/surface_distance.h"
 #include "libstm/core/errors.h"
 #include "libstm/core/image.h"
@@ -140,18 +143,73 @@ sdm::SurfaceCoverage check_carried(const sdm::Mesh& input, const sdm::Mesh& deco
   return c;
 }
 
+// Where a round trip's worst error is (issue 17): the point of the Hausdorff distance, and the
+// segment and base face of the decoded vertex nearest it.
+struct WorstError {
+  Eigen::Vector3d position = Eigen::Vector3d::Zero();
+  int segment = -1, base_face = -1;
+  bool decoded_strays = false;  // the decoded surface leaves the input there (else it misses input)
+};
+WorstError locate_worst(const sdm::SurfaceDistance& d, const sdm::Mesh& decoded, const sdm::DecodeTrace& trace) {
+  WorstError w;
+  w.position = d.worst_point;
+  w.decoded_strays = d.worst_on_b;
+  const Eigen::Vector3d on_decoded = d.worst_on_b ? d.worst_point : d.worst_closest;
+  double best = INFINITY;
+  for (auto v : decoded.vertices()) {
+    const double dist = (sdm::point(decoded, v) - on_decoded).squaredNorm();
+    if (dist < best) best = dist, w.segment = trace.vertex_segment[v.idx()], w.base_face = trace.vertex_base_face[v.idx()];
+  }
+  return w;
+}
+
+// The decoded mesh coloured by each vertex's distance to the input (grey-blue at 0, yellow at
+// 0.15 %, red from 0.5 % of the diagonal on), seen from four sides, lit. The colour comes from a
+// ramp texture through per-vertex uv, so the renderer needs nothing new.
+void write_error_png(const sdm::Mesh& input, sdm::Mesh decoded, double diag, const std::string& path) {
+  const sdm::TriangleBvh bvh(sdm::vertex_matrix(input), sdm::face_matrix(input));
+  constexpr int kRamp = 256;
+  sdm::Image ramp(kRamp, 2);
+  for (int x = 0; x < kRamp; ++x) {
+    const double t = x / double(kRamp - 1);
+    const Eigen::Vector3d grey(0.72, 0.76, 0.86), yellow(1.0, 0.85, 0.2), red(0.85, 0.1, 0.1);
+    const Eigen::Vector3d c = t < 0.3 ? grey + (yellow - grey) * (t / 0.3) : yellow + (red - yellow) * ((t - 0.3) / 0.7);
+    for (int y = 0; y < 2; ++y) {
+      for (int k = 0; k < 3; ++k) ramp.at(x, y)[k] = uint8_t(std::lround(255 * c[k]));
+      ramp.at(x, y)[3] = 255;
+    }
+  }
+  decoded.request_halfedge_texcoords2D();
+  for (auto v : decoded.vertices()) {
+    const double t = std::min(1.0, bvh.closest_point(sdm::point(decoded, v)).distance / (0.005 * diag));
+    const float u = float((0.5 + t * (kRamp - 1)) / kRamp);
+    for (auto h : decoded.vih_range(v)) decoded.set_texcoord2D(h, sdm::Mesh::TexCoord2D(u, 0.5f));
+  }
+  sdm::GlContext gl;
+  sdm::RenderOptions ro;
+  ro.width = ro.height = 512;
+  ro.texture = &ramp;
+  ro.frame = sdm::principal_view_frame(decoded);
+  std::vector<sdm::Image> views;
+  for (int k = 0; k < 4; ++k) {
+    ro.azimuth_deg = 30 + 90 * k;
+    views.push_back(sdm::render_mesh(gl, decoded, ro));
+  }
+  sdm::write_png(sdm::contact_sheet(views, 2), path);
+}
+
 }  // namespace
 
 Command add_encode_command(CLI::App& parent) {
   struct Opts {
-    std::string mesh, out, layout, skeleton, png, max_memory, precision = "float";
+    std::string mesh, out, layout, skeleton, png, max_memory, precision = "10";  // BENCHMARKS: as float, 5x smaller
     int size = 1024;
     double min_part = 0;
     bool json = false, strict = false;
   };
   auto o = std::make_shared<Opts>();
   auto* app = parent.add_subcommand(
-      "encode", "Encode a closed mesh as a skeleton displacement map: one float OpenEXR file (channels D and A)\n"
+      "encode", "Encode a closed mesh as a skeleton displacement map: one OpenEXR file (channels Y = displacement, A = mask)\n"
                 "with the layout and base mesh in its header, so 'sdm decode' needs nothing else.");
   app->add_option("mesh", o->mesh, "Input mesh (.obj, .off, .ply, .stl, .glb, .gltf)")->required();
   app->add_option("-o,--output", o->out, "Output map (.exr)")->required();
@@ -260,7 +318,7 @@ Command add_decode_command(CLI::App& parent) {
 
 Command add_roundtrip_command(CLI::App& parent) {
   struct Opts {
-    std::string mesh, out, precision = "float";
+    std::string mesh, out, png, precision = "10";
     int size = 1024, lod = 3, samples = 100000;
     double max_rms = -1, min_part = 0;
     std::string max_memory;
@@ -278,6 +336,9 @@ Command add_roundtrip_command(CLI::App& parent) {
   app->add_option("--max-rms", o->max_rms, "Fail (exit 3) when the RMS error, as a fraction of the diagonal, is larger");
   app->add_option("--precision", o->precision, kPrecisionHelp)->capture_default_str();
   app->add_option("-o,--output", o->out, "Also write the decoded mesh");
+  app->add_option("--png", o->png,
+                  "Also draw the decoded mesh coloured by its distance to the input (.png, four views; grey at 0, yellow at "
+                  "0.15 %, red from 0.5 % of the diagonal)");
   add_min_part_option(app, o->min_part);
   add_max_memory_option(app, o->max_memory);
   app->add_flag("--strict", o->strict,
@@ -299,7 +360,8 @@ Command add_roundtrip_command(CLI::App& parent) {
             const sdm::DecodeEstimate e = sdm::estimate_decode(im, d);
             check_memory(e.bytes, o->max_memory, "decoding " + std::to_string(int64_t(e.triangles / 1e6)) + " million triangles",
                          "use a lower --lod (each level quadruples the triangles)");
-            const sdm::Mesh out = sdm::decode_sdm(im, d);
+            sdm::DecodeTrace trace;
+            const sdm::Mesh out = sdm::decode_sdm(im, d, &trace);
             const double decode_s = stage.lap();
             const sdm::SurfaceCoverage carried = check_carried(mesh, out, sdm::bounding_box_diagonal(mesh), o->strict);
             if (!o->out.empty()) sdm::write_mesh(out, o->out);
@@ -308,17 +370,24 @@ Command add_roundtrip_command(CLI::App& parent) {
             const double rms = dist.rms / dist.diagonal, hd = dist.hausdorff / dist.diagonal;
             const double psnr = 20 * std::log10(1.0 / rms);
             const bool closed = closed_manifold(out);
+            const WorstError worst = locate_worst(dist, out, trace);
+            if (!o->png.empty()) write_error_png(mesh, out, dist.diagonal, o->png);
+            const nlohmann::json worst_json = {{"position", {worst.position.x(), worst.position.y(), worst.position.z()}},
+                                               {"segment", worst.segment}, {"base_face", worst.base_face},
+                                               {"where", worst.decoded_strays ? "decoded surface off the input" : "input not reached"}};
             if (o->json) {
               print_json({{"mesh", o->mesh}, {"size", o->size}, {"lod", o->lod}, {"segments", layout.segments.size()},
                           {"precision", precision.name()}, {"map_bytes", map_bytes},
                           {"rms", rms}, {"hausdorff", hd}, {"psnr", psnr}, {"faces", out.n_faces()},
                           {"closed", closed}, {"encode_seconds", encode_s}, {"decode_seconds", decode_s},
                           {"total_seconds", total.seconds()}, {"samples", o->samples}, {"carried", carried.share},
-                          {"self_intersections", crossings.pairs}});
+                          {"self_intersections", crossings.pairs}, {"worst", worst_json}});
             } else {
               std::cout << o->mesh << " at " << o->size << ", level " << o->lod << ": RMS " << 100 * rms << " %, Hausdorff "
                         << 100 * hd << " % of the diagonal, PSNR " << psnr << " dB, " << out.n_faces() << " faces, "
-                        << (closed ? "closed" : "NOT closed") << ", map " << map_bytes << " bytes (" << precision.name() << ")\n";
+                        << (closed ? "closed" : "NOT closed") << ", map " << map_bytes << " bytes (" << precision.name() << ")\n"
+                        << "  worst at " << point_text(worst.position) << ", segment " << worst.segment << ", base face "
+                        << worst.base_face << " (" << worst_json.at("where").get<std::string>() << ")\n";
             }
             if (o->max_rms >= 0 && rms > o->max_rms) {
               std::cerr << "sdm roundtrip: RMS " << rms << " exceeds --max-rms " << o->max_rms << std::endl;

@@ -127,7 +127,6 @@ py::dict layout(const RowMatrix3d& V, const RowMatrix3i& F, int size, int margin
 }
 
 py::dict encode(const RowMatrix3d& V, const RowMatrix3i& F, const std::string& path, int size, const std::string& precision) {
-  if (precision != "float" && precision != "half") throw sdm::InputError("precision must be 'float' or 'half', not '" + precision + "'");
   const sdm::Mesh mesh = mesh_of(V, F, {}, "(V, F)");
   sdm::LayoutOptions options;
   options.size = size;
@@ -216,7 +215,7 @@ PYBIND11_MODULE(sdm_py, m) {
   m.def("layout", &layout, py::arg("V"), py::arg("F"), py::arg("size") = 1024, py::arg("margin") = 4, py::arg("skeleton") = py::none(),
         "Skeleton texture map: dict with uv (m, 3, 2) per corner of faces (m, 3), face_segment, stretch, coverage, "
         "segments, skeleton and the layout as JSON text.");
-  m.def("encode", &encode, py::arg("V"), py::arg("F"), py::arg("path"), py::arg("size") = 1024, py::arg("precision") = "float",
+  m.def("encode", &encode, py::arg("V"), py::arg("F"), py::arg("path"), py::arg("size") = 1024, py::arg("precision") = "10",
         "Encodes the mesh as a skeleton displacement map (OpenEXR) at path; returns its statistics.");
   m.def("decode", &decode, py::arg("path"), py::arg("level") = 3,
         "Rebuilds the surface from a skeleton displacement map at a level of detail: returns (V, F).");

@@ -6,7 +6,10 @@
 #include "libsdm/map/base_mesh_blob.h"
 #include "libsdm/map/sdm_exr.h"
 #include "libstm/core/errors.h"
+#include "libstm/core/image.h"
+#include "libstm/geometry/triangle_bvh.h"
 #include "libstm/layout/layout.h"
+#include "libstm/mesh/mesh_geometry.h"
 #include "libstm/mesh/primitives.h"
 #include "libstm/mesh/surface_distance.h"
 #include "libstm/mesh/validate_mesh.h"
@@ -18,6 +21,7 @@
 #include <OpenEXR/ImfHeader.h>
 #include <OpenEXR/ImfIntAttribute.h>
 #include <OpenEXR/ImfOutputFile.h>
+#include <OpenEXR/ImfRgbaFile.h>
 #include <OpenEXR/ImfStringAttribute.h>
 #include <catch2/catch.hpp>
 #include <cmath>
@@ -117,6 +121,25 @@ TEST_CASE("A quantised map stores the residual within half a step and leaves unr
     const SdmImage s = as_stored(im, SdmPrecision(SdmPrecision::quantized, bits));
     for (size_t i = 0; i < im.D.size(); ++i) CHECK((std::isnan(s.D[i]) ? std::isnan(r.D[i]) : s.D[i] == r.D[i]));
   }
+  // An RGBA reader (OpenEXR's own interface, as viewers use it) sees a grey image in (0, 1) with
+  // non-zero luminance wherever the texel sees its own surface.
+  {
+    Imf::RgbaInputFile rgba((dir / "q8.exr").c_str());
+    const Imath::Box2i dw = rgba.dataWindow();
+    const int w = dw.max.x - dw.min.x + 1, h = dw.max.y - dw.min.y + 1;
+    std::vector<Imf::Rgba> px(size_t(w) * size_t(h));
+    rgba.setFrameBuffer(px.data(), 1, size_t(w));
+    rgba.readPixels(dw.min.y, dw.max.y);
+    long own = 0;
+    for (size_t i = 0; i < px.size(); ++i) {
+      if (float(px[i].a) != 1.0f) continue;
+      ++own;
+      CHECK(float(px[i].r) > 0.0f);
+      CHECK(float(px[i].r) < 1.0f);
+      CHECK(float(px[i].g) == float(px[i].r));
+    }
+    CHECK(own > 0);
+  }
   CHECK_THROWS_AS(SdmPrecision::parse("3"), InputError);
   CHECK_THROWS_AS(SdmPrecision::parse("12"), InputError);
   CHECK_THROWS_AS(SdmPrecision::parse("8bits"), InputError);
@@ -155,4 +178,34 @@ TEST_CASE("Spot at level 3 within 0.02 % RMS in a map of at most 150 KB (issue 1
   CHECK(bytes <= 150000);
   CHECK(d.rms / d.diagonal <= 0.0002);
   CHECK(d.hausdorff / d.diagonal <= 0.01);
+}
+
+TEST_CASE("sdm roundtrip goes through the file, reports its bytes and where the worst error is, and draws it", "[compact]") {
+  test_util::TempDir dir;
+  const std::string mesh = dir / "bottle.obj", png = dir / "error.png";
+  REQUIRE(test_util::run_sdm("primitive bottle -o " + mesh).exit_code == 0);
+  const auto r = test_util::run_sdm("roundtrip " + mesh + " --size 512 --json --png " + png);
+  REQUIRE(r.exit_code == 0);
+  const auto j = test_util::last_json(r);
+  CHECK(j["precision"] == "10");
+  CHECK(j["map_bytes"].get<double>() > 1000);
+  CHECK(j["map_bytes"].get<double>() < 512 * 512 * 2);  // under one half per texel
+  const auto& worst = j["worst"];
+  CHECK(worst["segment"].get<int>() >= 0);
+  CHECK(worst["segment"].get<int>() < j["segments"].get<int>());
+  CHECK(worst["base_face"].get<int>() >= 0);
+  // The reported point is where the Hausdorff distance is: that far from the input when the decoded
+  // surface strays there, on the input otherwise.
+  const Mesh input = load_mesh(mesh);
+  const auto p = worst["position"].get<std::vector<double>>();
+  const double off = TriangleBvh(vertex_matrix(input), face_matrix(input)).closest_point(Eigen::Vector3d(p[0], p[1], p[2])).distance;
+  const double diag = bounding_box_diagonal(input);
+  if (worst["where"] == "decoded surface off the input")
+    CHECK(off == Approx(j["hausdorff"].get<double>() * diag).epsilon(1e-6));
+  else
+    CHECK(off <= 1e-9 * diag);
+  const Image picture = read_png(png);
+  CHECK(picture.width == 2 * 512 + 8);
+  CHECK(picture.height == 2 * 512 + 8);
+  CHECK(test_util::run_sdm("roundtrip " + mesh + " --precision 12").exit_code == 2);
 }

@@ -183,13 +183,15 @@ TEST_CASE("Decoding onto a skeleton with one branch rotated 30 degrees bends tha
     if (tip < 0 || e.layout.skeleton.nodes[n].y() < e.layout.skeleton.nodes[tip].y()) tip = int(n);
   }
   REQUIRE(tip >= 0);
-  std::vector<int> seg_plain, seg_moved;
-  const Mesh plain = decode_sdm(e.image, {}, &seg_plain);
+  DecodeTrace trace_plain, trace_moved;
+  const Mesh plain = decode_sdm(e.image, {}, &trace_plain);
   DecodeOptions d;
   d.skeleton = moved;
-  const Mesh bent = decode_sdm(e.image, d, &seg_moved);
+  const Mesh bent = decode_sdm(e.image, d, &trace_moved);
   REQUIRE(plain.n_vertices() == bent.n_vertices());
-  REQUIRE(seg_plain == seg_moved);
+  const std::vector<int>& seg_plain = trace_plain.vertex_segment;
+  REQUIRE(seg_plain == trace_moved.vertex_segment);
+  REQUIRE(trace_plain.vertex_base_face == trace_moved.vertex_base_face);
   // Segments whose both nodes moved are rigidly rotated; segments touching no moved node stay.
   // Float32 displacements and the ill-conditioned angle next to a pole allow tiny differences.
   const double tol = 1e-4 * bounding_box_diagonal(plain);

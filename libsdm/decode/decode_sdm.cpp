@@ -3,12 +3,14 @@
 #include "libsdm/encode/base_mesh.h"
 #include "libsdm/encode/encode_sdm.h"
 #include "libsdm/decode/tessellate_mesh.h"
+#include "libsdm/encode/texel_targets.h"
 #include "libstm/geometry/capsule_ray.h"
 #include "libstm/core/errors.h"
 #include "libstm/layout/layout.h"
 #include "libstm/layout/segment_frames.h"
 
 #include <cmath>
+#include <memory>
 
 namespace sdm {
 namespace {
@@ -55,6 +57,43 @@ std::vector<int> segment_levels(int segments, const DecodeOptions& options) {
   return level;
 }
 
+// The displacement of a quantised map's texels: the stored residual plus the encoder's own
+// prediction for the texel (texel_targets.h: the foot of its flat base face's point on its ray),
+// computed from the decoded corners when a lookup first needs the texel.
+class ResidualTexels {
+ public:
+  ResidualTexels(const SdmImage& image, const Layout& layout, const BaseMesh& base,
+                 const std::vector<std::array<Eigen::Vector3d, 3>>& corners)
+      : image_(image), layout_(layout), base_(base), corners_(corners), targets_(layout.segments.size()) {
+    if (image.residual) value_.assign(image.D.size(), kUnknown);
+  }
+
+  double sample(int s, double u, double v) const {
+    return sample_texels(layout_.segments[s], u, v, [&](int ix, int iy) { return texel(s, ix, iy); });
+  }
+
+ private:
+  static constexpr float kUnknown = -INFINITY;
+
+  double texel(int s, int ix, int iy) const {
+    const size_t i = size_t(image_.height - 1 - iy) * size_t(image_.width) + size_t(ix);
+    if (value_[i] != kUnknown) return value_[i];
+    if (!targets_[s]) targets_[s] = std::make_unique<TexelTargets>(layout_, base_, corners_, s);
+    const LayoutSegment& seg = layout_.segments[s];
+    const Eigen::Vector2d uv = texel_local_uv(seg, ix, iy);
+    const auto aim = targets_[s]->target(capsule_ray(targets_[s]->frame(), seg.w, seg.h, seg.d, uv.x(), uv.y()));
+    value_[i] = aim && !std::isnan(image_.D[i]) ? float(aim->foot + image_.D[i]) : NAN;
+    return value_[i];
+  }
+
+  const SdmImage& image_;
+  const Layout& layout_;
+  const BaseMesh& base_;
+  const std::vector<std::array<Eigen::Vector3d, 3>>& corners_;
+  mutable std::vector<std::unique_ptr<TexelTargets>> targets_;
+  mutable std::vector<float> value_;
+};
+
 }  // namespace
 
 DecodeEstimate estimate_decode(const SdmImage& image, const DecodeOptions& options) {
@@ -69,7 +108,7 @@ DecodeEstimate estimate_decode(const SdmImage& image, const DecodeOptions& optio
   return e;
 }
 
-Mesh decode_sdm(const SdmImage& image, const DecodeOptions& options, std::vector<int>* vertex_segment) {
+Mesh decode_sdm(const SdmImage& image, const DecodeOptions& options, DecodeTrace* trace) {
   Layout layout = layout_from_json(image.layout);
   if (!image.layout.contains("base_mesh"))
     throw InputError("the SDM header has no base mesh: it was written by an older 'sdm encode'; encode it again");
@@ -119,9 +158,10 @@ Mesh decode_sdm(const SdmImage& image, const DecodeOptions& options, std::vector
     for (int c = 0; c < 3; ++c) longest = std::max(longest, (corner[f][c] - corner[f][(c + 1) % 3]).norm());
     reach[f] = 0.5 * longest;
   }
+  const ResidualTexels residual(image, layout, base, corner);
   Mesh out;
   std::vector<Mesh::VertexHandle> vh(tess.point_face.size());
-  if (vertex_segment) vertex_segment->resize(tess.point_face.size());
+  if (trace) trace->vertex_segment.resize(tess.point_face.size()), trace->vertex_base_face = tess.point_face;
   for (size_t i = 0; i < tess.point_face.size(); ++i) {
     const int f = tess.point_face[i];
     const int s = base.face_segment[f];
@@ -129,10 +169,8 @@ Mesh decode_sdm(const SdmImage& image, const DecodeOptions& options, std::vector
     const Eigen::Vector3d q = b[0] * reference[f][0] + b[1] * reference[f][1] + b[2] * reference[f][2];
     const Eigen::Vector3d flat = b[0] * corner[f][0] + b[1] * corner[f][1] + b[2] * corner[f][2];
     const auto [ray, uv] = ray_at(s, q);
-    // A quantised map holds the residual against the flat face's point projected on the ray.
-    const double foot = image.residual ? (flat - ray.origin).dot(ray.direction) : 0.0;
-    const double d = sample_displacement(image, layout.segments[s], uv.u, uv.v);
-    Eigen::Vector3d p = std::isnan(d) ? flat : Eigen::Vector3d(ray.origin + (foot + d) * ray.direction);
+    const double d = image.residual ? residual.sample(s, uv.u, uv.v) : sample_displacement(image, layout.segments[s], uv.u, uv.v);
+    Eigen::Vector3d p = std::isnan(d) ? flat : Eigen::Vector3d(ray.origin + d * ray.direction);
     // Safeguard: near junctions a texel's ray can leave the segment's region and meet a far
     // surface, or the bilinear lookup mixes texels encoded for faces on another sheet; a point
     // displaced farther from its decoded base triangle than half the triangle's longest edge is
@@ -141,7 +179,7 @@ Mesh decode_sdm(const SdmImage& image, const DecodeOptions& options, std::vector
     // point gives 0.011 % and 0.55 %: DESIGN 6).
     if ((p - flat).norm() > reach[f]) p = flat;
     vh[i] = out.add_vertex(Mesh::Point(p.x(), p.y(), p.z()));
-    if (vertex_segment) (*vertex_segment)[i] = s;
+    if (trace) trace->vertex_segment[i] = s;
   }
   for (int t = 0; t < tess.triangles.rows(); ++t)
     out.add_face(vh[tess.triangles(t, 0)], vh[tess.triangles(t, 1)], vh[tess.triangles(t, 2)]);

@@ -18,10 +18,15 @@ struct DecodeOptions {
   std::optional<Skeleton> skeleton;    // decode around these node positions (same graph) instead
 };
 
+// Where each output vertex comes from: the segment that placed it and its base face.
+struct DecodeTrace {
+  std::vector<int> vertex_segment, vertex_base_face;
+};
+
 // Throws InputError when the header lacks a layout or base mesh, a level is out of range (0..8),
-// a segment id is unknown, or the skeleton's graph differs from the encoded one.
-// vertex_segment, when given, receives the segment each output vertex was placed by.
-Mesh decode_sdm(const SdmImage& image, const DecodeOptions& options = {}, std::vector<int>* vertex_segment = nullptr);
+// a segment id is unknown, or the skeleton's graph differs from the encoded one. `trace`, when
+// given, receives where each output vertex comes from.
+Mesh decode_sdm(const SdmImage& image, const DecodeOptions& options = {}, DecodeTrace* trace = nullptr);
 
 // What decode_sdm makes with these options, before it runs: the triangles (4^L per base face of a
 // segment at level L) and the peak memory of decoding them and writing the result, at 450 bytes a

@@ -1,6 +1,7 @@
 #include "libsdm/encode/encode_sdm.h"
 
 #include "libsdm/encode/base_mesh.h"
+#include "libsdm/encode/texel_targets.h"
 #include "libstm/geometry/capsule_ray.h"
 #include "libstm/geometry/differential_geometry.h"
 #include "libstm/layout/segments.h"
@@ -28,26 +29,7 @@ Eigen::Vector2d texel_local_uv(const LayoutSegment& seg, int ix, int iy) {
 }
 
 double sample_displacement(const SdmImage& im, const LayoutSegment& seg, double u, double v) {
-  // Continuous texel coordinates in the rectangle: centres at i + 0.5.
-  const double fu = u - 0.5, fv = std::clamp(v - 0.5, 0.0, double(seg.w - 1));
-  const double u0 = std::floor(fu), v0 = std::floor(fv);
-  const double au = fu - u0, av = fv - v0;
-  auto at = [&](long iu, long iv) {
-    iu = ((iu % seg.h) + seg.h) % seg.h;
-    iv = std::clamp<long>(iv, 0, seg.w - 1);
-    const int ix = seg.rotated ? seg.x + int(iu) : seg.x + int(iv);
-    const int iy = seg.rotated ? seg.y + int(iv) : seg.y + int(iu);
-    return double(im.D[pixel(im, ix, iy)]);
-  };
-  const long iu = long(u0), iv = long(v0);
-  // Texels a compact map leaves out (NaN: no base face reads them, by the encoder's measure) are
-  // skipped and the others' weights renormalised; NaN when all four are out.
-  double sum = 0, weight = 0;
-  for (int k = 0; k < 4; ++k) {
-    const double w = (k & 1 ? au : 1 - au) * (k & 2 ? av : 1 - av), d = at(iu + (k & 1), iv + (k >> 1));
-    if (!std::isnan(d) && w > 0) sum += w * d, weight += w;
-  }
-  return weight > 0 ? sum / weight : NAN;
+  return sample_texels(seg, u, v, [&](int ix, int iy) { return double(im.D[pixel(im, ix, iy)]); });
 }
 
 namespace {
@@ -60,7 +42,6 @@ struct EncodeScene {
   TriangleBvh all;                                // every face of the mesh
   std::vector<std::vector<int>> faces_of;         // per segment, its faces of the mesh
   BaseMesh base;
-  std::vector<std::vector<int>> base_faces_of;    // per segment, its base faces
 };
 
 EncodeScene encode_scene(const Mesh& mesh, const Layout& layout, const EncodeOptions& options) {
@@ -73,8 +54,6 @@ EncodeScene encode_scene(const Mesh& mesh, const Layout& layout, const EncodeOpt
   for (size_t f = 0; f < sc.face_segment.size(); ++f) sc.faces_of[sc.face_segment[f]].push_back(int(f));
   report_progress(options.progress, "building the base mesh");
   sc.base = make_base_mesh(mesh, layout, options.base_vertices);
-  sc.base_faces_of.resize(layout.segments.size());
-  for (int f = 0; f < sc.base.triangles.rows(); ++f) sc.base_faces_of[sc.base.face_segment[f]].push_back(f);
   return sc;
 }
 
@@ -107,36 +86,17 @@ class SegmentEncoder {
  private:
   void encode_texel(int ix, int iy, SdmImage& im, EncodeStats& st) const;
   void encode_unread(const CapsuleRay& ray, float& D, float& A, EncodeStats& st) const;
-  bool target_triangle(const CapsuleRay& ray, int& k, Eigen::Vector3d& bary) const;
 
   const EncodeScene& sc_;
   const LayoutSegment& seg_;
   const int s_;
-  const CapsuleFrame frame_;
-  const std::vector<int>& own_base_;
-  Eigen::MatrixX3d R_;  // corners of the segment's base faces on the reference capsule
-  TriangleBvh reference_, own_;
-  double texel_ = 0;
+  const TexelTargets targets_;
+  TriangleBvh own_;
 };
 
 SegmentEncoder::SegmentEncoder(const EncodeScene& scene, const Layout& layout, int s)
-    : sc_(scene), seg_(layout.segments[s]), s_(s), frame_(capsule_frame(layout, s)), own_base_(scene.base_faces_of[s]) {
-  // The segment's base faces on the reference capsule, exactly as the decoder builds them: the
-  // decoder places a point of a base face on the ray through that point of its reference
-  // triangle, so a texel's ray crossing a reference triangle is the texel that face will read.
-  R_.resize(3 * own_base_.size(), 3);
-  Eigen::MatrixX3i RF(own_base_.size(), 3);
-  for (size_t k = 0; k < own_base_.size(); ++k)
-    for (int c = 0; c < 3; ++c) {
-      const auto& uv = sc_.base.corner_uv[own_base_[k]][c];
-      const CapsuleRay ray = capsule_ray(frame_, seg_.w, seg_.h, seg_.d, uv.x(), uv.y());
-      R_.row(3 * k + c) = (ray.origin + seg_.radius * ray.direction).transpose();
-      RF(Eigen::Index(k), c) = int(3 * k + c);
-    }
-  reference_ = TriangleBvh(R_, RF);
+    : sc_(scene), seg_(layout.segments[s]), s_(s), targets_(layout, scene.base, scene.base.corner_position, s) {
   own_ = TriangleBvh(sc_.V, sc_.F, sc_.faces_of[s]);
-  // Texel size on the reference capsule (around the axis, and along it on the cylinder).
-  texel_ = std::max(2 * M_PI * seg_.radius / seg_.h, seg_.length / std::max(1.0, seg_.w - 2 * seg_.d));
 }
 
 void SegmentEncoder::encode(SdmImage& im, EncodeStats& st) const {
@@ -146,9 +106,8 @@ void SegmentEncoder::encode(SdmImage& im, EncodeStats& st) const {
     for (int i = 0; i < ex; ++i) encode_texel(seg_.x + i, seg_.y + j, im, st);
 }
 
-// Texels no base face reads (the decoder's bilinear lookups reach one texel beyond a face; texels
-// more than 4 from every reference triangle, measured on the capsule where the map's stretch
-// varies, are out of reach): the first crossing with the segment's own faces, else with any.
+// Texels no base face reads (texel_targets.h): the first crossing with the segment's own faces,
+// else with any, so that image tools show the surface there (a compact map leaves them out).
 void SegmentEncoder::encode_unread(const CapsuleRay& ray, float& D, float& A, EncodeStats& st) const {
   auto hit = own_.first_hit(ray.origin, ray.direction);
   if (hit.face >= 0) {
@@ -162,58 +121,31 @@ void SegmentEncoder::encode_unread(const CapsuleRay& ray, float& D, float& A, En
   ++(hit.face >= 0 ? st.other_hits : st.filled);
 }
 
-// Which reference triangle k (index into own_base_) the decoder's flat base triangle puts this
-// texel on, and where (bary): from the texel's crossing with a reference triangle, or, for texels
-// between faces and around the segment's region, from the nearest reference triangle (what
-// bilinear lookups near the region's border read). False when no base face reads the texel.
-bool SegmentEncoder::target_triangle(const CapsuleRay& ray, int& k, Eigen::Vector3d& bary) const {
-  const auto cross = reference_.first_hit(ray.origin, ray.direction);
-  if (cross.face >= 0) {
-    k = cross.face;
-    bary = {1 - cross.u - cross.v, cross.u, cross.v};
-    return true;
-  }
-  // Measured from the ray's point on the capsule first; a large reference triangle is a chord
-  // deep inside the capsule, and the decoder reads texels whose rays pass near it only at depth
-  // (Spot's 512 map lost 25 decoded points of a horn when such texels were taken for unread).
-  auto near = reference_.closest_point(ray.origin + seg_.radius * ray.direction);
-  for (double depth : {0.75, 0.5, 0.25}) {
-    if (near.distance <= 4 * texel_) break;
-    near = reference_.closest_point(ray.origin + depth * seg_.radius * ray.direction);
-  }
-  if (near.distance > 4 * texel_) return false;
-  k = near.face;
-  bary = barycentric(near.point, R_.row(3 * k), R_.row(3 * k + 1), R_.row(3 * k + 2));
-  return true;
-}
-
 void SegmentEncoder::encode_texel(int ix, int iy, SdmImage& im, EncodeStats& st) const {
   const Eigen::Vector2d uv = texel_local_uv(seg_, ix, iy);
-  const CapsuleRay ray = capsule_ray(frame_, seg_.w, seg_.h, seg_.d, uv.x(), uv.y());
+  const CapsuleRay ray = capsule_ray(targets_.frame(), seg_.w, seg_.h, seg_.d, uv.x(), uv.y());
   ++st.texels;
   float& D = im.D[pixel(im, ix, iy)];
   float& A = im.A[pixel(im, ix, iy)];
-  int k = -1;
-  Eigen::Vector3d bary;
-  if (own_base_.empty() || !target_triangle(ray, k, bary)) {
+  const auto aim = targets_.target(ray);
+  if (!aim) {
     encode_unread(ray, D, A, st);
     return;
   }
-  const auto& corner = sc_.base.corner_position[own_base_[k]];
-  const Eigen::Vector3d target = bary[0] * corner[0] + bary[1] * corner[1] + bary[2] * corner[2];
-  // D = the crossing of the ray with the surface nearest that target. The first crossing
-  // (or the first with the segment's own faces) is another sheet where the surface is not
-  // star-shaped about the capsule (near junctions, in concave bends), and the decoder would
-  // put the point there. A ray that grazes a saddle (the crotch between two branches) or
-  // leaves without meeting the surface near the face has only far crossings; the target's
-  // foot on the ray is then nearer the surface, and it keeps D continuous with the
-  // neighbouring texels that do hit. Crossings farther than half the face's longest edge
-  // count as far, so only the stretch of the ray within that distance of the foot is searched.
+  const auto& corner = sc_.base.corner_position[aim->base_face];
+  // D = the crossing of the ray with the surface nearest the target, the flat base face's point.
+  // The first crossing (or the first with the segment's own faces) is another sheet where the
+  // surface is not star-shaped about the capsule (near junctions, in concave bends), and the
+  // decoder would put the point there. A ray that grazes a saddle (the crotch between two
+  // branches) or leaves without meeting the surface near the face has only far crossings; the
+  // target's foot on the ray is then nearer the surface, and it keeps D continuous with the
+  // neighbouring texels that do hit. Crossings farther than half the face's longest edge count as
+  // far, so only the stretch of the ray within that distance of the foot is searched.
   double longest = 0;
   for (int c = 0; c < 3; ++c) longest = std::max(longest, (corner[c] - corner[(c + 1) % 3]).norm());
-  const double reach = 0.5 * longest, foot = (target - ray.origin).dot(ray.direction);
+  const double reach = 0.5 * longest, foot = aim->foot;
   im.foot[pixel(im, ix, iy)] = float(foot);
-  const Crossing best = crossing_nearest(sc_.all, ray, target, foot, reach);
+  const Crossing best = crossing_nearest(sc_.all, ray, aim->point, foot, reach);
   if (best.face < 0 || best.distance > reach) {
     D = float(std::max(0.0, foot));
     ++st.filled;

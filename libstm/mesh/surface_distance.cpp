@@ -42,16 +42,19 @@ SurfaceDistance surface_distance(const Mesh& a, const Mesh& b, int samples) {
   const Eigen::MatrixX3d pa = sample_surface(a, samples, 1);
   const Eigen::MatrixX3d pb = sample_surface(b, samples, 2);
   double sum2 = 0, sum = 0;
-  auto measure = [&](const Eigen::MatrixX3d& P, const TriangleBvh& other) {
+  auto measure = [&](const Eigen::MatrixX3d& P, const TriangleBvh& other, bool on_b, bool in_rms) {
     for (int i = 0; i < P.rows(); ++i) {
-      const double dist = other.closest_point(P.row(i).transpose()).distance;
-      d.hausdorff = std::max(d.hausdorff, dist);
-      sum2 += dist * dist;
-      sum += dist;
+      const auto c = other.closest_point(P.row(i).transpose());
+      if (c.distance > d.hausdorff) d.hausdorff = c.distance, d.worst_point = P.row(i).transpose(), d.worst_closest = c.point, d.worst_on_b = on_b;
+      if (!in_rms) continue;
+      sum2 += c.distance * c.distance;
+      sum += c.distance;
     }
   };
-  measure(pa, bvh_b);
-  measure(pb, bvh_a);
+  measure(pa, bvh_b, false, true);
+  measure(pb, bvh_a, true, true);
+  measure(vertex_matrix(a), bvh_b, false, false);
+  measure(vertex_matrix(b), bvh_a, true, false);
   d.rms = std::sqrt(sum2 / (2.0 * samples));
   d.mean = sum / (2.0 * samples);
   return d;

@@ -8,15 +8,21 @@ namespace sdm {
 Eigen::MatrixX3d sample_surface(const Mesh& mesh, int count, unsigned seed = 1);
 
 struct SurfaceDistance {
-  double hausdorff = 0;  // symmetric: max over both directions
+  double hausdorff = 0;  // symmetric: max over both directions, samples and vertices
   double rms = 0;        // root mean square over the samples of both directions
   double mean = 0;
   double diagonal = 0;   // bounding-box diagonal of `a`, the reference
   int samples_per_surface = 0;
+  // Where the Hausdorff distance is: a point of one surface and its closest point on the other;
+  // worst_on_b when the point lies on b (b strays from a) rather than on a (b misses part of a).
+  Eigen::Vector3d worst_point = Eigen::Vector3d::Zero(), worst_closest = Eigen::Vector3d::Zero();
+  bool worst_on_b = false;
 };
 
 // Symmetric Hausdorff and RMS distance between surfaces a and b, each sampled with `samples`
-// points and measured against the other surface's triangles (exact closest points).
+// points and measured against the other surface's triangles (exact closest points). The Hausdorff
+// distance also takes every vertex of both (a spike's tip is a vertex that random samples miss);
+// the RMS and mean are over the area-uniform samples only.
 SurfaceDistance surface_distance(const Mesh& a, const Mesh& b, int samples = 100000);
 
 // How much of a reference surface another one carries (the quality gate of encode and roundtrip,
