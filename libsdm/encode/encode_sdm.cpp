@@ -3,7 +3,6 @@
 #include "libsdm/encode/base_mesh.h"
 #include "libsdm/encode/texel_targets.h"
 #include "libstm/geometry/capsule_ray.h"
-#include "libstm/geometry/differential_geometry.h"
 #include "libstm/layout/segments.h"
 #include "libstm/geometry/triangle_bvh.h"
 
