@@ -1,7 +1,9 @@
 // SDM encoding on shapes with a known surface: D is the distance along each texel's capsule ray,
 // A covers each segment's own region, and the round trip is accurate.
 #include "libsdm/decode/decode_sdm.h"
+#include "libsdm/encode/base_mesh.h"
 #include "libsdm/encode/encode_sdm.h"
+#include "libstm/skeleton/extract_skeleton.h"
 #include "libstm/mesh/surface_distance.h"
 #include "libstm/geometry/capsule_ray.h"
 #include "libstm/layout/layout.h"
@@ -166,4 +168,21 @@ TEST_CASE("Capsule and cylinder round trip at 512 within 0.05 percent RMS", "[en
     CHECK(d.rms / d.diagonal <= 0.0005);
     CHECK(d.hausdorff / d.diagonal <= 0.01);
   }
+}
+
+TEST_CASE("No base mesh edge is longer than 8 times the input's longest (level 3 keeps the input's edges)", "[encode_sdm]") {
+  // Quadric decimation ran base faces 1.7 long along the crossed cylinders' flat tubes, 14 times the
+  // input's longest edge (issue 17).
+  const Mesh mesh = make_primitive("crossed-cylinders");
+  double longest = 0;
+  for (auto e : mesh.edges()) longest = std::max(longest, double(mesh.calc_edge_length(e)));
+  LayoutOptions lo;
+  lo.size = 256;
+  const BaseMesh base = make_base_mesh(mesh, compute_layout(mesh, extract_skeleton(mesh), lo));
+  double base_longest = 0;
+  for (const auto& c : base.corner_position)
+    for (int k = 0; k < 3; ++k) base_longest = std::max(base_longest, (c[k] - c[(k + 1) % 3]).norm());
+  INFO("input longest " << longest << ", base longest " << base_longest);
+  CHECK(base_longest <= 8 * longest * (1 + 1e-9));
+  CHECK(base_longest > 2 * longest);  // still decimated
 }

@@ -47,6 +47,27 @@ class ModSkeletonNodesT : public OpenMesh::Decimater::ModBaseT<MeshT> {
   std::set<std::pair<int, int>> adjacent_;
 };
 
+// Forbids collapses that would make an edge longer than a limit. The decoder's default level cuts
+// every base edge into 8, so base edges up to 8 times the input's longest edge decode to edges no
+// longer than the input's (issue 17: quadric decimation of the paper's crossed cylinders ran base
+// faces 1.7 long along the flat tubes, and level 3 left edges of 0.22 where the input's longest is
+// 0.12).
+template <class MeshT>
+class ModMaxEdgeLengthT : public OpenMesh::Decimater::ModBaseT<MeshT> {
+ public:
+  DECIMATING_MODULE(ModMaxEdgeLengthT, MeshT, MaxEdgeLength);
+  explicit ModMaxEdgeLengthT(MeshT& mesh) : Base(mesh, true) {}
+  void set_max_length(double length) { max_sq_ = length * length; }
+  float collapse_priority(const CollapseInfo& ci) override {
+    for (auto x : this->mesh().vv_range(ci.v0))
+      if (x != ci.v1 && (this->mesh().point(x) - ci.p1).sqrnorm() > max_sq_) return float(Base::ILLEGAL_COLLAPSE);
+    return float(Base::LEGAL_COLLAPSE);
+  }
+
+ private:
+  double max_sq_ = INFINITY;
+};
+
 // Whether segment s can carry base face f alone along its rays. The decoder places a point of f on
 // the ray of s through it, at the depth the map stores for that ray: a ray holds one depth, so f
 // fails when it is turned away from the rays (its reference triangle is flipped or edge-on), or
@@ -203,16 +224,19 @@ BaseSource base_source(const Mesh& mesh, const Skeleton& skeleton, int target_ve
 
 // Decimates m to target_vertices with quadrics, no normal flips and collapses only between
 // neighbouring skeleton nodes (node: per vertex of m).
-void decimate_base(Mesh& m, const std::vector<int>& node, const Skeleton& skeleton, int target_vertices) {
+void decimate_base(Mesh& m, const std::vector<int>& node, const Skeleton& skeleton, int target_vertices, double max_edge) {
   m.request_face_normals();
   m.update_face_normals();
   OpenMesh::Decimater::DecimaterT<Mesh> decimater(m);
   OpenMesh::Decimater::ModQuadricT<Mesh>::Handle quadric;
   OpenMesh::Decimater::ModNormalFlippingT<Mesh>::Handle flipping;
   typename ModSkeletonNodesT<Mesh>::Handle nodes;
+  typename ModMaxEdgeLengthT<Mesh>::Handle length;
   decimater.add(quadric);
   decimater.add(flipping);
   decimater.add(nodes);
+  decimater.add(length);
+  decimater.module(length).set_max_length(max_edge);
   std::set<std::pair<int, int>> adjacent;
   for (const auto& e : skeleton.edges) adjacent.insert({e[0], e[1]}), adjacent.insert({e[1], e[0]});
   decimater.module(nodes).set_nodes(node, std::move(adjacent));
@@ -237,7 +261,9 @@ BaseMesh make_base_mesh(const Mesh& input, const Layout& layout, int target_vert
   if (target_vertices < int(m.n_vertices())) {
     std::vector<int> node(m.n_vertices());
     for (auto v : m.vertices()) node[v.idx()] = src.node[m.property(original, v)];
-    decimate_base(m, node, layout.skeleton, target_vertices);
+    double longest = 0;
+    for (auto e : input.edges()) longest = std::max(longest, double(input.calc_edge_length(e)));
+    decimate_base(m, node, layout.skeleton, target_vertices, 8 * longest);
   }
   // Segments of the base faces: the skeleton's map restricted to the surviving vertices.
   Skeleton sk = layout.skeleton;
