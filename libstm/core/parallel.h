@@ -17,6 +17,7 @@
 #include <string>
 #include <thread>
 #include <utility>
+#include <vector>
 
 namespace sdm {
 
@@ -120,6 +121,20 @@ class SharedLoop {
   double seconds_ = 0;
   std::exception_ptr failure_;
 };
+
+/// body(i) for every i in [0, count), in chunks of `chunk`, on the calling thread and up to
+/// `threads` - 1 others (0: one per hardware thread); returns when all are done and rethrows the
+/// first failure. The iterations must be independent.
+inline void parallel_for(int count, int chunk, const std::function<void(int)>& body, int threads = 0) {
+  if (threads <= 0) threads = int(std::max(1u, std::thread::hardware_concurrency()));
+  SharedLoop loop(count, chunk, body);
+  const int chunks = (count + std::max(chunk, 1) - 1) / std::max(chunk, 1);
+  std::vector<std::unique_ptr<BackgroundTask>> helpers;
+  for (int t = 1; t < std::min(threads, chunks); ++t) helpers.push_back(std::make_unique<BackgroundTask>([&loop] { loop.work(); }));
+  loop.work();
+  for (auto& h : helpers) h->wait();
+  loop.wait();
+}
 
 /// `progress` behind a mutex, for stages that report from two threads (lines never interleave).
 /// Empty when `progress` is.
