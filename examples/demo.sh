@@ -53,7 +53,7 @@ step "4. Texture remap: Spot's texture into its STM, Spot drawn from the STM wit
 quiet "$SDM" render "$SPOT" --stm "$OUT/spot.stm.png" --layout "$OUT/spot.stm.json" --azimuth 150 \
   --width 512 --height 512 -o "$OUT/spot.stm-view.png"
 
-step "5. Skeleton displacement maps: encode (float EXR), decode at levels 1 and 3, round-trip error"
+step "5. Skeleton displacement maps: encode (OpenEXR, 10-bit residuals), decode at levels 1 and 3, round-trip error"
 for s in $MODELS; do
   m=$(mesh_of "$s")
   quiet "$SDM" encode "$m" --layout "$OUT/$s.layout.json" -o "$OUT/$s.sdm.exr" --png "$OUT/$s.sdm.png"
