@@ -397,10 +397,6 @@ Command add_roundtrip_command(CLI::App& parent) {
           }};
 }
 
-}  // namespace sdm::cli
-
-namespace sdm::cli {
-
 Command add_compare_command(CLI::App& parent) {
   struct Opts {
     std::string reference, other;

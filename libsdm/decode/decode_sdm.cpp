@@ -78,23 +78,27 @@ class ResidualTexels {
   void prepare(const std::vector<PointRay>& points) {
     value_.assign(image_.D.size(), kUnknown);
     std::vector<char> needed(image_.D.size(), 0);
-    std::vector<std::pair<int, int>> todo;  // (segment, texel index)
-    for (const PointRay& p : points)
+    struct Texel {
+      int segment, ix, iy;
+    };
+    std::vector<Texel> todo;
+    for (const PointRay& p : points) {
+      if (!targets_[p.segment]) targets_[p.segment] = std::make_unique<TexelTargets>(layout_, base_, corners_, p.segment);
       sample_texels(layout_.segments[p.segment], p.u, p.v, [&](int ix, int iy) {
-        const size_t i = index(ix, iy);
-        if (!needed[i]) needed[i] = 1, todo.emplace_back(p.segment, int(i));
-        if (!targets_[p.segment]) targets_[p.segment] = std::make_unique<TexelTargets>(layout_, base_, corners_, p.segment);
+        char& seen = needed[texel_index(image_, ix, iy)];
+        if (!seen) seen = 1, todo.push_back({p.segment, ix, iy});
         return 0.0;
       });
+    }
     parallel_for(int(todo.size()), 1024, [&](int k) {
-      const size_t i = size_t(todo[size_t(k)].second);
-      value_[i] = compute(todo[size_t(k)].first, int(i % size_t(image_.width)), image_.height - 1 - int(i / size_t(image_.width)));
+      const Texel& t = todo[size_t(k)];
+      value_[texel_index(image_, t.ix, t.iy)] = compute(t.segment, t.ix, t.iy);
     });
   }
 
   double sample(int s, double u, double v) const {
     return sample_texels(layout_.segments[s], u, v, [&](int ix, int iy) {
-      const float cached = value_[index(ix, iy)];
+      const float cached = value_[texel_index(image_, ix, iy)];
       return cached != kUnknown ? double(cached) : double(compute(s, ix, iy));
     });
   }
@@ -102,10 +106,8 @@ class ResidualTexels {
  private:
   static constexpr float kUnknown = -INFINITY;
 
-  size_t index(int ix, int iy) const { return size_t(image_.height - 1 - iy) * size_t(image_.width) + size_t(ix); }
-
   float compute(int s, int ix, int iy) const {
-    const size_t i = index(ix, iy);
+    const size_t i = texel_index(image_, ix, iy);
     if (std::isnan(image_.D[i]) || !targets_[s]) return NAN;
     const LayoutSegment& seg = layout_.segments[s];
     const Eigen::Vector2d uv = texel_local_uv(seg, ix, iy);

@@ -11,9 +11,6 @@
 namespace sdm {
 namespace {
 
-// Atlas texel (ix, iy) (origin lower left) -> index into the image (rows top to bottom).
-size_t pixel(const SdmImage& im, int ix, int iy) { return size_t(im.height - 1 - iy) * size_t(im.width) + size_t(ix); }
-
 // The rectangle's extent in atlas texels: w along the axis, h around it (layout.h conventions).
 void extent(const LayoutSegment& s, int& ex, int& ey) {
   ex = s.rotated ? s.h : s.w;
@@ -28,7 +25,7 @@ Eigen::Vector2d texel_local_uv(const LayoutSegment& seg, int ix, int iy) {
 }
 
 double sample_displacement(const SdmImage& im, const LayoutSegment& seg, double u, double v) {
-  return sample_texels(seg, u, v, [&](int ix, int iy) { return double(im.D[pixel(im, ix, iy)]); });
+  return sample_texels(seg, u, v, [&](int ix, int iy) { return double(im.D[texel_index(im, ix, iy)]); });
 }
 
 namespace {
@@ -124,8 +121,8 @@ void SegmentEncoder::encode_texel(int ix, int iy, SdmImage& im, EncodeStats& st)
   const Eigen::Vector2d uv = texel_local_uv(seg_, ix, iy);
   const CapsuleRay ray = capsule_ray(targets_.frame(), seg_.w, seg_.h, seg_.d, uv.x(), uv.y());
   ++st.texels;
-  float& D = im.D[pixel(im, ix, iy)];
-  float& A = im.A[pixel(im, ix, iy)];
+  float& D = im.D[texel_index(im, ix, iy)];
+  float& A = im.A[texel_index(im, ix, iy)];
   const auto aim = targets_.target(ray);
   if (!aim) {
     encode_unread(ray, D, A, st);
@@ -143,7 +140,7 @@ void SegmentEncoder::encode_texel(int ix, int iy, SdmImage& im, EncodeStats& st)
   double longest = 0;
   for (int c = 0; c < 3; ++c) longest = std::max(longest, (corner[c] - corner[(c + 1) % 3]).norm());
   const double reach = 0.5 * longest, foot = aim->foot;
-  im.foot[pixel(im, ix, iy)] = float(foot);
+  im.foot[texel_index(im, ix, iy)] = float(foot);
   const Crossing best = crossing_nearest(sc_.all, ray, aim->point, foot, reach);
   if (best.face < 0 || best.distance > reach) {
     D = float(std::max(0.0, foot));

@@ -41,6 +41,10 @@ SdmImage encode_sdm(const Mesh& mesh, const Layout& layout, const EncodeOptions&
 // around the axis, clamped along it, NaN texels (left out of a compact map) skipped; NaN when the
 // four texels are all left out. Shared so encoder, decoder and tests agree on texel centres.
 Eigen::Vector2d texel_local_uv(const LayoutSegment& seg, int ix, int iy);
+// Atlas texel (ix, iy) (origin lower left) -> index into the image's channels (rows top to bottom).
+inline size_t texel_index(const SdmImage& im, int ix, int iy) {
+  return size_t(im.height - 1 - iy) * size_t(im.width) + size_t(ix);
+}
 double sample_displacement(const SdmImage& image, const LayoutSegment& seg, double u, double v);
 
 // The same lookup over any texel source: texel(ix, iy) gives the value of atlas texel (ix, iy)

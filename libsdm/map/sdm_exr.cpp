@@ -33,15 +33,19 @@ const char* kQuantumAttribute = "sdm_quantum";
 
 bool unread(const SdmImage& im, size_t i) { return !im.foot.empty() && std::isnan(im.foot[i]); }
 
-// Channel Y as written: D (0 where no base face reads the texel), or the quantised residual's code
-// (k + 2^(b-1)) / 2^b with k = round((D - foot) / quantum), |k| < 2^(b-1).
+// Channels Y and A as written: D (0 where no base face reads the texel), or the quantised
+// residual's code (k + 2^(b-1)) / 2^b with k = round((D - foot) / quantum), |k| < 2^(b-1); the
+// mask, 0 where no base face reads the texel.
 struct StoredD {
-  std::vector<float> y;
+  std::vector<float> y, mask;
   double quantum = 0;
 };
 StoredD stored_displacement(const SdmImage& im, SdmPrecision p) {
   StoredD out;
   out.y.assign(im.D.size(), 0.0f);
+  out.mask = im.A;
+  for (size_t i = 0; i < im.A.size(); ++i)
+    if (unread(im, i)) out.mask[i] = 0.0f;
   if (p.kind != SdmPrecision::quantized) {
     for (size_t i = 0; i < im.D.size(); ++i) out.y[i] = unread(im, i) ? 0.0f : im.D[i];
     return out;
@@ -239,9 +243,6 @@ void write_sdm_exr(const SdmImage& im, const std::string& path, SdmPrecision pre
   const ChannelNames names = channel_names(kSdmFormatVersion);
   const Imf::PixelType stored = precision.kind == SdmPrecision::float32 ? Imf::FLOAT : Imf::HALF;
   const StoredD y = stored_displacement(im, precision);
-  std::vector<float> mask = im.A;
-  for (size_t i = 0; i < mask.size(); ++i)
-    if (unread(im, i)) mask[i] = 0.0f;
   nlohmann::json layout = im.layout;
   std::string base_mesh;
   if (layout.contains("base_mesh")) base_mesh = pack_base_mesh(layout.at("base_mesh")), layout.erase("base_mesh");
@@ -263,7 +264,7 @@ void write_sdm_exr(const SdmImage& im, const std::string& path, SdmPrecision pre
       const std::vector<float>* data;
       Imf::PixelType type;
     };
-    std::vector<Out> channels = {{names.D, &y.y, stored}, {names.A, &mask, Imf::HALF}};
+    std::vector<Out> channels = {{names.D, &y.y, stored}, {names.A, &y.mask, Imf::HALF}};
     if (!im.X.empty()) channels.insert(channels.end(), {{names.X, &im.X, stored}, {names.Y, &im.Y, stored}, {names.Z, &im.Z, stored}});
     Imf::FrameBuffer fb;
     std::vector<std::vector<half>> halves;  // the frame buffer's type must be the file's
@@ -288,14 +289,14 @@ void write_sdm_exr(const SdmImage& im, const std::string& path, SdmPrecision pre
 }
 
 SdmImage as_stored(SdmImage im, SdmPrecision precision) {
-  const StoredD y = stored_displacement(im, precision);
+  StoredD y = stored_displacement(im, precision);
   for (size_t i = 0; i < im.D.size(); ++i) {
     if (precision.kind == SdmPrecision::quantized)
       im.D[i] = quantised_residual(y.y[i], precision.bits, y.quantum);
     else
       im.D[i] = precision.kind == SdmPrecision::half16 ? float(half(y.y[i])) : y.y[i];
-    if (unread(im, i)) im.A[i] = 0.0f;
   }
+  im.A = std::move(y.mask);
   if (precision.kind != SdmPrecision::quantized) mark_left_out(im);
   im.residual = precision.kind == SdmPrecision::quantized;
   if (im.layout.contains("base_mesh")) im.layout["base_mesh"] = unpack_base_mesh(pack_base_mesh(im.layout.at("base_mesh")));
