@@ -2,6 +2,7 @@
 // computes it, from the extracted skeletons with no key given, measured against the FAUST ground
 // truth (tr_reg_007 and tr_reg_024: vertex i corresponds to vertex i): the distance between the
 // source point each target vertex gets and its true source point, in % of the diagonal.
+#include "faust_diagnostics.h"
 #include "faust_pairs.h"
 
 #include "test_util.h"
@@ -38,6 +39,9 @@ Measured measure(const std::string& name, const sdm::Mesh& a, const sdm::Skeleto
   m.rms = r.rms, m.p99 = r.p99;
   std::ostringstream o;
   o.precision(3);
+  if (std::getenv("SDM_MEASURE_PARTS")) diagnose::print_chain_errors(a, b, r);
+  if (const char* prefix = std::getenv("SDM_MEASURE_COLOURS")) diagnose::write_error_colours(a, b, r, prefix);
+  if (std::getenv("SDM_MEASURE_ROTATIONS")) diagnose::print_rotation_errors(a, b, r);
   o << name << ": fit RMS " << 100 * r.rms << " %, p99 " << 100 * r.p99 << " %; correspondence mean " << m.error.mean << " %, p90 "
     << m.error.p90 << " %, beyond 5 %: " << m.error.beyond5 << " % of the vertices";
   m.text = o.str();
@@ -50,9 +54,10 @@ Measured measure(const std::string& name, const sdm::Mesh& a, const sdm::Skeleto
 // 0.27 %; with the arm bent 2.05 %, 4.5 %, 6.5 % (2.7 %, 5.6 %, 15 % before the length filter of the
 // candidate matches and the slides of common_branching); 024 -> 007 2.3 %, 5.7 %, 13 %, turned and scaled 2.5 %,
 // 5.8 %, 16 % (the match with left and right swapped, chosen without the registration's twist, gave
-// 22 %). 007 -> 024 turned and scaled is not tested: the scaled target's extracted skeleton splits
-// the head into three prongs and the common branching goes wrong (the extraction changes under a
-// 1e-7 relative perturbation of the coordinates: DESIGN 6). The issue asks 1 %, 2.5 % and
+// 22 %). 007 -> 024 turned and scaled, and 024 -> 007 with the arm bent, pass since 2026-11-26 (the
+// extraction still changes under a 1e-7 relative perturbation of the coordinates: DESIGN 6; where
+// the error is: [faust_measure] with SDM_MEASURE_PARTS, SDM_MEASURE_COLOURS=PREFIX,
+// SDM_MEASURE_ROTATIONS). The issue asks 1 %, 2.5 % and
 // 1 %: the thresholds hold what is reached, with a margin (before register_bodies, the transfer
 // matched the extracted skeletons and put 007 -> 024 6.4 % off, 024 -> 007 19.2 %).
 TEST_CASE("register_bodies: FAUST 007 onto 024 from the extracted skeletons", "[register_bodies]") {
@@ -75,10 +80,16 @@ TEST_CASE("register_bodies: FAUST 007 onto 024 from the extracted skeletons", "[
   CHECK(arm.error.mean < 3.2);
   CHECK(arm.error.p90 < 6.5);
   CHECK(arm.error.beyond5 < 18);
+  // Measured 2026-11-26: 1.87 %, 4.2 %, 4.7 % (the scaled target's skeleton used to split the head
+  // into three prongs; it no longer does with today's extraction).
+  const Measured turned = measure("007 -> 024 turned 180 degrees and scaled 1.7", a, sa, faust::turned_scaled(b, 1.7));
+  std::fprintf(stderr, "%s\n", turned.text.c_str());
+  CHECK(turned.rms < 0.005);
+  CHECK(turned.error.mean < 2.6);
+  CHECK(turned.error.p90 < 5.0);
+  CHECK(turned.error.beyond5 < 8);
 }
 
-// 024 -> 007 with the arm bent is refused today: the bent target's extracted skeleton joins its
-// branches otherwise (common_branching finds no common branching), a limit of the extraction.
 TEST_CASE("register_bodies: FAUST 024 onto 007 from the extracted skeletons", "[register_bodies]") {
   if (!faust::have("tr_reg_007.off") || !faust::have("tr_reg_024.off")) {
     WARN("no FAUST meshes at " << faust::humans_dir() << ": skipped");
@@ -99,6 +110,14 @@ TEST_CASE("register_bodies: FAUST 024 onto 007 from the extracted skeletons", "[
   CHECK(turned.error.mean < 2.9);
   CHECK(turned.error.p90 < 6.5);
   CHECK(turned.error.beyond5 < 19);
+  // Measured 2026-11-26: 2.71 %, 5.5 %, 13.9 % (refused before: the bent target's skeleton joined
+  // its branches otherwise).
+  const Measured arm = measure("024 -> 007, an arm bent 90 degrees more", a, sa, faust::arm_bent(b, sa, 90));
+  std::fprintf(stderr, "%s\n", arm.text.c_str());
+  CHECK(arm.rms < 0.005);
+  CHECK(arm.error.mean < 3.2);
+  CHECK(arm.error.p90 < 6.5);
+  CHECK(arm.error.beyond5 < 18);
 }
 
 TEST_CASE("register_bodies refuses branchings that differ beyond small branches", "[register_bodies]") {
@@ -205,3 +224,26 @@ TEST_CASE("register_bodies: candidate matches against the FAUST ground truth", "
   }
 }
 
+
+// The four FAUST pairs of the issue in one run, with where the error is (hidden: run with
+// [faust_measure]; DESIGN 6 and BENCHMARKS quote it).
+TEST_CASE("register_bodies: FAUST pairs measured", "[.][faust_measure]") {
+  if (!faust::have("tr_reg_007.off") || !faust::have("tr_reg_024.off")) return;
+  const sdm::Mesh m007 = sdm::load_mesh(faust::humans_dir() + "/tr_reg_007.off");
+  const sdm::Mesh m024 = sdm::load_mesh(faust::humans_dir() + "/tr_reg_024.off");
+  for (int dir = 0; dir < 2; ++dir) {
+    const sdm::Mesh& a = dir ? m024 : m007;
+    const sdm::Mesh& b = dir ? m007 : m024;
+    const sdm::Skeleton sa = sdm::extract_skeleton(a, sdm::transfer_skeleton_options());
+    const std::string name = dir ? "024 -> 007" : "007 -> 024";
+    for (int variant = 0; variant < 3; ++variant) {
+      try {
+        const sdm::Mesh t = variant == 0 ? b : variant == 1 ? faust::turned_scaled(b, 1.7) : faust::arm_bent(b, sa, 90);
+        const Measured m = measure(name + (variant == 1 ? " turned+scaled" : variant == 2 ? " arm bent" : ""), a, sa, t);
+        std::fprintf(stderr, "%s\n", m.text.c_str());
+      } catch (const std::exception& e) {
+        std::fprintf(stderr, "%s variant %d: %s\n", name.c_str(), variant, e.what());
+      }
+    }
+  }
+}
