@@ -4,6 +4,8 @@
 #include "libstm/core/errors.h"
 #include "libstm/core/stopwatch.h"
 #include "libstm/mesh/drop_small_parts.h"
+#include "libstm/mesh/fill_holes.h"
+#include "libstm/mesh/mesh_geometry.h"
 #include "libstm/skeleton/extract_skeleton.h"
 
 namespace sdm::cli {
@@ -45,12 +47,26 @@ LayoutForMesh layout_for(const sdm::Mesh& mesh, const LayoutSource& source) {
   return r;
 }
 
-Mesh load_mesh_min_part(const std::string& path, double min_part) {
+Mesh load_mesh_min_part(const std::string& path, double min_part, bool fill) {
   sdm::Mesh mesh = sdm::load_mesh(path);
-  if (!(min_part > 0)) return mesh;
-  sdm::DroppedParts kept = sdm::drop_small_parts(mesh, min_part);
-  for (const auto& d : kept.dropped) progress("--min-part: dropped " + d);
-  return std::move(kept.mesh);
+  if (min_part > 0) {
+    sdm::DroppedParts kept = sdm::drop_small_parts(mesh, min_part);
+    for (const auto& d : kept.dropped) progress("--min-part: dropped " + d);
+    mesh = std::move(kept.mesh);
+  }
+  if (!fill) return mesh;
+  const size_t before = mesh.n_vertices();
+  const int loops = int(sdm::boundary_loops(sdm::face_matrix(mesh), int(before)).size());
+  if (loops == 0) return mesh;
+  mesh = sdm::fill_holes(mesh);
+  progress("--fill-holes: closed " + std::to_string(loops) + " hole(s) with " + std::to_string(mesh.n_vertices() - before) + " vertices");
+  return mesh;
+}
+
+void add_fill_holes_option(CLI::App* app, bool& value) {
+  app->add_flag("--fill-holes", value,
+                "Close an open mesh's holes first (smooth patches), so that the output is closed; by default the output\n"
+                "keeps the holes open");
 }
 
 void add_min_part_option(CLI::App* app, double& value) {

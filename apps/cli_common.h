@@ -33,8 +33,12 @@ struct LayoutForMesh {
 /// the skeleton or computing the layout throws.
 LayoutForMesh layout_for(const Mesh& mesh, const LayoutSource& source);
 
-// load_mesh, then drop_small_parts(min_part) when min_part > 0, saying on stderr what it dropped.
-Mesh load_mesh_min_part(const std::string& path, double min_part);
+// load_mesh, then drop_small_parts(min_part) when min_part > 0, saying on stderr what it dropped,
+// then, with fill, every hole closed (fill_holes), saying how many.
+Mesh load_mesh_min_part(const std::string& path, double min_part, bool fill = false);
+// Adds --fill-holes to a command: an open mesh's holes closed first, so that the output is closed
+// (by default an open mesh stays open: the skeleton sees the holes filled, the output keeps them).
+void add_fill_holes_option(CLI::App* app, bool& value);
 // Adds --min-part to a command (encode, stm, roundtrip: the commands that compute a layout).
 void add_min_part_option(CLI::App* app, double& value);
 

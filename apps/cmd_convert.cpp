@@ -18,7 +18,7 @@ Command add_convert_command(CLI::App& parent) {
                  "Refuses (exit 2, nothing written) a mesh the pipeline cannot take.");
   app->add_option("mesh", o->mesh, "Input mesh (.obj, .off, .ply, .stl, .glb, .gltf)")->required();
   app->add_option("-o,--output", o->out, "Output mesh; the format follows the extension")->required();
-  app->add_flag("--strict", o->strict, "Also refuse meshes with tolerated findings (degenerate faces, isolated vertices)");
+  app->add_flag("--strict", o->strict, "Also refuse meshes with tolerated findings (degenerate faces, isolated vertices, holes)");
   return {app, [o]() {
             sdm::MeshSoup soup = sdm::read_mesh_soup(o->mesh);
             sdm::MeshReport r = sdm::validate_mesh(soup);

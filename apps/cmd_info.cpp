@@ -19,7 +19,7 @@ Command add_info_command(CLI::App& parent) {
               "Exits 2 when the mesh cannot go through the pipeline, so scripts can use it as a check.");
   app->add_option("mesh", o->mesh, "Input mesh (.obj, .off, .ply, .stl, .glb, .gltf)")->required();
   app->add_flag("--json", o->json, "Print one JSON object instead of text");
-  app->add_flag("--strict", o->strict, "Exit 2 also for tolerated findings (degenerate faces, isolated vertices)");
+  app->add_flag("--strict", o->strict, "Exit 2 also for tolerated findings (degenerate faces, isolated vertices, holes)");
   return {app, [o]() {
             sdm::MeshSoup soup = sdm::read_mesh_soup(o->mesh);
             sdm::MeshReport r = sdm::validate_mesh(soup);

@@ -83,7 +83,22 @@ std::map<int, int> parse_segment_levels(const std::vector<std::string>& items) {
   return out;
 }
 
-bool closed_manifold(const sdm::Mesh& m) { return sdm::validate_mesh(sdm::mesh_to_soup(m)).usable(); }
+// What a decoded surface is: 2-manifold (usable by the pipeline again) and with how many boundary
+// loops (those of an open input's holes; 0 for a closed one).
+struct SurfaceTopology {
+  bool manifold = false;
+  int boundary_loops = 0;
+  bool closed() const { return manifold && boundary_loops == 0; }
+  std::string text() const {
+    if (!manifold) return "NOT manifold";
+    return boundary_loops ? "2-manifold with " + std::to_string(boundary_loops) + " boundary loop(s)" : "closed 2-manifold";
+  }
+};
+
+SurfaceTopology topology_of(const sdm::Mesh& m) {
+  const sdm::MeshReport r = sdm::validate_mesh(sdm::mesh_to_soup(m));
+  return {r.usable(), r.boundary_loops};
+}
 
 constexpr const char* kPrecisionHelp =
     "Displacement precision in the file: float (32 bits), half (16 bits: 11 significant bits), or a number of bits "
@@ -205,11 +220,12 @@ Command add_encode_command(CLI::App& parent) {
     std::string mesh, out, layout, skeleton, png, max_memory, precision = "10";  // BENCHMARKS: float's accuracy, 3.6-6x smaller at 1024
     int size = 1024;
     double min_part = 0;
+    bool fill_holes = false;
     bool json = false, strict = false;
   };
   auto o = std::make_shared<Opts>();
   auto* app = parent.add_subcommand(
-      "encode", "Encode a closed mesh as a skeleton displacement map: one OpenEXR file (channels Y = displacement, A = mask)\n"
+      "encode", "Encode a mesh (closed, or open with holes) as a skeleton displacement map: one OpenEXR file (channels Y = displacement, A = mask)\n"
                 "with the layout and base mesh in its header, so 'sdm decode' needs nothing else.");
   app->add_option("mesh", o->mesh, "Input mesh (.obj, .off, .ply, .stl, .glb, .gltf)")->required();
   app->add_option("-o,--output", o->out, "Output map (.exr)")->required();
@@ -218,6 +234,7 @@ Command add_encode_command(CLI::App& parent) {
   app->add_option("--skeleton", o->skeleton, "Use this skeleton (from 'sdm skeleton') instead of extracting one");
   app->add_option("--png", o->png, "Also write a false-colour picture of the map (.png)");
   add_min_part_option(app, o->min_part);
+  add_fill_holes_option(app, o->fill_holes);
   add_max_memory_option(app, o->max_memory);
   app->add_option("--precision", o->precision, kPrecisionHelp)->capture_default_str();
   app->add_flag("--strict", o->strict,
@@ -227,7 +244,7 @@ Command add_encode_command(CLI::App& parent) {
             if (o->layout.empty()) check_atlas_memory(o->size, 10, o->max_memory);
             const sdm::SdmPrecision precision = sdm::SdmPrecision::parse(o->precision);
             sdm::Stopwatch clock;
-            const sdm::Mesh mesh = load_mesh_min_part(o->mesh, o->min_part);
+            const sdm::Mesh mesh = load_mesh_min_part(o->mesh, o->min_part, o->fill_holes);
             const sdm::SelfIntersections crossings = check_self_intersections(mesh, o->strict);
             const sdm::Layout layout = layout_for(mesh, encode_layout_source(o->layout, o->skeleton, o->size)).layout;
             const double layout_s = clock.lap();
@@ -272,7 +289,7 @@ Command add_decode_command(CLI::App& parent) {
   };
   auto o = std::make_shared<Opts>();
   auto* app = parent.add_subcommand(
-      "decode", "Rebuild a closed mesh from a skeleton displacement map, with a level of detail chosen globally\n"
+      "decode", "Rebuild the mesh from a skeleton displacement map, with a level of detail chosen globally\n"
                 "or per segment, optionally around a skeleton with moved nodes (same graph).");
   app->add_option("map", o->map, "Input map (.exr from 'sdm encode')")->required();
   app->add_option("-o,--output", o->out, "Output mesh (.obj, .ply, .off, .stl, .glb, .gltf)")->required();
@@ -304,13 +321,13 @@ Command add_decode_command(CLI::App& parent) {
               else
                 sdm::write_skeleton_json(sk, o->write_skeleton);
             }
-            const bool closed = closed_manifold(mesh);
+            const SurfaceTopology top = topology_of(mesh);
             if (o->json) {
               print_json({{"output", o->out}, {"vertices", mesh.n_vertices()}, {"faces", mesh.n_faces()},
-                          {"closed", closed}, {"seconds", s}});
+                          {"closed", top.closed()}, {"manifold", top.manifold}, {"boundary_loops", top.boundary_loops}, {"seconds", s}});
             } else {
               std::cout << o->out << ": " << mesh.n_vertices() << " vertices, " << mesh.n_faces() << " faces, "
-                        << (closed ? "closed 2-manifold" : "NOT closed") << ", " << s << " s\n";
+                        << top.text() << ", " << s << " s\n";
             }
             return 0;
           }};
@@ -321,6 +338,7 @@ Command add_roundtrip_command(CLI::App& parent) {
     std::string mesh, out, png, precision = "10";
     int size = 1024, lod = 3, samples = 100000;
     double max_rms = -1, min_part = 0;
+    bool fill_holes = false;
     std::string max_memory;
     bool json = false, strict = false;
   };
@@ -340,6 +358,7 @@ Command add_roundtrip_command(CLI::App& parent) {
                   "Also draw the decoded mesh coloured by its distance to the input (.png, four views; grey at 0, yellow at "
                   "0.15 %, red from 0.5 % of the diagonal)");
   add_min_part_option(app, o->min_part);
+  add_fill_holes_option(app, o->fill_holes);
   add_max_memory_option(app, o->max_memory);
   app->add_flag("--strict", o->strict,
                 "Refuse (exit 2) a self-intersecting input or a decoded surface that carries under 90 % of the input");
@@ -347,7 +366,7 @@ Command add_roundtrip_command(CLI::App& parent) {
   return {app, [o]() {
             const sdm::Stopwatch total;
             const sdm::SdmPrecision precision = sdm::SdmPrecision::parse(o->precision);
-            const sdm::Mesh mesh = load_mesh_min_part(o->mesh, o->min_part);
+            const sdm::Mesh mesh = load_mesh_min_part(o->mesh, o->min_part, o->fill_holes);
             const sdm::SelfIntersections crossings = check_self_intersections(mesh, o->strict);
             const sdm::Layout layout = layout_for(mesh, encode_layout_source("", "", o->size)).layout;
             sdm::Stopwatch stage;
@@ -369,7 +388,7 @@ Command add_roundtrip_command(CLI::App& parent) {
             const sdm::SurfaceDistance dist = sdm::surface_distance(mesh, out, o->samples);
             const double rms = dist.rms / dist.diagonal, hd = dist.hausdorff / dist.diagonal;
             const double psnr = 20 * std::log10(1.0 / rms);
-            const bool closed = closed_manifold(out);
+            const SurfaceTopology top = topology_of(out), input_top = topology_of(mesh);
             const WorstError worst = locate_worst(dist, out, trace);
             if (!o->png.empty()) write_error_png(mesh, out, dist.diagonal, o->png);
             const nlohmann::json worst_json = {{"position", {worst.position.x(), worst.position.y(), worst.position.z()}},
@@ -379,13 +398,14 @@ Command add_roundtrip_command(CLI::App& parent) {
               print_json({{"mesh", o->mesh}, {"size", o->size}, {"lod", o->lod}, {"segments", layout.segments.size()},
                           {"precision", precision.name()}, {"map_bytes", map_bytes},
                           {"rms", rms}, {"hausdorff", hd}, {"psnr", psnr}, {"faces", out.n_faces()},
-                          {"closed", closed}, {"encode_seconds", encode_s}, {"decode_seconds", decode_s},
+                          {"closed", top.closed()}, {"manifold", top.manifold}, {"boundary_loops", top.boundary_loops},
+                          {"input_boundary_loops", input_top.boundary_loops}, {"encode_seconds", encode_s}, {"decode_seconds", decode_s},
                           {"total_seconds", total.seconds()}, {"samples", o->samples}, {"carried", carried.share},
                           {"self_intersections", crossings.pairs}, {"worst", worst_json}});
             } else {
               std::cout << o->mesh << " at " << o->size << ", level " << o->lod << ": RMS " << 100 * rms << " %, Hausdorff "
                         << 100 * hd << " % of the diagonal, PSNR " << psnr << " dB, " << out.n_faces() << " faces, "
-                        << (closed ? "closed" : "NOT closed") << ", map " << map_bytes << " bytes (" << precision.name() << ")\n"
+                        << top.text() << " (input: " << input_top.boundary_loops << " boundary loop(s)), map " << map_bytes << " bytes (" << precision.name() << ")\n"
                         << "  worst at " << point_text(worst.position) << ", segment " << worst.segment << ", base face "
                         << worst.base_face << " (" << worst_json.at("where").get<std::string>() << ")\n";
             }

@@ -62,7 +62,10 @@ Command add_skeleton_command(CLI::App& parent) {
                                 {"medial_parts", st.medial_parts},
                                 {"area_ratio", st.area_ratio},
                                 {"kept", st.kept},
-                                {"outside_edges", st.outside_edges}};
+                                {"outside_edges", st.outside_edges},
+                                {"filled_loops", st.filled_loops},
+                                {"fill_vertices", st.fill_vertices},
+                                {"dropped_nodes", st.dropped_nodes}};
             if (o->json) {
               print_json(j);
             } else {

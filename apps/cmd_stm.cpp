@@ -20,6 +20,7 @@ Command add_stm_command(CLI::App& parent) {
     int size = 1024;
     int margin = 4;
     double min_part = 0;
+    bool fill_holes = false;
     bool json = false;
   };
   auto o = std::make_shared<Opts>();
@@ -37,11 +38,12 @@ Command add_stm_command(CLI::App& parent) {
   app->add_option("--uv-obj", o->uv_obj, "Also write the mesh with its STM coordinates as uv (OBJ; seam vertices duplicated)");
   app->add_option("--atlas-png", o->atlas_png, "Also draw the atlas: rectangles and each segment's triangles in its colour (PNG)");
   add_min_part_option(app, o->min_part);
+  add_fill_holes_option(app, o->fill_holes);
   add_max_memory_option(app, o->max_memory);
   app->add_flag("--json", o->json, "Print one JSON object instead of text");
   return {app, [o]() {
             check_atlas_memory(o->size, 10, o->max_memory);
-            sdm::Mesh mesh = load_mesh_min_part(o->mesh, o->min_part);
+            sdm::Mesh mesh = load_mesh_min_part(o->mesh, o->min_part, o->fill_holes);
             LayoutSource from;
             from.skeleton_file = o->skeleton;
             from.options.size = o->size;

@@ -39,7 +39,8 @@ inline void progress(const std::string& line) { std::cerr << line << std::endl; 
 // --strict: tolerated findings (degenerate faces, isolated vertices) refuse the input too.
 inline void check_strict(const sdm::MeshReport& r, const std::string& path) {
   for (const auto& f : r.findings)
-    if (f.kind.find("degenerate") != std::string::npos || f.kind.find("isolated") != std::string::npos)
+    if (f.kind.find("degenerate") != std::string::npos || f.kind.find("isolated") != std::string::npos ||
+        f.kind.find("boundary edges") != std::string::npos)
       throw sdm::InputError("mesh " + path + " has " + std::to_string(f.count) + " " + f.kind + ", e.g. " + f.example +
                             " (refused by --strict). Fix: " + f.fix);
 }

@@ -68,6 +68,36 @@ class ModMaxEdgeLengthT : public OpenMesh::Decimater::ModBaseT<MeshT> {
   double max_sq_ = INFINITY;
 };
 
+// Keeps an open mesh's boundary loops where they are (issue 16): a boundary vertex may only move
+// along its loop, onto a neighbour on the loop, and only when the loop's new edge passes within
+// `tolerance` of it. The decoder places points of a base boundary edge on the rays through the
+// flat edge, so the distance between the base loop and the input's is the error at the holes.
+template <class MeshT>
+class ModBoundaryT : public OpenMesh::Decimater::ModBaseT<MeshT> {
+ public:
+  DECIMATING_MODULE(ModBoundaryT, MeshT, Boundary);
+  explicit ModBoundaryT(MeshT& mesh) : Base(mesh, true) {}
+  void set_tolerance(double tolerance) { tolerance_ = tolerance; }
+  float collapse_priority(const CollapseInfo& ci) override {
+    const MeshT& m = this->mesh();
+    if (!m.is_boundary(ci.v0)) return float(Base::LEGAL_COLLAPSE);
+    if (!m.is_boundary(m.edge_handle(ci.v0v1))) return float(Base::ILLEGAL_COLLAPSE);
+    // v0's other neighbour on its loop: the new edge runs from it to v1.
+    for (auto h : m.voh_range(ci.v0)) {
+      const auto w = m.to_vertex_handle(h);
+      if (w == ci.v1 || !m.is_boundary(m.edge_handle(h))) continue;
+      const Eigen::Vector3d a = point(m, w), b = point(m, ci.v1), p = point(m, ci.v0);
+      const Eigen::Vector3d ab = b - a;
+      const double t = std::clamp((p - a).dot(ab) / std::max(ab.squaredNorm(), 1e-300), 0.0, 1.0);
+      if ((a + t * ab - p).norm() > tolerance_) return float(Base::ILLEGAL_COLLAPSE);
+    }
+    return float(Base::LEGAL_COLLAPSE);
+  }
+
+ private:
+  double tolerance_ = 0;
+};
+
 // Whether segment s can carry base face f alone along its rays. The decoder places a point of f on
 // the ray of s through it, at the depth the map stores for that ray: a ray holds one depth, so f
 // fails when it is turned away from the rays (its reference triangle is flipped or edge-on), or
@@ -204,7 +234,9 @@ struct BaseSource {
 
 BaseSource base_source(const Mesh& mesh, const Skeleton& skeleton, int target_vertices) {
   BaseSource src{mesh, skeleton.vertex_node};
-  if (needle_share(mesh) < 0.25) return src;
+  // The remesh needs a closed surface; an open mesh's needles are decimated as they are.
+  const bool open = std::any_of(mesh.halfedges_begin(), mesh.halfedges_end(), [&](auto h) { return mesh.is_boundary(h); });
+  if (open || needle_share(mesh) < 0.25) return src;
   const Eigen::MatrixX3d V = vertex_matrix(mesh);
   const Eigen::MatrixX3i F = face_matrix(mesh);
   const double len = equilateral_edge_length(surface_area(mesh), 4.0 * target_vertices);
@@ -222,6 +254,10 @@ BaseSource base_source(const Mesh& mesh, const Skeleton& skeleton, int target_ve
   return src;
 }
 
+// How far a base mesh's boundary loop may stray from the input's, in bounding-box diagonals:
+// measured on open meshes, within the round trip's Hausdorff at level 3 (DESIGN 6).
+constexpr double kBoundaryTolerance = 0.002;
+
 // Decimates m to target_vertices with quadrics, no normal flips and collapses only between
 // neighbouring skeleton nodes (node: per vertex of m).
 void decimate_base(Mesh& m, const std::vector<int>& node, const Skeleton& skeleton, int target_vertices, double max_edge) {
@@ -232,7 +268,10 @@ void decimate_base(Mesh& m, const std::vector<int>& node, const Skeleton& skelet
   OpenMesh::Decimater::ModNormalFlippingT<Mesh>::Handle flipping;
   typename ModSkeletonNodesT<Mesh>::Handle nodes;
   typename ModMaxEdgeLengthT<Mesh>::Handle length;
+  typename ModBoundaryT<Mesh>::Handle boundary;
   decimater.add(quadric);
+  decimater.add(boundary);
+  decimater.module(boundary).set_tolerance(kBoundaryTolerance * bounding_box_diagonal(m));
   decimater.add(flipping);
   decimater.add(nodes);
   decimater.add(length);
@@ -317,7 +356,9 @@ namespace {
 
 // What make_base_mesh guarantees and the tessellation relies on (OpenSubdiv asserts otherwise):
 // three distinct corners per face, vertices 0..n-1 all used, every directed edge used once and its
-// opposite once (closed and consistently oriented).
+// opposite at most once (consistently oriented; edges without an opposite are the boundary of an
+// open mesh's holes), and at most one boundary edge leaving each vertex (two loops touching at a
+// vertex would make it non-manifold).
 void check_base_topology(const Eigen::MatrixX3i& t) {
   const std::string bad = "invalid base mesh in the SDM header: ";
   const int nf = int(t.rows());
@@ -336,12 +377,14 @@ void check_base_topology(const Eigen::MatrixX3i& t) {
   for (int v = 0; v < nv; ++v)
     if (!used[v]) throw InputError(bad + "vertex " + std::to_string(v) + " belongs to no face");
   std::sort(directed.begin(), directed.end());
+  std::vector<char> leaves_boundary(size_t(nv), 0);
   for (size_t i = 0; i < directed.size(); ++i) {
     const auto& [a, b] = directed[i];
     if (i + 1 < directed.size() && directed[i + 1] == directed[i])
       throw InputError(bad + "edge " + std::to_string(a) + "-" + std::to_string(b) + " is used twice in the same direction");
-    if (!std::binary_search(directed.begin(), directed.end(), std::make_pair(b, a)))
-      throw InputError(bad + "edge " + std::to_string(a) + "-" + std::to_string(b) + " has no opposite: the base mesh is not closed");
+    if (std::binary_search(directed.begin(), directed.end(), std::make_pair(b, a))) continue;
+    if (leaves_boundary[size_t(a)]++)
+      throw InputError(bad + "vertex " + std::to_string(a) + " lies on two boundary loops (non-manifold)");
   }
 }
 

@@ -5,8 +5,9 @@
 //
 // Why not one capsule control mesh per segment (DESIGN 4.8 first draft): segment regions meet
 // along irregular curves around branch nodes, and independent capsule patches cannot be stitched
-// into one closed manifold there. A decimated copy of the input is closed and manifold by
-// construction, and its faces carry their segment, so levels of detail stay per segment.
+// into one closed manifold there. A decimated copy of the input is manifold by construction, with
+// the input's boundary loops where it has holes, and its faces carry their segment, so levels of
+// detail stay per segment.
 #include "libstm/layout/layout.h"
 
 #include <array>
@@ -15,7 +16,7 @@
 namespace sdm {
 
 struct BaseMesh {
-  Eigen::MatrixX3i triangles;                           // closed, consistently oriented
+  Eigen::MatrixX3i triangles;                           // consistently oriented, closed unless the input had holes
   std::vector<int> face_segment;                        // segment of each face
   std::vector<std::array<Eigen::Vector2d, 3>> corner_uv;  // (u, v) of each corner in its face's segment
   // Displacement of each corner along its capsule ray (model units): with it the decoder places the
@@ -36,7 +37,7 @@ BaseMesh make_base_mesh(const Mesh& mesh, const Layout& layout, int target_verti
 
 nlohmann::json base_mesh_to_json(const BaseMesh& base);
 // Throws InputError naming what is wrong (sizes, indices, segments out of range, non-finite texel
-// coordinates, degenerate faces, unused vertices, or a surface that is not closed and oriented).
+// coordinates, degenerate faces, unused vertices, or a surface that is not manifold and consistently oriented).
 BaseMesh base_mesh_from_json(const nlohmann::json& j, int segments);
 
 }  // namespace sdm

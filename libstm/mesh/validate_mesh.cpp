@@ -9,6 +9,7 @@
 #include <map>
 #include <sstream>
 #include <unordered_map>
+#include <unordered_set>
 
 namespace sdm {
 namespace {
@@ -31,7 +32,7 @@ bool MeshReport::usable() const {
 
 std::string MeshReport::refusal(const std::string& path) const {
   std::ostringstream s;
-  s << "mesh " << path << " cannot go through the pipeline (it needs a closed 2-manifold triangle mesh):";
+  s << "mesh " << path << " cannot go through the pipeline (it needs a 2-manifold triangle mesh that encloses a volume):";
   for (const auto& f : findings)
     if (f.fatal) s << "\n  - " << f.count << " " << f.kind << ", e.g. " << f.example << ". Fix: " << f.fix;
   return s.str();
@@ -182,8 +183,9 @@ void check_edges(const EdgeUse& use, MeshReport& r) {
   }
   r.boundary_loops = count_boundary_loops(boundary_adj);
   add(r, "boundary edges (the mesh is open)", boundary,
-      boundary_example + "; " + std::to_string(r.boundary_loops) + " boundary loop(s)", true,
-      "close the holes (e.g. 'fill holes' in MeshLab or Blender) so the surface bounds a volume");
+      boundary_example + "; " + std::to_string(r.boundary_loops) + " boundary loop(s)", false,
+      "nothing to fix: the skeleton is computed with the holes filled and every output keeps them open; "
+      "--fill-holes closes them in the output instead");
   add(r, "non-manifold edges", nonmanifold, nm_example, true,
       "split the mesh where more than two faces meet at an edge, or remove the extra faces");
   add(r, "edges between inconsistently oriented faces", flipped, flip_example, true,
@@ -279,47 +281,88 @@ void find_parts(const MeshSoup& soup, const std::vector<char>& face_ok, const Ed
   }
   for (long v = 0; v < nv; ++v)
     if (vpart[v] >= 0) pv[vpart[v]]++;
+  // Boundary loops per part: components of its boundary edges (one loop per component, since
+  // non-manifold vertices, where two loops would touch, are refused).
+  UnionFind loops{static_cast<size_t>(nv)};
+  std::vector<char> on_boundary(size_t(nv), 0);
   for (const auto& [k, fs] : use.faces) {
     pe[r.face_part[fs[0]]]++;
-    if (fs.size() == 1) pb[r.face_part[fs[0]]]++;
+    if (fs.size() != 1) continue;
+    const int a = int(k >> 32), b = int(k & 0xffffffffu);
+    loops.unite(a, b);
+    on_boundary[size_t(a)] = on_boundary[size_t(b)] = 1;
   }
+  for (long v = 0; v < nv; ++v)
+    if (on_boundary[size_t(v)] && loops.find(int(v)) == int(v) && vpart[v] >= 0) pb[vpart[v]]++;
+  r.boundary_loops_per_part.assign(size_t(r.parts), 0);
   for (int p = 0; p < r.parts; ++p) {
-    long chi = pv[p] - pe[p] + pf[p];
-    // Boundary loops of this part are not separated here; genus is reported for closed parts.
-    r.genus_per_part.push_back(pb[p] == 0 ? int((2 - chi) / 2) : -1);
+    // Genus of the closed surface the part becomes with each loop capped by a disc.
+    const long chi = pv[p] - pe[p] + pf[p] + pb[p];
+    r.genus_per_part.push_back(int((2 - chi) / 2));
     r.faces_per_part.push_back(int(pf[p]));
+    r.boundary_loops_per_part[size_t(p)] = int(pb[p]);
   }
   if (r.parts > 1)
     add(r, "connected parts", r.parts, "each part gets its own skeleton", false, "nothing to fix: several parts are supported");
 }
 
-// A closed part whose signed volume is nought is flat (both sides of one sheet, or folded onto
-// itself): no capsule sees its surface from inside, and an encode of it is garbage with a success
-// code (issue 15: 0 % of texels on their own surface). Relative to the part's own bounding box, so
-// that it holds at any scale. Only for usable, closed input (the volume means nothing otherwise).
+// Signed volume of every part (faces with face_part -1 left out), each hole capped by a cone from
+// the mean of its part's boundary vertices so that open parts have one too; measured from a vertex
+// of the part (no cancellation far from (0, 0, 0)).
+std::vector<double> part_volumes(const MeshSoup& soup, const std::vector<int>& face_part, int parts) {
+  std::unordered_set<uint64_t> edges;
+  for (size_t f = 0; f < soup.triangles.size(); ++f)
+    if (face_part[f] >= 0)
+      for (int c = 0; c < 3; ++c) edges.insert(directed_key(soup.triangles[f][c], soup.triangles[f][(c + 1) % 3]));
+  std::vector<double> volume(size_t(parts), 0.0);
+  std::vector<int> origin(size_t(parts), -1);
+  std::vector<Eigen::Vector3d> apex(size_t(parts), Eigen::Vector3d::Zero());
+  std::vector<long> rim(size_t(parts), 0);
+  std::vector<std::array<int, 3>> caps;  // (b, a, part) for face edges a -> b without an opposite
+  auto tet = [&](int p, const Eigen::Vector3d& x, const Eigen::Vector3d& y, const Eigen::Vector3d& z) {
+    const Eigen::Vector3d& o = soup.points[size_t(origin[size_t(p)])];
+    volume[size_t(p)] += (x - o).dot((y - o).cross(z - o)) / 6.0;
+  };
+  for (size_t f = 0; f < soup.triangles.size(); ++f) {
+    const int p = face_part[f];
+    if (p < 0) continue;
+    const auto& t = soup.triangles[f];
+    if (origin[size_t(p)] < 0) origin[size_t(p)] = t[0];
+    tet(p, soup.points[t[0]], soup.points[t[1]], soup.points[t[2]]);
+    for (int c = 0; c < 3; ++c) {
+      const int a = t[c], b = t[(c + 1) % 3];
+      if (edges.count(directed_key(b, a))) continue;
+      caps.push_back({b, a, p});
+      apex[size_t(p)] += soup.points[size_t(a)], ++rim[size_t(p)];
+    }
+  }
+  for (const auto& [b, a, p] : caps) tet(p, soup.points[size_t(b)], soup.points[size_t(a)], apex[size_t(p)] / double(rim[size_t(p)]));
+  return volume;
+}
+
+// A part whose signed volume is nought (its holes capped) is flat (both sides of one sheet, folded
+// onto itself, or an open sheet): no capsule sees its surface from inside, and an encode of it is
+// garbage with a success code (issue 15: 0 % of texels on their own surface). Relative to the
+// part's own bounding box, so that it holds at any scale. Only for usable input.
 void check_volumes(const MeshSoup& soup, const std::vector<char>& face_ok, MeshReport& r) {
   if (!r.usable() || r.parts == 0) return;
-  std::vector<double> volume(r.parts, 0.0);
+  std::vector<int> face_part = r.face_part;
+  for (size_t f = 0; f < face_part.size(); ++f)
+    if (!face_ok[f]) face_part[f] = -1;
+  const std::vector<double> volume = part_volumes(soup, face_part, r.parts);
   std::vector<Eigen::Vector3d> lo(r.parts, Eigen::Vector3d::Constant(INFINITY)), hi(r.parts, Eigen::Vector3d::Constant(-INFINITY));
-  std::vector<int> origin(r.parts, -1);  // a vertex of the part: no cancellation far from (0, 0, 0)
-  for (size_t f = 0; f < soup.triangles.size(); ++f) {
-    if (!face_ok[f] || r.face_part[f] < 0) continue;
-    const int p = r.face_part[f];
-    const auto& t = soup.triangles[f];
-    if (origin[p] < 0) origin[p] = t[0];
-    const Eigen::Vector3d& o = soup.points[origin[p]];
-    volume[p] += (soup.points[t[0]] - o).dot((soup.points[t[1]] - o).cross(soup.points[t[2]] - o)) / 6.0;
-    for (int v : t) lo[p] = lo[p].cwiseMin(soup.points[v]), hi[p] = hi[p].cwiseMax(soup.points[v]);
-  }
+  for (size_t f = 0; f < soup.triangles.size(); ++f)
+    if (face_part[f] >= 0)
+      for (int v : soup.triangles[f]) lo[face_part[f]] = lo[face_part[f]].cwiseMin(soup.points[v]), hi[face_part[f]] = hi[face_part[f]].cwiseMax(soup.points[v]);
   long flat = 0;
   std::string example;
   for (int p = 0; p < r.parts; ++p) {
     const double d = (hi[p] - lo[p]).norm();
-    if (r.genus_per_part[p] >= 0 && std::abs(volume[p]) <= 1e-9 * d * d * d && !flat++)
+    if (std::abs(volume[p]) <= 1e-9 * d * d * d && !flat++)
       example = "part " + std::to_string(p) + " (" + std::to_string(r.faces_per_part[p]) + " faces) has volume " + number(volume[p]) +
                 " within a box of diagonal " + number(d);
   }
-  add(r, "closed parts enclosing no volume (flat: both sides of one sheet)", flat, example, true,
+  add(r, "parts enclosing no volume (flat: both sides of one sheet, or an open sheet)", flat, example, true,
       "give the part a thickness (e.g. 'solidify' in Blender); a surface mapped from a skeleton needs an inside");
 }
 
@@ -352,11 +395,7 @@ MeshReport validate_mesh(const MeshSoup& soup) {
 }
 
 void orient_outward(MeshSoup& soup, MeshReport& report) {
-  std::vector<double> volume(report.parts, 0.0);
-  for (size_t f = 0; f < soup.triangles.size(); ++f) {
-    const auto& t = soup.triangles[f];
-    volume[report.face_part[f]] += soup.points[t[0]].dot(soup.points[t[1]].cross(soup.points[t[2]])) / 6.0;
-  }
+  const std::vector<double> volume = part_volumes(soup, report.face_part, report.parts);
   long flipped = 0;
   int example = -1;
   for (size_t f = 0; f < soup.triangles.size(); ++f) {

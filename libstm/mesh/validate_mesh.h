@@ -22,7 +22,8 @@ struct MeshReport {
   long vertices = 0, faces = 0;        // as read (faces after fan-triangulation)
   long edges = 0;
   int parts = 0;                       // edge-connected components of faces
-  std::vector<int> genus_per_part;     // only meaningful for closed manifold parts
+  std::vector<int> genus_per_part;     // of the closed surface each part is with its holes capped
+  std::vector<int> boundary_loops_per_part;  // 0 for a closed part
   std::vector<int> faces_per_part;
   int boundary_loops = 0;
   Eigen::Vector3d bbox_min = Eigen::Vector3d::Zero(), bbox_max = Eigen::Vector3d::Zero();

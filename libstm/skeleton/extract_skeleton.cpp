@@ -3,6 +3,7 @@
 #include "libstm/core/parallel.h"
 #include "libstm/core/stopwatch.h"
 #include "libstm/core/union_find.h"
+#include "libstm/mesh/fill_holes.h"
 #include "libstm/mesh/inside_mesh.h"
 #include "libstm/geometry/triangle_bvh.h"
 #include "libstm/skeleton/choose_candidate.h"
@@ -219,8 +220,16 @@ Skeleton extract_skeleton(const Mesh& mesh, const SkeletonOptions& opt, const Pr
   Stopwatch total;
   SkeletonStats st;
   Skeleton sk;
-  const Eigen::MatrixX3d V = vertex_matrix(mesh);
-  const Eigen::MatrixX3i F = face_matrix(mesh);
+  // An open mesh is extracted with its holes filled (the contraction and the inside tests need a
+  // closed surface); the patches' vertices then leave the map.
+  const FilledMesh filled = fill_holes(vertex_matrix(mesh), face_matrix(mesh));
+  const Eigen::MatrixX3d& V = filled.V;
+  const Eigen::MatrixX3i& F = filled.F;
+  st.filled_loops = filled.loops;
+  st.fill_vertices = int(V.rows()) - filled.original_vertices;
+  if (filled.loops && progress)
+    progress("closed " + std::to_string(filled.loops) + " boundary loop(s) with " + std::to_string(st.fill_vertices) +
+             " vertices for the extraction");
   sk.vertex_node.assign(V.rows(), -1);
   const Progress say = serialised(progress);  // the candidates report from two threads
   for (const Part& part : split_parts(V, F)) {
@@ -234,6 +243,7 @@ Skeleton extract_skeleton(const Mesh& mesh, const SkeletonOptions& opt, const Pr
     for (size_t v = 0; v < part.global.size(); ++v) sk.vertex_node[part.global[v]] = base + owner[v];
     for (const auto& e : g.edges) sk.edges.push_back({base + e.first, base + e.second});
   }
+  if (filled.loops) st.dropped_nodes = restrict_to_vertices(sk, filled.original_vertices);
   st.seconds = total.seconds();
   if (stats) *stats = st;
   return sk;

@@ -7,6 +7,7 @@
 #include "libstm/core/union_find.h"
 
 #include <cmath>
+#include <set>
 #include <sstream>
 
 namespace sdm {
@@ -44,6 +45,48 @@ int Skeleton::end_nodes() const {
   int n = 0;
   for (int d : degrees()) n += d == 1;
   return n;
+}
+
+int restrict_to_vertices(Skeleton& s, int vertices) {
+  s.vertex_node.resize(size_t(std::max(0, vertices)));
+  const size_t k = s.nodes.size();
+  std::vector<int> owned(k, 0);
+  for (int n : s.vertex_node) ++owned[size_t(n)];
+  std::vector<std::set<int>> adj(k);
+  for (const auto& e : s.edges) adj[size_t(e[0])].insert(e[1]), adj[size_t(e[1])].insert(e[0]);
+  std::vector<char> alive(k, 1);
+  int removed = 0;
+  for (;;) {
+    // The unowned node of least degree first: ends go before the chains they hang from.
+    int u = -1;
+    for (size_t a = 0; a < k; ++a)
+      if (alive[a] && !owned[a] && (u < 0 || adj[a].size() < adj[size_t(u)].size())) u = int(a);
+    if (u < 0) break;
+    std::vector<int> nb(adj[size_t(u)].begin(), adj[size_t(u)].end());
+    for (int x : nb) adj[size_t(x)].erase(u);
+    adj[size_t(u)].clear();
+    alive[size_t(u)] = 0;
+    ++removed;
+    if (nb.size() < 2) continue;
+    // The nearest neighbour takes the node's other edges (for degree 2, simply joins the two).
+    int w = nb[0];
+    for (int x : nb)
+      if ((s.nodes[size_t(x)] - s.nodes[size_t(u)]).squaredNorm() < (s.nodes[size_t(w)] - s.nodes[size_t(u)]).squaredNorm()) w = x;
+    for (int x : nb)
+      if (x != w) adj[size_t(x)].insert(w), adj[size_t(w)].insert(x);
+  }
+  if (!removed) return 0;
+  std::vector<int> index(k, -1);
+  Skeleton out;
+  for (size_t a = 0; a < k; ++a)
+    if (alive[a]) index[a] = int(out.nodes.size()), out.nodes.push_back(s.nodes[a]);
+  for (size_t a = 0; a < k; ++a)
+    for (int b : adj[a])
+      if (int(a) < b) out.edges.push_back({index[a], index[size_t(b)]});
+  out.vertex_node.reserve(s.vertex_node.size());
+  for (int n : s.vertex_node) out.vertex_node.push_back(index[size_t(n)]);
+  s = std::move(out);
+  return removed;
 }
 
 nlohmann::json skeleton_to_json(const Skeleton& s) {

@@ -32,6 +32,13 @@ Skeleton skeleton_from_json(const nlohmann::json& j);
 // call it; so does anything that takes node positions from outside.
 void check_skeleton_geometry(const Skeleton& s);
 
+// Keeps the map of vertices 0..vertices-1 only (a skeleton extracted from a mesh with vertices added
+// after the input's, e.g. hole patches) and merges away the nodes left without a vertex: an end
+// node is removed with its edge (repeatedly, so a branch inside a patch goes), a node of degree 2
+// is replaced by an edge between its neighbours, a junction is merged into its nearest neighbour.
+// Returns the number of nodes removed.
+int restrict_to_vertices(Skeleton& s, int vertices);
+
 void write_skeleton_json(const Skeleton& s, const std::string& path);
 Skeleton read_skeleton_json(const std::string& path);
 // OBJ polyline (`v` and `l` lines) so that any viewer shows the skeleton.

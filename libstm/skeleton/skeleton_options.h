@@ -67,6 +67,9 @@ struct SkeletonStats {
   double area_ratio = -1;
   std::vector<std::string> kept;
   double medial_seconds = 0;       // computing the poles (summed over the threads that took part)
+  int filled_loops = 0;            // boundary loops of an open input, closed for the extraction
+  int fill_vertices = 0;           // vertices the patches added (they map to no output)
+  int dropped_nodes = 0;           // nodes that owned patch vertices only, merged away
 };
 
 }  // namespace sdm
