@@ -424,7 +424,11 @@ SkeletonFit fit_skeleton(const Mesh& source, const Skeleton& skeleton, const Mes
   const Frame fr = place_in_target(source, skeleton, target, start);
   const TriangleBvh target_bvh(vertex_matrix(target), face_matrix(target));
   NodeMaps maps{std::vector<Eigen::Matrix3d>(fr.N, Eigen::Matrix3d::Identity()), std::vector<Eigen::Vector3d>(fr.N, Eigen::Vector3d::Zero())};
-  if (int(node_guess.size()) == fr.N) maps_from_guess(fr, node_guess, maps);
+  if (int(node_guess.size()) == fr.N) {
+    maps_from_guess(fr, node_guess, maps);
+    if (int(opt.start_rotations.size()) == fr.N)
+      for (int k = 0; k < fr.N; ++k) maps.A[k] = opt.start_rotations[size_t(k)] * start.rotation.transpose();
+  }
   else if (opt.articulated_start) register_neighbourhoods(fr, skeleton, target_bvh, maps);
 
   SkeletonFit result;

@@ -31,6 +31,10 @@ struct FitSkeletonOptions {
   // The fitting steps pair every stride-th vertex of either surface (the final measures pair all).
   int stride = 1;
   double outlier = 0.1;    // closest-point pairs further apart than this fraction of the diagonal are left out
+  // With node_guess: per node, the rotation its first map takes (source frame -> target frame, as
+  // SkeletonFit::node_rotation) instead of the smallest rotation of its edges onto the guess's.
+  // Ignored unless it has one rotation per node.
+  std::vector<Eigen::Matrix3d> start_rotations;
 };
 
 struct SkeletonFit {
