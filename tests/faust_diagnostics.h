@@ -166,6 +166,19 @@ inline void print_rotation_errors(const sdm::Mesh& a, const sdm::Mesh& b, const 
   const auto fit = sdm::fit_skeleton(a, r.skeletons.a, b, start, r.skeletons.b.nodes, fo);
   report_rotations("after fit_skeleton", fit.node_rotation, truth, weight, r.skeletons);
   if (!std::getenv("SDM_MEASURE_ORACLE")) return;
+  {  // The true node places (each node at the centroid of its vertices' true places), smallest rotations.
+    const std::vector<Eigen::Vector3d> places = faust::true_guess(r.skeletons.a, b);
+    const sdm::Similarity s2 = sdm::fit_similarity(r.skeletons.a.nodes, places, owned);
+    const auto f2 = sdm::fit_skeleton(a, r.skeletons.a, b, s2, places, fo);
+    const faust::Error e = faust::correspondence_error(a, sdm::source_points_under(a, f2.bent, faust::points_of(b)));
+    std::fprintf(stderr, "  from the true node places: correspondence mean %.2f %%, p90 %.2f %%, beyond 5 %% %.1f %%\n", e.mean, e.p90, e.beyond5);
+    report_rotations("  after that fit", f2.node_rotation, truth, weight, r.skeletons);
+    sdm::FitSkeletonOptions fo3 = fo;
+    fo3.start_rotations = truth;
+    const auto f3 = sdm::fit_skeleton(a, r.skeletons.a, b, s2, places, fo3);
+    const faust::Error e3 = faust::correspondence_error(a, sdm::source_points_under(a, f3.bent, faust::points_of(b)));
+    std::fprintf(stderr, "  from the true node places and rotations: correspondence mean %.2f %%, p90 %.2f %%, beyond 5 %% %.1f %%\n", e3.mean, e3.p90, e3.beyond5);
+  }
   // The same fit started from the true rotations: how much of the error the start explains.
   for (double stiffness_end : {0.01, 0.1, 0.5}) {
     sdm::FitSkeletonOptions fo2 = fo;
