@@ -24,6 +24,8 @@
 #include <sstream>
 #include <thread>
 
+#include <sys/resource.h>
+
 namespace sdm::cli {
 namespace {
 
@@ -33,6 +35,7 @@ struct BenchOptions {
   std::string spot = "examples/data/spot/spot_triangulated.obj";
   int repeat = 3, size = 1024;
   bool json = false, no_sdm = false, no_gl = false, solvers = false, transfer = false;
+  std::vector<std::string> load;  // --load: meshes whose reading stages are timed
 };
 
 struct PaperRow {
@@ -458,6 +461,53 @@ int run_transfer_bench(const BenchOptions& o) {
 
 }  // namespace
 
+// ---- Loading large meshes (issue 16) ----
+
+// The process's peak resident memory (getrusage's ru_maxrss, kilobytes on Linux), in bytes.
+size_t peak_rss_bytes() {
+  rusage u{};
+  getrusage(RUSAGE_SELF, &u);
+  return size_t(u.ru_maxrss) * 1024;
+}
+
+// Per file: reading the soup, validating it, building the halfedge mesh (the stages of load_mesh),
+// the fastest of `repeat` runs each, and the process's peak memory after them.
+int run_load_bench(const BenchOptions& o) {
+  nlohmann::json rows = nlohmann::json::array();
+  for (const std::string& path : o.load) {
+    double read = INFINITY, validate = INFINITY, build = INFINITY;
+    size_t vertices = 0, faces = 0;
+    for (int i = 0; i < o.repeat; ++i) {
+      Stopwatch sw;
+      MeshSoup soup = read_mesh_soup(path);
+      const double r = sw.lap();
+      MeshReport report = validate_mesh(soup);
+      const double v = sw.lap();
+      if (!report.usable()) throw InputError(report.refusal(path));
+      orient_outward(soup, report);
+      const Mesh mesh = build_mesh(soup);
+      const double b = sw.lap();
+      read = std::min(read, r), validate = std::min(validate, v), build = std::min(build, b);
+      vertices = mesh.n_vertices(), faces = mesh.n_faces();
+    }
+    std::cerr << "bench: loaded " << path << "\n";
+    rows.push_back({{"file", path}, {"vertices", vertices}, {"faces", faces}, {"read_s", read}, {"validate_s", validate},
+                    {"build_s", build}, {"total_s", read + validate + build}});
+  }
+  if (o.json) {
+    print_json({{"machine", machine_line()}, {"loads", rows}, {"peak_rss_mb", double(peak_rss_bytes()) / 1e6}});
+    return 0;
+  }
+  std::cout << "Loading (fastest of " << o.repeat << "; " << machine_line() << ")\n"
+            << "| file | vertices | faces | read (s) | validate (s) | build (s) | total (s) |\n|---|---|---|---|---|---|---|\n";
+  for (const auto& r : rows)
+    std::cout << "| " << r["file"].get<std::string>() << " | " << r["vertices"] << " | " << r["faces"] << " | " << std::fixed
+              << std::setprecision(3) << r["read_s"].get<double>() << " | " << r["validate_s"].get<double>() << " | "
+              << r["build_s"].get<double>() << " | " << r["total_s"].get<double>() << " |\n";
+  std::cout << "Peak memory of the process: " << std::setprecision(0) << double(peak_rss_bytes()) / 1e6 << " MB\n";
+  return 0;
+}
+
 Command add_bench_command(CLI::App& parent) {
   auto o = std::make_shared<BenchOptions>();
   auto* app = parent.add_subcommand(
@@ -475,8 +525,11 @@ Command add_bench_command(CLI::App& parent) {
   app->add_flag("--transfer", o->transfer,
                 "Time texture transfer between different bodies instead (FAUST 007 <-> 024, TOSCA gorilla -> man, from --humans)");
   app->add_option("--humans", o->humans, "Folder of the human meshes for --transfer (skipped with a note when missing)")->capture_default_str();
+  app->add_option("--load", o->load, "Time the loading stages (read, validate, build) of these meshes instead");
   app->add_flag("--json", o->json, "Print one JSON object instead of tables");
-  return {app, [o]() { return o->solvers ? run_solvers(*o) : o->transfer ? run_transfer_bench(*o) : run_stages(*o); }};
+  return {app, [o]() {
+            return o->solvers ? run_solvers(*o) : o->transfer ? run_transfer_bench(*o) : !o->load.empty() ? run_load_bench(*o) : run_stages(*o);
+          }};
 }
 
 }  // namespace sdm::cli

@@ -322,6 +322,11 @@ std::vector<char> used_points(const MeshSoup& soup) {
 Mesh build_mesh(const MeshSoup& soup) {
   Mesh mesh;
   const std::vector<char> used = used_points(soup);
+  // Reserved up front: OpenMesh's arrays otherwise grow (and move) while a million faces are added
+  // (0.85 -> 0.76 s for 1M faces). Faces go in one by one through add_face, whose element order the
+  // rest of the pipeline inherits (a halfedge structure linked directly from the edge table took
+  // 0.6 s but ordered edges and one-rings otherwise, which moved measured results).
+  mesh.reserve(size_t(std::count(used.begin(), used.end(), char(1))), soup.triangles.size() * 3 / 2 + 3, soup.triangles.size());
   std::vector<Mesh::VertexHandle> vh(soup.points.size());
   for (size_t i = 0; i < soup.points.size(); ++i) {
     if (!used[i]) continue;  // isolated vertices are dropped; validation reports them

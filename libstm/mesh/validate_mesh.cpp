@@ -1,5 +1,7 @@
 #include "libstm/mesh/validate_mesh.h"
 
+#include "libstm/mesh/edge_table.h"
+
 #include "libstm/core/errors.h"
 #include "libstm/core/union_find.h"
 #include "libstm/geometry/differential_geometry.h"
@@ -122,63 +124,6 @@ void check_duplicated_faces(const MeshSoup& soup, const std::vector<char>& face_
 }
 
 
-// The valid faces' half-edges grouped by undirected edge, in the order (smaller vertex, larger
-// vertex): a counting sort on the smaller vertex, then each vertex's few entries sorted. Linear in
-// the faces, one allocation per array (the hash maps it replaces spent 5 of 13 s validating a
-// 523k-vertex mesh in allocation).
-struct EdgeTable {
-  std::vector<int> lo, hi;      // per entry: the edge's vertices, lo < hi
-  std::vector<int> face;        // per entry: the face using the edge
-  std::vector<char> forward;    // per entry: the face runs lo -> hi
-  std::vector<size_t> group;    // entries of edge e: [group[e], group[e + 1])
-  size_t edges() const { return group.empty() ? 0 : group.size() - 1; }
-  size_t uses(size_t e) const { return group[e + 1] - group[e]; }
-};
-
-EdgeTable edge_table(const MeshSoup& soup, const std::vector<char>& face_ok) {
-  const size_t nv = soup.points.size();
-  std::vector<size_t> start(nv + 1, 0);
-  for (size_t f = 0; f < soup.triangles.size(); ++f)
-    if (face_ok[f])
-      for (int c = 0; c < 3; ++c) ++start[size_t(std::min(soup.triangles[f][c], soup.triangles[f][(c + 1) % 3])) + 1];
-  for (size_t v = 0; v < nv; ++v) start[v + 1] += start[v];
-  const size_t n = start[nv];
-  std::vector<uint64_t> entry(n);  // (larger vertex << 32) | index of the half-edge (3 f + c)
-  std::vector<size_t> fill(start.begin(), start.end() - 1);
-  for (size_t f = 0; f < soup.triangles.size(); ++f) {
-    if (!face_ok[f]) continue;
-    for (int c = 0; c < 3; ++c) {
-      const int a = soup.triangles[f][c], b = soup.triangles[f][(c + 1) % 3];
-      entry[fill[size_t(std::min(a, b))]++] = (uint64_t(uint32_t(std::max(a, b))) << 32) | uint64_t(3 * f + size_t(c));
-    }
-  }
-  EdgeTable t;
-  t.lo.resize(n), t.hi.resize(n), t.face.resize(n), t.forward.resize(n);
-  t.group.reserve(n / 2 + 2);
-  for (size_t v = 0; v < nv; ++v) {
-    std::sort(entry.begin() + long(start[v]), entry.begin() + long(start[v + 1]));
-    for (size_t i = start[v]; i < start[v + 1]; ++i) {
-      const size_t h = size_t(entry[i] & 0xffffffffu), f = h / 3;
-      t.lo[i] = int(v), t.hi[i] = int(entry[i] >> 32), t.face[i] = int(f);
-      t.forward[i] = soup.triangles[f][h % 3] == int(v);
-      if (i == start[v] || t.hi[i] != t.hi[i - 1]) t.group.push_back(i);
-    }
-  }
-  t.group.push_back(n);
-  return t;
-}
-
-// Every half-edge without an opposite (a, b, its face): the rim of an open mesh's holes.
-std::vector<std::array<int, 3>> boundary_halfedges(const EdgeTable& t) {
-  std::vector<std::array<int, 3>> out;
-  for (size_t e = 0; e < t.edges(); ++e) {
-    if (t.uses(e) != 1) continue;
-    const size_t i = t.group[e];
-    out.push_back(t.forward[i] ? std::array<int, 3>{t.lo[i], t.hi[i], t.face[i]} : std::array<int, 3>{t.hi[i], t.lo[i], t.face[i]});
-  }
-  return out;
-}
-
 // Components of the boundary-edge graph (a loop each, since non-manifold vertices are refused).
 int count_boundary_loops(const EdgeTable& t, size_t vertices) {
   UnionFind uf(vertices);
@@ -202,11 +147,11 @@ void check_edges(const EdgeTable& t, size_t vertices, MeshReport& r) {
     const size_t i = t.group[e], uses = t.uses(e);
     auto name = [&]() { return "edge (" + std::to_string(t.lo[i]) + ", " + std::to_string(t.hi[i]) + ")"; };
     if (uses == 1) {
-      if (!boundary++) boundary_example = name() + " of face " + std::to_string(t.face[i]);
+      if (!boundary++) boundary_example = name() + " of face " + std::to_string(t.face(i));
     } else if (uses > 2) {
       if (!nonmanifold++) nm_example = name() + " shared by " + std::to_string(uses) + " faces";
     } else if (t.forward[i] == t.forward[i + 1]) {
-      if (!flipped++) flip_example = "faces " + std::to_string(t.face[i]) + " and " + std::to_string(t.face[i + 1]) + " across " + name();
+      if (!flipped++) flip_example = "faces " + std::to_string(t.face(i)) + " and " + std::to_string(t.face(i + 1)) + " across " + name();
     }
   }
   r.boundary_loops = boundary ? count_boundary_loops(t, vertices) : 0;
@@ -302,7 +247,7 @@ void find_parts(const MeshSoup& soup, const std::vector<char>& face_ok, const Ed
   const long nv = r.vertices;
   UnionFind uf(soup.triangles.size());
   for (size_t e = 0; e < t.edges(); ++e)
-    for (size_t i = t.group[e] + 1; i < t.group[e + 1]; ++i) uf.unite(t.face[t.group[e]], t.face[i]);
+    for (size_t i = t.group[e] + 1; i < t.group[e + 1]; ++i) uf.unite(t.face(t.group[e]), t.face(i));
   std::unordered_map<int, int> part_of_root;
   r.face_part.assign(soup.triangles.size(), -1);
   for (size_t f = 0; f < soup.triangles.size(); ++f) {
@@ -327,7 +272,7 @@ void find_parts(const MeshSoup& soup, const std::vector<char>& face_ok, const Ed
   std::vector<char> on_boundary(size_t(nv), 0);
   for (size_t e = 0; e < t.edges(); ++e) {
     const size_t i = t.group[e];
-    pe[r.face_part[t.face[i]]]++;
+    pe[r.face_part[t.face(i)]]++;
     if (t.uses(e) != 1) continue;
     const int a = t.lo[i], b = t.hi[i];
     loops.unite(a, b);
