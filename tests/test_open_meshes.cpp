@@ -6,6 +6,7 @@
 #include "faust_pairs.h"
 #include "test_util.h"
 
+#include "libstm/core/image.h"
 #include "libstm/mesh/fill_holes.h"
 #include "libstm/mesh/inside_mesh.h"
 #include "libstm/mesh/mesh_geometry.h"
@@ -18,6 +19,8 @@
 
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
+#include <sstream>
 
 // Measured 2026-11-26 (Release): the open capsule at 512, level 3, RMS 0.0039 % and Hausdorff
 // 0.10 % of the diagonal; the CAD part at 1024 RMS 0.060 % and Hausdorff 2.5 % (its sharp edges, as
@@ -134,4 +137,99 @@ TEST_CASE("The open CAD part of ../shared round-trips with its four holes", "[op
   CHECK(j.at("boundary_loops") == 4);
   CHECK(j.at("rms").get<double>() < kSharkRms);
   CHECK(j.at("hausdorff").get<double>() < kSharkHausdorff);
+}
+
+namespace {
+
+// `m` without the faces whose centroid lies within `r` of one of the vertices `centres`; `kept`
+// receives, per vertex of the result, its index in m.
+sdm::Mesh cut_holes(const sdm::Mesh& m, const std::vector<int>& centres, double r, std::vector<int>& kept) {
+  sdm::MeshSoup soup;
+  std::vector<int> index(m.n_vertices(), -1);
+  kept.clear();
+  for (auto f : m.faces()) {
+    std::array<int, 3> t{};
+    int c = 0;
+    Eigen::Vector3d g = Eigen::Vector3d::Zero();
+    for (auto v : m.fv_range(f)) t[c++] = v.idx(), g += sdm::point(m, v) / 3;
+    bool cut = false;
+    for (int x : centres) cut = cut || (g - sdm::point(m, m.vertex_handle(x))).norm() < r;
+    if (cut) continue;
+    for (int& v : t) {
+      if (index[v] < 0) index[v] = int(soup.points.size()), soup.points.push_back(sdm::point(m, m.vertex_handle(v))), kept.push_back(v);
+      v = index[v];
+    }
+    soup.triangles.push_back(t);
+  }
+  return sdm::build_mesh(soup);
+}
+
+// Per line of a correspondence file (source face, barycentric coordinates), the distance of the
+// source point from source vertex truth[j], in % of the source's diagonal: mean and 90th percentile.
+std::pair<double, double> correspondence_error(const sdm::Mesh& source, const std::string& path, const std::vector<int>& truth) {
+  std::ifstream in(path);
+  std::string line;
+  std::vector<double> e;
+  const double diag = sdm::bounding_box_diagonal(source);
+  while (std::getline(in, line)) {
+    if (line.empty() || line[0] == '#') continue;
+    std::istringstream l(line);
+    int f = 0;
+    double b[3] = {0, 0, 0};
+    l >> f >> b[0] >> b[1] >> b[2];
+    Eigen::Vector3d p = Eigen::Vector3d::Zero();
+    int c = 0;
+    for (auto v : source.fv_range(source.face_handle(f))) p += b[c++] * sdm::point(source, v);
+    e.push_back(100 * (p - sdm::point(source, source.vertex_handle(truth[e.size()]))).norm() / diag);
+  }
+  if (e.size() != truth.size()) return {INFINITY, INFINITY};
+  double mean = 0;
+  for (double x : e) mean += x / double(e.size());
+  std::sort(e.begin(), e.end());
+  return {mean, e[size_t(0.9 * double(e.size()))]};
+}
+
+}  // namespace
+
+// Transfer onto open targets: FAUST 007 (textured) onto 007 and onto 024 with three holes each (at
+// a hip, a foot and a hand; 2 % of the diagonal). The capped surfaces' Euler characteristic is the
+// source's, so 007 is carried and 024 registered as another body. Measured 2026-11-26: carried
+// 0.002 % mean; registered 2.93 %, p90 6.5 % (the closed 024: 2.04 %, 4.2 %; the same holes with the
+// vertices numbered otherwise gave 2.03 %, 4.1 %: the extraction still depends on the vertex order,
+// DESIGN 6). The thresholds hold today's accuracy between bodies, not the issue's 1 %.
+TEST_CASE("sdm transfer onto FAUST bodies with holes", "[open_mesh]") {
+  if (!faust::have("tr_reg_007.off") || !faust::have("tr_reg_024.off")) {
+    WARN("no FAUST meshes at " << faust::humans_dir() << ": skipped");
+    return;
+  }
+  test_util::TempDir dir;
+  const sdm::Mesh a = sdm::with_planar_uv(sdm::load_mesh(faust::humans_dir() + "/tr_reg_007.off"));
+  sdm::Image tex(32, 32, 4, 255);
+  for (int i = 0; i < 32 * 32; ++i) tex.pixels[4 * i] = uint8_t(8 * (i % 32));
+  sdm::write_png(tex, dir / "a.png");
+  sdm::write_mesh(a, dir / "a.obj", dir / "a.png");
+  const std::vector<int> centres{1933, 3353, 5876};
+  for (const char* name : {"tr_reg_007.off", "tr_reg_024.off"}) {
+    const sdm::Mesh full = sdm::load_mesh(faust::humans_dir() + "/" + name);
+    std::vector<int> kept;
+    const sdm::Mesh open = cut_holes(full, centres, 0.02 * sdm::bounding_box_diagonal(full), kept);
+    REQUIRE(sdm::validate_mesh(sdm::mesh_to_soup(open)).boundary_loops >= 3);  // a cut across fingers makes more
+    sdm::write_mesh(open, dir / "open.off");
+    const auto r = test_util::run_sdm("transfer --source " + (dir / "a.obj") + " --target " + (dir / "open.off") + " -o " + (dir / "b.obj") +
+                                      " --size 256 --correspondence " + (dir / "c.txt") + " --json");
+    INFO(name << ": " << r.output);
+    REQUIRE(r.exit_code == 0);
+    const auto j = json_of(r);
+    const auto [mean, p90] = correspondence_error(a, dir / "c.txt", kept);
+    std::fprintf(stderr, "007 onto %s with 3 holes: %s, correspondence mean %.3f %%, p90 %.3f %%\n", name,
+                 j.at("target_skeleton").get<std::string>().c_str(), mean, p90);
+    if (std::string(name) == "tr_reg_007.off") {
+      CHECK(j.at("target_skeleton") == "carried");
+      CHECK(mean < 0.05);
+    } else {
+      CHECK(j.at("target_skeleton") == "registered");
+      CHECK(mean < 3.5);
+      CHECK(p90 < 7.5);
+    }
+  }
 }

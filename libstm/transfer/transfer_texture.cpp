@@ -36,7 +36,18 @@ struct TargetSkeleton {
   std::vector<Eigen::Vector3d> placed;         // the source's vertices on the target (carried or bent)
 };
 
-long euler_characteristic(const Mesh& m) { return long(m.n_vertices()) - long(m.n_edges()) + long(m.n_faces()); }
+// The Euler characteristic of the surface with every hole capped by a disc (V - E + F + loops): an
+// open scan and the closed model it was taken from have the same one.
+long euler_characteristic(const Mesh& m) {
+  long loops = 0;
+  std::vector<char> seen(m.n_halfedges(), 0);
+  for (auto h : m.halfedges()) {
+    if (!m.is_boundary(h) || seen[size_t(h.idx())]) continue;
+    ++loops;
+    for (auto x = h; !seen[size_t(x.idx())]; x = m.next_halfedge_handle(x)) seen[size_t(x.idx())] = 1;
+  }
+  return long(m.n_vertices()) - long(m.n_edges()) + long(m.n_faces()) + loops;
+}
 
 // The source registered onto the target (register_surfaces). Besides the centred start, the
 // similarity of the matched skeletons, when they match: it finds a turned or moved target that
