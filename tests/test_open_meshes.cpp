@@ -6,7 +6,6 @@
 #include "faust_pairs.h"
 #include "test_util.h"
 
-#include "libstm/core/image.h"
 #include "libstm/mesh/fill_holes.h"
 #include "libstm/mesh/inside_mesh.h"
 #include "libstm/mesh/mesh_geometry.h"
@@ -29,27 +28,36 @@ constexpr double kOpenRms = 0.0002, kOpenHausdorff = 0.005, kSharkRms = 0.001, k
 
 namespace {
 
-// The capsule (axis z, radius 1, length 4) without the faces whose centroid lies within `r` of
-// each of `centres`: one hole per centre.
-sdm::Mesh capsule_with_holes(const std::vector<Eigen::Vector3d>& centres, double r) {
-  const sdm::Mesh closed = sdm::make_primitive("capsule", 3000);
+// `m` without the faces whose centroid lies within `r` of one of `centres`: a hole around each.
+// `kept`, when given, receives per vertex of the result its index in m.
+sdm::Mesh cut_holes(const sdm::Mesh& m, const std::vector<Eigen::Vector3d>& centres, double r, std::vector<int>* kept = nullptr) {
   sdm::MeshSoup soup;
-  std::vector<int> index(closed.n_vertices(), -1);
-  for (auto f : closed.faces()) {
+  std::vector<int> index(m.n_vertices(), -1);
+  if (kept) kept->clear();
+  for (auto f : m.faces()) {
     std::array<int, 3> t{};
     int c = 0;
-    Eigen::Vector3d m = Eigen::Vector3d::Zero();
-    for (auto v : closed.fv_range(f)) t[c++] = v.idx(), m += sdm::point(closed, v) / 3;
+    Eigen::Vector3d g = Eigen::Vector3d::Zero();
+    for (auto v : m.fv_range(f)) t[c++] = v.idx(), g += sdm::point(m, v) / 3;
     bool cut = false;
-    for (const auto& x : centres) cut = cut || (m - x).norm() < r;
+    for (const auto& x : centres) cut = cut || (g - x).norm() < r;
     if (cut) continue;
     for (int& v : t) {
-      if (index[v] < 0) index[v] = int(soup.points.size()), soup.points.push_back(sdm::point(closed, closed.vertex_handle(v)));
+      if (index[v] < 0) {
+        index[v] = int(soup.points.size());
+        soup.points.push_back(sdm::point(m, m.vertex_handle(v)));
+        if (kept) kept->push_back(v);
+      }
       v = index[v];
     }
     soup.triangles.push_back(t);
   }
   return sdm::build_mesh(soup);
+}
+
+// The capsule (axis z, radius 1, length 4) with a hole of radius r around each of `centres`.
+sdm::Mesh capsule_with_holes(const std::vector<Eigen::Vector3d>& centres, double r) {
+  return cut_holes(sdm::make_primitive("capsule", 3000), centres, r);
 }
 
 const std::vector<Eigen::Vector3d> kHoles{{0, 0, 2}, {0, 0, -2}, {1, 0, 0}};
@@ -141,29 +149,6 @@ TEST_CASE("The open CAD part of ../shared round-trips with its four holes", "[op
 
 namespace {
 
-// `m` without the faces whose centroid lies within `r` of one of the vertices `centres`; `kept`
-// receives, per vertex of the result, its index in m.
-sdm::Mesh cut_holes(const sdm::Mesh& m, const std::vector<int>& centres, double r, std::vector<int>& kept) {
-  sdm::MeshSoup soup;
-  std::vector<int> index(m.n_vertices(), -1);
-  kept.clear();
-  for (auto f : m.faces()) {
-    std::array<int, 3> t{};
-    int c = 0;
-    Eigen::Vector3d g = Eigen::Vector3d::Zero();
-    for (auto v : m.fv_range(f)) t[c++] = v.idx(), g += sdm::point(m, v) / 3;
-    bool cut = false;
-    for (int x : centres) cut = cut || (g - sdm::point(m, m.vertex_handle(x))).norm() < r;
-    if (cut) continue;
-    for (int& v : t) {
-      if (index[v] < 0) index[v] = int(soup.points.size()), soup.points.push_back(sdm::point(m, m.vertex_handle(v))), kept.push_back(v);
-      v = index[v];
-    }
-    soup.triangles.push_back(t);
-  }
-  return sdm::build_mesh(soup);
-}
-
 // Per line of a correspondence file (source face, barycentric coordinates), the distance of the
 // source point from source vertex truth[j], in % of the source's diagonal: mean and 90th percentile.
 std::pair<double, double> correspondence_error(const sdm::Mesh& source, const std::string& path, const std::vector<int>& truth) {
@@ -203,16 +188,14 @@ TEST_CASE("sdm transfer onto FAUST bodies with holes", "[open_mesh]") {
     return;
   }
   test_util::TempDir dir;
-  const sdm::Mesh a = sdm::with_planar_uv(sdm::load_mesh(faust::humans_dir() + "/tr_reg_007.off"));
-  sdm::Image tex(32, 32, 4, 255);
-  for (int i = 0; i < 32 * 32; ++i) tex.pixels[4 * i] = uint8_t(8 * (i % 32));
-  sdm::write_png(tex, dir / "a.png");
-  sdm::write_mesh(a, dir / "a.obj", dir / "a.png");
-  const std::vector<int> centres{1933, 3353, 5876};
+  const sdm::Mesh a = faust::write_textured("tr_reg_007.off", dir / "a.obj", dir / "a.png");
+  const std::vector<int> at{1933, 3353, 5876};
   for (const char* name : {"tr_reg_007.off", "tr_reg_024.off"}) {
     const sdm::Mesh full = sdm::load_mesh(faust::humans_dir() + "/" + name);
     std::vector<int> kept;
-    const sdm::Mesh open = cut_holes(full, centres, 0.02 * sdm::bounding_box_diagonal(full), kept);
+    std::vector<Eigen::Vector3d> centres;
+    for (int v : at) centres.push_back(sdm::point(full, full.vertex_handle(v)));
+    const sdm::Mesh open = cut_holes(full, centres, 0.02 * sdm::bounding_box_diagonal(full), &kept);
     REQUIRE(sdm::validate_mesh(sdm::mesh_to_soup(open)).boundary_loops >= 3);  // a cut across fingers makes more
     sdm::write_mesh(open, dir / "open.off");
     const auto r = test_util::run_sdm("transfer --source " + (dir / "a.obj") + " --target " + (dir / "open.off") + " -o " + (dir / "b.obj") +

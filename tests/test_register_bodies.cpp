@@ -136,11 +136,7 @@ TEST_CASE("sdm transfer --correspondence between two FAUST bodies", "[register_b
     return;
   }
   test_util::TempDir dir;
-  const sdm::Mesh a = sdm::with_planar_uv(sdm::load_mesh(faust::humans_dir() + "/tr_reg_007.off"));
-  sdm::Image tex(32, 32, 4, 255);
-  for (int i = 0; i < 32 * 32; ++i) tex.pixels[4 * i] = uint8_t(8 * (i % 32));
-  sdm::write_png(tex, dir / "a.png");
-  sdm::write_mesh(a, dir / "a.obj", dir / "a.png");
+  const sdm::Mesh a = faust::write_textured("tr_reg_007.off", dir / "a.obj", dir / "a.png");
   const std::string target = faust::humans_dir() + "/tr_reg_024.off";
   const auto res = test_util::run_sdm("transfer --source " + (dir / "a.obj") + " --target " + target + " -o " + (dir / "b.obj") +
                                       " --size 256 --correspondence " + (dir / "c.txt") + " --json");
