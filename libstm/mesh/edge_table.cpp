@@ -5,13 +5,13 @@
 
 namespace sdm {
 
-EdgeTable edge_table(const MeshSoup& soup, const std::vector<char>& use) {
-  const size_t nv = soup.points.size(), nf = soup.triangles.size();
+EdgeTable edge_table(const std::vector<std::array<int, 3>>& triangles, size_t vertices, const std::vector<char>& use) {
+  const size_t nv = vertices, nf = triangles.size();
   auto used = [&](size_t f) { return use.empty() || use[f]; };
   std::vector<size_t> start(nv + 1, 0);
   for (size_t f = 0; f < nf; ++f)
     if (used(f))
-      for (int c = 0; c < 3; ++c) ++start[size_t(std::min(soup.triangles[f][c], soup.triangles[f][(c + 1) % 3])) + 1];
+      for (int c = 0; c < 3; ++c) ++start[size_t(std::min(triangles[f][c], triangles[f][(c + 1) % 3])) + 1];
   for (size_t v = 0; v < nv; ++v) start[v + 1] += start[v];
   const size_t n = start[nv];
   std::vector<uint64_t> entry(n);  // (larger vertex << 32) | 3 f + c
@@ -19,7 +19,7 @@ EdgeTable edge_table(const MeshSoup& soup, const std::vector<char>& use) {
   for (size_t f = 0; f < nf; ++f) {
     if (!used(f)) continue;
     for (int c = 0; c < 3; ++c) {
-      const int a = soup.triangles[f][c], b = soup.triangles[f][(c + 1) % 3];
+      const int a = triangles[f][c], b = triangles[f][(c + 1) % 3];
       entry[fill[size_t(std::min(a, b))]++] = (uint64_t(uint32_t(std::max(a, b))) << 32) | uint64_t(3 * f + size_t(c));
     }
   }
@@ -31,7 +31,7 @@ EdgeTable edge_table(const MeshSoup& soup, const std::vector<char>& use) {
     for (size_t i = start[v]; i < start[v + 1]; ++i) {
       const size_t h = size_t(entry[i] & 0xffffffffu);
       t.lo[i] = int(v), t.hi[i] = int(entry[i] >> 32), t.halfedge[i] = int(h);
-      t.forward[i] = soup.triangles[h / 3][h % 3] == int(v);
+      t.forward[i] = triangles[h / 3][h % 3] == int(v);
       if (i == start[v] || t.hi[i] != t.hi[i - 1]) t.group.push_back(i);
     }
   }

@@ -22,8 +22,11 @@ struct EdgeTable {
 };
 
 /// The table of the faces f with use[f] != 0 (use empty: every face). Corner indices must lie in
-/// [0, points) and a face's three corners differ (validate_mesh's check_face_indices).
-EdgeTable edge_table(const MeshSoup& soup, const std::vector<char>& use = {});
+/// [0, vertices) and a face's three corners differ (validate_mesh's check_face_indices).
+EdgeTable edge_table(const std::vector<std::array<int, 3>>& triangles, size_t vertices, const std::vector<char>& use = {});
+inline EdgeTable edge_table(const MeshSoup& soup, const std::vector<char>& use = {}) {
+  return edge_table(soup.triangles, soup.points.size(), use);
+}
 
 /// Every side without an opposite, as (a, b, face) with the face running a -> b: the rim of an
 /// open mesh's holes.

@@ -1,18 +1,16 @@
 #include "libstm/mesh/fill_holes.h"
 
 #include "libstm/core/errors.h"
+#include "libstm/mesh/edge_table.h"
 
 #include <Eigen/Sparse>
 #include <Eigen/SparseCholesky>
 #include <algorithm>
 #include <cmath>
-#include <unordered_map>
 #include <unordered_set>
 
 namespace sdm {
 namespace {
-
-uint64_t directed(int a, int b) { return (uint64_t(uint32_t(a)) << 32) | uint32_t(b); }
 
 // What the patches add: vertices (initial positions) and faces, in the filled mesh's numbering.
 struct Patches {
@@ -107,33 +105,26 @@ void fair_patches(const Eigen::MatrixX3d& V, Patches& p) {
 }  // namespace
 
 std::vector<std::vector<int>> boundary_loops(const Eigen::MatrixX3i& F, int vertices) {
-  std::unordered_set<uint64_t> edges;
-  edges.reserve(3 * size_t(F.rows()));
-  for (Eigen::Index f = 0; f < F.rows(); ++f)
-    for (int c = 0; c < 3; ++c) edges.insert(directed(F(f, c), F(f, (c + 1) % 3)));
+  std::vector<std::array<int, 3>> triangles(size_t(F.rows()));
+  for (Eigen::Index f = 0; f < F.rows(); ++f) triangles[size_t(f)] = {F(f, 0), F(f, 1), F(f, 2)};
   // The hole's edge b -> a for every face edge a -> b without an opposite.
-  std::unordered_map<int, int> hole_next;
-  for (Eigen::Index f = 0; f < F.rows(); ++f)
-    for (int c = 0; c < 3; ++c) {
-      const int a = F(f, c), b = F(f, (c + 1) % 3);
-      if (edges.count(directed(b, a))) continue;
-      if (!hole_next.emplace(b, a).second)
-        throw InputError("vertex " + std::to_string(b) + " lies on two boundary loops (a non-manifold vertex); split it first");
-    }
-  std::vector<std::vector<int>> loops;
-  std::vector<char> seen(size_t(std::max(0, vertices)), 0);
-  std::vector<int> starts;
-  for (const auto& [from, to] : hole_next) starts.push_back(from);
+  std::vector<int> hole_next(size_t(std::max(0, vertices)), -1), starts;
+  for (const auto& [a, b, f] : boundary_halfedges(edge_table(triangles, size_t(std::max(0, vertices))))) {
+    if (hole_next[size_t(b)] >= 0)
+      throw InputError("vertex " + std::to_string(b) + " lies on two boundary loops (a non-manifold vertex); split it first");
+    hole_next[size_t(b)] = a, starts.push_back(b);
+  }
   std::sort(starts.begin(), starts.end());  // deterministic order of the loops
+  std::vector<std::vector<int>> loops;
+  std::vector<char> seen(hole_next.size(), 0);
   for (int start : starts) {
     if (seen[size_t(start)]) continue;
     std::vector<int>& loop = loops.emplace_back();
     for (int v = start; !seen[size_t(v)];) {
       seen[size_t(v)] = 1;
       loop.push_back(v);
-      const auto it = hole_next.find(v);
-      if (it == hole_next.end()) throw InputError("a boundary loop through vertex " + std::to_string(v) + " does not close");
-      v = it->second;
+      if (hole_next[size_t(v)] < 0) throw InputError("a boundary loop through vertex " + std::to_string(v) + " does not close");
+      v = hole_next[size_t(v)];
     }
   }
   return loops;
