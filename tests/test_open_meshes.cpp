@@ -28,12 +28,12 @@ constexpr double kOpenRms = 0.0002, kOpenHausdorff = 0.005, kSharkRms = 0.001, k
 
 namespace {
 
-// `m` without the faces whose centroid lies within `r` of one of `centres`: a hole around each.
+// `m` without the faces whose centroid lies within `r` of one of `centres`: a hole around each,
+// the vertices left in their order (as a tool deleting faces and loose vertices leaves them).
 // `kept`, when given, receives per vertex of the result its index in m.
 sdm::Mesh cut_holes(const sdm::Mesh& m, const std::vector<Eigen::Vector3d>& centres, double r, std::vector<int>* kept = nullptr) {
-  sdm::MeshSoup soup;
+  std::vector<std::array<int, 3>> faces;
   std::vector<int> index(m.n_vertices(), -1);
-  if (kept) kept->clear();
   for (auto f : m.faces()) {
     std::array<int, 3> t{};
     int c = 0;
@@ -42,16 +42,18 @@ sdm::Mesh cut_holes(const sdm::Mesh& m, const std::vector<Eigen::Vector3d>& cent
     bool cut = false;
     for (const auto& x : centres) cut = cut || (g - x).norm() < r;
     if (cut) continue;
-    for (int& v : t) {
-      if (index[v] < 0) {
-        index[v] = int(soup.points.size());
-        soup.points.push_back(sdm::point(m, m.vertex_handle(v)));
-        if (kept) kept->push_back(v);
-      }
-      v = index[v];
-    }
-    soup.triangles.push_back(t);
+    for (int v : t) index[v] = 0;
+    faces.push_back(t);
   }
+  sdm::MeshSoup soup;
+  if (kept) kept->clear();
+  for (auto v : m.vertices())
+    if (index[v.idx()] == 0) {
+      index[v.idx()] = int(soup.points.size());
+      soup.points.push_back(sdm::point(m, v));
+      if (kept) kept->push_back(v.idx());
+    }
+  for (auto& t : faces) soup.triangles.push_back({index[t[0]], index[t[1]], index[t[2]]});
   return sdm::build_mesh(soup);
 }
 
@@ -179,8 +181,8 @@ std::pair<double, double> correspondence_error(const sdm::Mesh& source, const st
 // Transfer onto open targets: FAUST 007 (textured) onto 007 and onto 024 with three holes each (at
 // a hip, a foot and a hand; 2 % of the diagonal). The capped surfaces' Euler characteristic is the
 // source's, so 007 is carried and 024 registered as another body. Measured 2026-11-26: carried
-// 0.002 % mean; registered 2.93 %, p90 6.5 % (the closed 024: 2.04 %, 4.2 %; the same holes with the
-// vertices numbered otherwise gave 2.03 %, 4.1 %: the extraction still depends on the vertex order,
+// 0.002 % mean; registered 2.86 %, p90 6.1 % (the closed 024: 2.04 %, 4.2 %; the same holes with the
+// vertices numbered otherwise gave 2.03-2.93 %: the extraction still depends on the vertex order,
 // DESIGN 6). The thresholds hold today's accuracy between bodies, not the issue's 1 %.
 TEST_CASE("sdm transfer onto FAUST bodies with holes", "[open_mesh]") {
   if (!faust::have("tr_reg_007.off") || !faust::have("tr_reg_024.off")) {
@@ -215,4 +217,40 @@ TEST_CASE("sdm transfer onto FAUST bodies with holes", "[open_mesh]") {
       CHECK(p90 < 7.5);
     }
   }
+}
+
+// A scan-like stand-in: bunny00 of ../shared with five holes (3 % of the diagonal around five spread
+// vertices), through the whole command at the issue's setting (map 1024, level 3). Measured
+// 2026-11-26: RMS 0.0166 %, Hausdorff 0.76 % (the closed bunny00: 0.015 %, 0.76 %), 5 loops out;
+// skeleton without cycles or edges outside. The same mesh with its vertices numbered in the order
+// the faces use them gave 0.022 % and 1.68 %, written with 9 digits 0.0167 % and 0.885 %: the
+// outcome still depends on the numbering and the last digits (issue 17).
+TEST_CASE("bunny00 with five holes round-trips within the issue's bounds with its five loops", "[open_mesh]") {
+  const std::string path = faust::humans_dir() + "/../cgal/bunny00.off";
+  if (!std::filesystem::exists(path)) {
+    WARN("no " << path << ": skipped");
+    return;
+  }
+  test_util::TempDir dir;
+  const sdm::Mesh full = sdm::load_mesh(path);
+  std::vector<Eigen::Vector3d> centres;
+  for (int v : {8805, 37023, 5053, 7739, 16900}) centres.push_back(sdm::point(full, full.vertex_handle(v)));
+  const sdm::Mesh open = cut_holes(full, centres, 0.03 * sdm::bounding_box_diagonal(full));
+  REQUIRE(sdm::validate_mesh(sdm::mesh_to_soup(open)).boundary_loops == 5);
+  sdm::write_mesh(open, dir / "bunny_holes.off");
+  const auto sk = test_util::run_sdm("skeleton " + (dir / "bunny_holes.off") + " -o " + (dir / "s.json") + " --json");
+  REQUIRE(sk.exit_code == 0);
+  const auto s = json_of(sk);
+  CHECK(s.at("filled_loops") == 5);
+  CHECK(s.at("cycles") == 0);
+  CHECK(s.at("outside_edges") == 0);
+  const auto r = test_util::run_sdm("roundtrip " + (dir / "bunny_holes.off") + " --size 1024 --lod 3 --json");
+  INFO(r.output);
+  REQUIRE(r.exit_code == 0);
+  const auto j = json_of(r);
+  std::fprintf(stderr, "bunny00 with 5 holes: RMS %g, Hausdorff %g\n", j.at("rms").get<double>(), j.at("hausdorff").get<double>());
+  CHECK(j.at("manifold") == true);
+  CHECK(j.at("boundary_loops") == 5);
+  CHECK(j.at("rms").get<double>() < 0.0005);
+  CHECK(j.at("hausdorff").get<double>() < 0.01);
 }
