@@ -4,6 +4,7 @@
 #include "libstm/core/errors.h"
 #include "libstm/mesh/check_mesh_file.h"
 #include "libstm/mesh/gltf_io.h"
+#include "libstm/mesh/read_plain_text.h"
 #include "libstm/mesh/triangulate_polygon.h"
 #include "libstm/mesh/validate_mesh.h"
 
@@ -16,6 +17,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <iomanip>
 #include <map>
 #include <sstream>
@@ -240,6 +242,41 @@ std::vector<std::array<int, 3>> polygon_triangles(const std::vector<int>& poly, 
   return triangulate_polygon(corners);
 }
 
+// The polygons' triangles (and their corners' uv, where every polygon has uv for each corner or
+// some have: the others get (0, 0)) appended to the soup, whose points they index.
+void add_polygons(const std::vector<std::vector<int>>& polygons, const std::vector<std::vector<Eigen::Vector2d>>& polygon_uv, MeshSoup& soup) {
+  bool any_uv = false;
+  for (size_t f = 0; f < polygons.size() && f < polygon_uv.size(); ++f)
+    if (polygon_uv[f].size() == polygons[f].size()) any_uv = true;
+  soup.triangles.reserve(soup.triangles.size() + polygons.size());
+  for (size_t f = 0; f < polygons.size(); ++f) {
+    const auto& poly = polygons[f];
+    const bool has = any_uv && polygon_uv[f].size() == poly.size();
+    if (poly.size() < 3) continue;
+    if (poly.size() > 3) soup.polygons_triangulated++;
+    if (poly.size() == 3 && !any_uv) {
+      soup.triangles.push_back({poly[0], poly[1], poly[2]});
+      continue;
+    }
+    for (const auto& t : polygon_triangles(poly, soup.points)) {
+      soup.triangles.push_back({poly[t[0]], poly[t[1]], poly[t[2]]});
+      if (any_uv)
+        for (int c : t) soup.uv.push_back(has ? polygon_uv[f][c] : Eigen::Vector2d(0, 0));
+    }
+  }
+}
+
+// The plain OBJ or OFF the fast readers take (read_plain_text.h), or false for OpenMesh's path.
+bool read_plain(const std::string& path, const std::string& ext, MeshSoup& soup) {
+  if (ext != ".obj" && ext != ".off") return false;
+  std::ifstream in(path, std::ios::binary);
+  std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  std::vector<std::vector<int>> polygons;
+  if (!(ext == ".obj" ? read_plain_obj(text, soup.points, polygons) : read_plain_off(text, soup.points, polygons))) return false;
+  add_polygons(polygons, {}, soup);
+  return true;
+}
+
 }  // namespace
 
 MeshSoup read_mesh_soup(const std::string& path) {
@@ -257,6 +294,10 @@ MeshSoup read_mesh_soup(const std::string& path) {
     throw InputError("cannot read mesh " + path + ": unknown format '" + ext +
                      "' (supported: .obj, .off, .ply, .stl, .glb, .gltf)");
 
+  // A plain OBJ or OFF is read at once by strict parsers that check what check_mesh_file checks
+  // (coordinates finite and within float range, corners and counts within the file); anything
+  // else goes through check_mesh_file and OpenMesh, with their messages.
+  if (MeshSoup plain; read_plain(path, ext, plain)) return plain;
   check_mesh_file(path, ext, fs::file_size(path, ec));  // before any reader trusts the file
 
   SoupImporter importer;
@@ -280,22 +321,7 @@ MeshSoup read_mesh_soup(const std::string& path) {
     importer.colors.resize(soup.points.size(), Eigen::Vector3f::Zero());
     soup.colors = std::move(importer.colors);
   }
-  bool any_uv = false;
-  for (size_t f = 0; f < importer.polygons.size(); ++f)
-    if (importer.polygon_uv[f].size() == importer.polygons[f].size()) any_uv = true;
-  for (size_t f = 0; f < importer.polygons.size(); ++f) {
-    const auto& poly = importer.polygons[f];
-    const auto& puv = importer.polygon_uv[f];
-    const bool has = puv.size() == poly.size();
-    if (poly.size() < 3) continue;
-    if (poly.size() > 3) soup.polygons_triangulated++;
-    for (const auto& t : polygon_triangles(poly, soup.points)) {
-      soup.triangles.push_back({poly[t[0]], poly[t[1]], poly[t[2]]});
-      if (any_uv) {
-        for (int c : t) soup.uv.push_back(has ? puv[c] : Eigen::Vector2d(0, 0));
-      }
-    }
-  }
+  add_polygons(importer.polygons, importer.polygon_uv, soup);
   if (!importer.textures.empty()) {
     int best = importer.textures.begin()->first;
     for (const auto& [id, n] : importer.texture_use)
