@@ -3,6 +3,7 @@
 #include "libstm/mesh/edge_table.h"
 
 #include "libstm/core/errors.h"
+#include "libstm/core/parallel.h"
 #include "libstm/core/union_find.h"
 #include "libstm/geometry/differential_geometry.h"
 
@@ -165,26 +166,14 @@ void check_edges(const EdgeTable& t, size_t vertices, MeshReport& r) {
       "recompute consistent normals (e.g. 'recalculate outside' in Blender)");
 }
 
-// Non-manifold vertices: incident faces must form a single fan (connected through edges at the
-// vertex). Per vertex, its faces' other corners are sorted so that faces sharing an edge at the
-// vertex meet (d log d for a vertex in d faces, whatever d).
-void check_vertex_fans(const MeshSoup& soup, const std::vector<char>& face_ok, MeshReport& r) {
-  const size_t nv = size_t(r.vertices);
-  std::vector<size_t> start(nv + 1, 0);
-  for (size_t f = 0; f < soup.triangles.size(); ++f)
-    if (face_ok[f])
-      for (int v : soup.triangles[f]) ++start[size_t(v) + 1];
-  for (size_t v = 0; v < nv; ++v) start[v + 1] += start[v];
-  std::vector<int> vf(start[nv]);
-  std::vector<size_t> fill(start.begin(), start.end() - 1);
-  for (size_t f = 0; f < soup.triangles.size(); ++f)
-    if (face_ok[f])
-      for (int v : soup.triangles[f]) vf[fill[size_t(v)]++] = int(f);
-  long nm_vertices = 0;
-  std::string nmv_example;
+// The number of fans of faces around each vertex in [from, to) (faces connected through an edge at
+// the vertex): each vertex's faces' other corners sorted, so that faces sharing an edge at the
+// vertex meet (d log d for a vertex in d faces, whatever d). `start`/`vf`: the faces per vertex.
+void count_fans(const MeshSoup& soup, const std::vector<size_t>& start, const std::vector<int>& vf, size_t from, size_t to,
+                std::vector<int>& fans) {
   std::vector<std::pair<int, int>> other;  // (other corner, local face index)
   std::vector<int> parent;
-  for (size_t v = 0; v < nv; ++v) {
+  for (size_t v = from; v < to; ++v) {
     const size_t d = start[v + 1] - start[v];
     if (d < 2) continue;
     other.clear();
@@ -198,14 +187,42 @@ void check_vertex_fans(const MeshSoup& soup, const std::vector<char>& face_ok, M
       while (parent[size_t(x)] != x) x = parent[size_t(x)] = parent[size_t(parent[size_t(x)])];
       return x;
     };
-    int fans = int(d);
+    int count = int(d);
     for (size_t k = 1; k < other.size(); ++k)
       if (other[k].first == other[k - 1].first) {
         const int x = root(other[k].second), y = root(other[k - 1].second);
-        if (x != y) parent[size_t(x)] = y, --fans;
+        if (x != y) parent[size_t(x)] = y, --count;
       }
-    if (fans > 1 && !nm_vertices++) nmv_example = "vertex " + std::to_string(v) + " where " + std::to_string(fans) + " fans of faces meet";
+    fans[v] = count;
   }
+}
+
+// Non-manifold vertices: incident faces must form a single fan. The vertices are split in two
+// halves counted on two threads (their own outputs: the result does not depend on the timing).
+void check_vertex_fans(const MeshSoup& soup, const std::vector<char>& face_ok, MeshReport& r) {
+  const size_t nv = size_t(r.vertices);
+  std::vector<size_t> start(nv + 1, 0);
+  for (size_t f = 0; f < soup.triangles.size(); ++f)
+    if (face_ok[f])
+      for (int v : soup.triangles[f]) ++start[size_t(v) + 1];
+  for (size_t v = 0; v < nv; ++v) start[v + 1] += start[v];
+  std::vector<int> vf(start[nv]);
+  std::vector<size_t> fill(start.begin(), start.end() - 1);
+  for (size_t f = 0; f < soup.triangles.size(); ++f)
+    if (face_ok[f])
+      for (int v : soup.triangles[f]) vf[fill[size_t(v)]++] = int(f);
+  std::vector<int> fans(nv, 1);
+  const size_t half = nv / 2;
+  {
+    BackgroundTask second([&] { count_fans(soup, start, vf, half, nv, fans); });
+    count_fans(soup, start, vf, 0, half, fans);
+    second.wait();
+  }
+  long nm_vertices = 0;
+  std::string nmv_example;
+  for (size_t v = 0; v < nv; ++v)
+    if (fans[v] > 1 && !nm_vertices++)
+      nmv_example = "vertex " + std::to_string(v) + " where " + std::to_string(fans[v]) + " fans of faces meet";
   add(r, "non-manifold vertices", nm_vertices, nmv_example, true,
       "split the vertex so that each fan of faces gets its own copy (e.g. 'split non-manifold vertices' in MeshLab)");
 }
