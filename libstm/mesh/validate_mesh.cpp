@@ -113,11 +113,13 @@ void check_duplicated_faces(const MeshSoup& soup, const std::vector<char>& face_
   std::sort(sorted.begin(), sorted.end());
   long dup = 0;
   int first = -1, repeat = -1;
+  size_t g = 0;  // the current group's first (lowest-numbered) face
   for (size_t i = 1; i < sorted.size(); ++i) {
-    if (sorted[i].first != sorted[i - 1].first) continue;
+    if (sorted[i].first != sorted[i - 1].first) {
+      g = i;
+      continue;
+    }
     ++dup;
-    size_t g = i;  // the group's first (lowest-numbered) face
-    while (g > 0 && sorted[g - 1].first == sorted[i].first) --g;
     if (repeat < 0 || sorted[i].second < repeat) repeat = sorted[i].second, first = sorted[g].second;
   }
   add(r, "duplicated faces", dup, dup ? "faces " + std::to_string(first) + " and " + std::to_string(repeat) : "", true,
