@@ -186,3 +186,36 @@ TEST_CASE("No base mesh edge is longer than 8 times the input's longest (level 3
   CHECK(base_longest <= 8 * longest * (1 + 1e-9));
   CHECK(base_longest > 2 * longest);  // still decimated
 }
+
+TEST_CASE("A large mesh's base mesh (multiple-choice collapses first) is closed, deterministic and round-trips", "[encode_sdm]") {
+  // Over 100k vertices the decimation starts with multiple-choice collapses drawn from a seeded
+  // rand(), then the heap finishes: the base mesh must still be the input's topology (a capsule:
+  // closed, Euler characteristic 2), of the size asked, the same on every run, and carry the surface.
+  const Mesh mesh = make_primitive("capsule", 120000);
+  REQUIRE(mesh.n_vertices() > 100000);
+  const Skeleton skeleton = extract_skeleton(mesh);
+  LayoutOptions lo;
+  lo.size = 512;
+  const Layout layout = compute_layout(mesh, skeleton, lo);
+  const BaseMesh base = make_base_mesh(mesh, layout);
+  const BaseMesh again = make_base_mesh(mesh, layout);
+  CHECK(base.triangles == again.triangles);
+  std::set<int> vertices;
+  std::set<std::pair<int, int>> half;
+  for (int f = 0; f < base.triangles.rows(); ++f)
+    for (int k = 0; k < 3; ++k) {
+      vertices.insert(base.triangles(f, k));
+      half.insert({base.triangles(f, k), base.triangles(f, (k + 1) % 3)});
+    }
+  size_t unpaired = 0;
+  for (const auto& [a, b] : half) unpaired += !half.count({b, a});
+  CHECK(unpaired == 0);  // every edge has both half-edges: closed, consistently oriented
+  CHECK(long(vertices.size()) - long(half.size() / 2) + long(base.triangles.rows()) == 2);
+  CHECK(vertices.size() >= 3500);
+  CHECK(vertices.size() <= 4000);
+  const Mesh out = decode_sdm(encode_sdm(mesh, layout));
+  const SurfaceDistance d = surface_distance(mesh, out, 100000);
+  INFO("rms " << d.rms / d.diagonal << " hausdorff " << d.hausdorff / d.diagonal);
+  CHECK(d.rms / d.diagonal <= 0.0005);
+  CHECK(d.hausdorff / d.diagonal <= 0.01);
+}
