@@ -66,7 +66,9 @@ class TriangleBvh {
     Eigen::Vector3d a, normal, b, c;
     int face;
   };
-  int build(int begin, int end);
+  // Builds the subtree over tris_[begin, end) into nodes_[index...] (preorder) and returns one past
+  // its last node; `threads` > 1 builds the two halves at once (the node indices do not depend on it).
+  int build(int begin, int end, int index, int threads);
   int leaf_size_ = 4;
   std::vector<Node> nodes_;
   std::vector<Tri> tris_;
