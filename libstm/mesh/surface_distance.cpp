@@ -1,5 +1,6 @@
 #include "libstm/mesh/surface_distance.h"
 
+#include "libstm/core/parallel.h"
 #include "libstm/geometry/differential_geometry.h"
 #include "libstm/geometry/triangle_bvh.h"
 #include "libstm/mesh/mesh_geometry.h"
@@ -43,8 +44,11 @@ SurfaceDistance surface_distance(const Mesh& a, const Mesh& b, int samples) {
   const Eigen::MatrixX3d pb = sample_surface(b, samples, 2);
   double sum2 = 0, sum = 0;
   auto measure = [&](const Eigen::MatrixX3d& P, const TriangleBvh& other, bool on_b, bool in_rms) {
+    // Closest points on every core, then taken in order (the same result on any number of threads).
+    std::vector<TriangleBvh::Closest> closest(P.rows());
+    parallel_for(int(P.rows()), 4096, [&](int i) { closest[i] = other.closest_point(P.row(i).transpose()); });
     for (int i = 0; i < P.rows(); ++i) {
-      const auto c = other.closest_point(P.row(i).transpose());
+      const auto& c = closest[i];
       if (c.distance > d.hausdorff) d.hausdorff = c.distance, d.worst_point = P.row(i).transpose(), d.worst_closest = c.point, d.worst_on_b = on_b;
       if (!in_rms) continue;
       sum2 += c.distance * c.distance;
@@ -64,10 +68,13 @@ SurfaceCoverage surface_coverage(const Mesh& reference, const Mesh& carrier, dou
   SurfaceCoverage c;
   const TriangleBvh bvh(vertex_matrix(carrier), face_matrix(carrier));
   const std::vector<double> area = vertex_areas(reference);
+  // The distances on every core, summed in vertex order (the same sums on any number of threads).
+  std::vector<double> distance(reference.n_vertices());
+  parallel_for(int(distance.size()), 4096, [&](int i) { distance[i] = bvh.closest_point(point(reference, reference.vertex_handle(i))).distance; });
   double total = 0, within = 0, sq = 0;
   for (auto v : reference.vertices()) {
     const Eigen::Vector3d p = point(reference, v);
-    const double d = bvh.closest_point(p).distance, a = area[v.idx()];
+    const double d = distance[v.idx()], a = area[v.idx()];
     total += a, sq += a * d * d;
     if (d <= tolerance) within += a;
     if (d > c.worst) c.worst = d, c.worst_point = p;
