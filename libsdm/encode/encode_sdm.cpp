@@ -2,6 +2,7 @@
 
 #include "libsdm/encode/base_mesh.h"
 #include "libsdm/encode/texel_targets.h"
+#include "libstm/core/parallel.h"
 #include "libstm/geometry/capsule_ray.h"
 #include "libstm/layout/segments.h"
 #include "libstm/geometry/triangle_bvh.h"
@@ -95,11 +96,17 @@ SegmentEncoder::SegmentEncoder(const EncodeScene& scene, const Layout& layout, i
   own_ = TriangleBvh(sc_.V, sc_.F, sc_.faces_of[s]);
 }
 
+// Rows on every core: each texel writes only its own D, A and foot, each row counts into its own
+// stats, summed afterwards (the same map and counts on any number of threads).
 void SegmentEncoder::encode(SdmImage& im, EncodeStats& st) const {
   int ex, ey;
   extent(seg_, ex, ey);
-  for (int j = 0; j < ey; ++j)
-    for (int i = 0; i < ex; ++i) encode_texel(seg_.x + i, seg_.y + j, im, st);
+  std::vector<EncodeStats> row(ey);
+  parallel_for(ey, 4, [&](int j) {
+    for (int i = 0; i < ex; ++i) encode_texel(seg_.x + i, seg_.y + j, im, row[j]);
+  });
+  for (const EncodeStats& r : row)
+    st.texels += r.texels, st.own_hits += r.own_hits, st.other_hits += r.other_hits, st.filled += r.filled;
 }
 
 // Texels no base face reads (texel_targets.h): the first crossing with the segment's own faces,

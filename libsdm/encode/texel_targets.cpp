@@ -35,12 +35,15 @@ std::optional<TexelTargets::Target> TexelTargets::target(const CapsuleRay& ray) 
     // Measured from the ray's point on the capsule first; a large reference triangle is a chord
     // deep inside the capsule, and the decoder reads texels whose rays pass near it only at depth
     // (Spot's 512 map lost 25 decoded points of a horn when such texels were taken for unread).
-    auto near = reference_.closest_point(ray.origin + seg_.radius * ray.direction);
-    for (double depth : {0.75, 0.5, 0.25}) {
-      if (near.distance <= 4 * texel_) break;
-      near = reference_.closest_point(ray.origin + depth * seg_.radius * ray.direction);
+    // Only triangles within reach are looked for (most of the tree pruned: a 1024 encode of 30k
+    // vertices: encode stage 3.06 -> 2.55 s); the nearest within reach is the nearest.
+    const double reach = 4 * texel_;
+    TriangleBvh::Closest near;
+    for (double depth : {1.0, 0.75, 0.5, 0.25}) {
+      near = reference_.closest_point(ray.origin + depth * seg_.radius * ray.direction, reach * (1 + 1e-9));
+      if (near.face >= 0 && near.distance <= reach) break;
     }
-    if (near.distance > 4 * texel_) return std::nullopt;
+    if (near.face < 0 || near.distance > reach) return std::nullopt;
     k = near.face;
     t.bary = barycentric(near.point, R_.row(3 * k), R_.row(3 * k + 1), R_.row(3 * k + 2));
   }
