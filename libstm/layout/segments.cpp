@@ -1,6 +1,7 @@
 #include "libstm/layout/segments.h"
 
 #include "libstm/core/errors.h"
+#include "libstm/core/parallel.h"
 
 #include <algorithm>
 #include <cmath>
@@ -171,11 +172,15 @@ std::vector<int> assign_faces(const Mesh& mesh, const Skeleton& sk) {
   }
   // The rule needs outward normals: a part wound inside out is flipped.
   const std::vector<int> orientation = face_orientation(mesh);
+  // Faces on every core, each writing its own entry; a face that fails is marked and the first
+  // such face (by index) named afterwards, as one pass in face order would.
+  constexpr int kNoEdge = -2, kNoSegment = -3;
   std::vector<int> result(mesh.n_faces(), -1);
-  std::vector<int> cand;
-  for (auto f : mesh.faces()) {
+  parallel_for(int(mesh.n_faces()), 2048, [&](int fi) {
+    const auto f = mesh.face_handle(fi);
     Eigen::Vector3d p[3];
     int k = 0;
+    thread_local std::vector<int> cand;  // reused face after face by each thread
     cand.clear();
     for (auto v : mesh.fv_range(f)) {
       p[k++] = point(mesh, v);
@@ -185,19 +190,25 @@ std::vector<int> assign_faces(const Mesh& mesh, const Skeleton& sk) {
     cand.erase(std::unique(cand.begin(), cand.end()), cand.end());
     // A face whose nodes have no edge belongs to a part the skeleton does not reach: giving it to
     // some other part's segment would silently lose its surface.
-    if (cand.empty())
-      throw InputError("face " + std::to_string(f.idx()) + " belongs to skeleton node " +
-                       std::to_string(sk.vertex_node[mesh.fv_range(f).begin()->idx()]) +
-                       ", which has no edge: every connected part of the mesh needs at least one skeleton edge");
-    const double orient = orientation[f.idx()];
+    if (cand.empty()) {
+      result[fi] = kNoEdge;
+      return;
+    }
+    const double orient = orientation[fi];
     int best = -1;
     Candidate best_fit;
     for (int e : cand) {
       const Candidate x = rate_candidate(p, orient, sk.nodes[sk.edges[e][0]], sk.nodes[sk.edges[e][1]]);
       if (best < 0 || better_candidate(x, best_fit)) best = e, best_fit = x;
     }
-    result[f.idx()] = best;
-    if (best < 0) throw InputError("face " + std::to_string(f.idx()) + " has no skeleton segment in reach");
+    result[fi] = best < 0 ? kNoSegment : best;
+  });
+  for (auto f : mesh.faces()) {
+    if (result[f.idx()] == kNoEdge)
+      throw InputError("face " + std::to_string(f.idx()) + " belongs to skeleton node " +
+                       std::to_string(sk.vertex_node[mesh.fv_range(f).begin()->idx()]) +
+                       ", which has no edge: every connected part of the mesh needs at least one skeleton edge");
+    if (result[f.idx()] == kNoSegment) throw InputError("face " + std::to_string(f.idx()) + " has no skeleton segment in reach");
   }
   return result;
 }
