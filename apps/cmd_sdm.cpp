@@ -12,6 +12,7 @@
 #include "libstm/mesh/surface_distance.h"
 #include "libstm/core/errors.h"
 #include "libstm/core/image.h"
+#include "libstm/core/parallel.h"
 #include "libstm/core/stopwatch.h"
 #include "libstm/layout/layout.h"
 #include "libstm/mesh/mesh.h"
@@ -313,7 +314,9 @@ Command add_decode_command(CLI::App& parent) {
             if (!o->skeleton.empty()) d.skeleton = sdm::read_skeleton_json(o->skeleton);
             const sdm::Mesh mesh = sdm::decode_sdm(im, d);
             const double s = clock.seconds();
-            sdm::write_mesh(mesh, o->out);
+            // The output's topology is checked on the second core while the file is written.
+            SurfaceTopology top;
+            sdm::run_concurrently([&] { top = topology_of(mesh); }, [&] { sdm::write_mesh(mesh, o->out); });
             if (!o->write_skeleton.empty()) {
               const sdm::Skeleton sk = sdm::layout_from_json(im.layout).skeleton;
               if (o->write_skeleton.size() > 4 && o->write_skeleton.substr(o->write_skeleton.size() - 4) == ".obj")
@@ -321,7 +324,6 @@ Command add_decode_command(CLI::App& parent) {
               else
                 sdm::write_skeleton_json(sk, o->write_skeleton);
             }
-            const SurfaceTopology top = topology_of(mesh);
             if (o->json) {
               print_json({{"output", o->out}, {"vertices", mesh.n_vertices()}, {"faces", mesh.n_faces()},
                           {"closed", top.closed()}, {"manifold", top.manifold}, {"boundary_loops", top.boundary_loops}, {"seconds", s}});

@@ -217,6 +217,8 @@ Mesh decode_sdm(const SdmImage& image, const DecodeOptions& options, DecodeTrace
     placed[size_t(i)] = p;
   });
   Mesh out;
+  // Reserved: OpenMesh's arrays otherwise grow and move while millions of faces go in.
+  out.reserve(n, size_t(tess.triangles.rows()) * 3 / 2 + 3, size_t(tess.triangles.rows()));
   std::vector<Mesh::VertexHandle> vh(n);
   if (trace) trace->vertex_segment.resize(n), trace->vertex_base_face = tess.point_face;
   for (size_t i = 0; i < n; ++i) {
