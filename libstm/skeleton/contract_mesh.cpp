@@ -177,8 +177,9 @@ void Contraction::assemble_laplacian() {
   for (int f = 0; f < m_; ++f) {
     for (int k = 0; k < 3; ++k) {
       const int c = F_(f, k), a = F_(f, (k + 1) % 3), b = F_(f, (k + 2) % 3);
-      const double w =
-          opt_.cotangent ? clamped_cot(V_.row(a) - V_.row(c), V_.row(b) - V_.row(c), opt_.cot_min, opt_.cot_max) : 0.5;
+      const double w = opt_.cotangent
+                           ? clamped_cot(V_.row(a) - V_.row(c), V_.row(b) - V_.row(c), opt_.cot_min, opt_.cot_max) + 0.5 * opt_.uniform_blend
+                           : 0.5;
       lrow_[a][face_slots_[f][2 * k]] += w;
       lrow_[b][face_slots_[f][2 * k + 1]] += w;
     }
@@ -280,7 +281,7 @@ void Contraction::run(Solver& solver) {
     update_weights();
     // Stagnation: once the shape is thin, an iteration that no longer halves the area only
     // costs time (the surgery copes with the rest).
-    if (ratio_ < 1e-3 && ratio_ > 0.5 * previous) break;
+    if (opt_.stop_when_stagnant && ratio_ < 1e-3 && ratio_ > 0.5 * previous) break;
   }
 }
 

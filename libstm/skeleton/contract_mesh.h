@@ -27,6 +27,11 @@ struct ContractOptions {
   // Uniform (umbrella) weights are the fallback for meshes that cannot be remeshed.
   bool cotangent = true;
   double cot_min = 0.0, cot_max = 1e4;
+  // The uniform Laplacian added to the cotangent one, times this (0: cotangent alone). A part
+  // squeezed into a flat sheet (a body's torso) is a fixed point of the cotangent flow: its in-plane
+  // coordinates are harmonic for the sheet's own cotangent weights, so only its rim moves; the
+  // uniform part still pulls every vertex towards its neighbours' centroid (proxy_contraction).
+  double uniform_blend = 0.0;
   // Initial Laplacian weight W_L0 = laplacian_weight * sqrt(total area / mean face area) =
   // laplacian_weight / sqrt(mean face area) in coordinates of unit total area: Au et al.'s rule,
   // independent of the model's unit (W_H0 = 1). Small, so that thin limbs contract into their axis
@@ -36,6 +41,9 @@ struct ContractOptions {
   double max_laplacian_growth = 2048;  // W_L stops growing at this multiple of W_L0
   double area_ratio_stop = 1e-6;    // stop when the area falls below this fraction of the original
   int max_iterations = 20;
+  // Stop once the area is under 1e-3 of the original and an iteration no longer halves it (the
+  // surgery copes with the rest), instead of running to max_iterations.
+  bool stop_when_stagnant = true;
   // A vertex whose one-ring area fell below this fraction of its original is pinned.
   double pin_area_ratio = 1e-8;
 };

@@ -16,13 +16,29 @@ inline ContractOptions uniform_contraction() {
   return o;
 }
 
+// The contraction of a part's isotropic proxy (issue 17): cotangent weights as Au et al., clamped at
+// 5 (angles above 11 degrees), with the uniform Laplacian added, W_L growing without a practical cap
+// and all 20 iterations run. With the clamp at 1e4 and the cotangents alone, the near-degenerate
+// triangles of the contracting shape got weights in the thousands, the area grew again from the
+// third iteration, and the area ratio stalled at 0.16-0.54 on every body of ../shared/models/humans
+// and 0.017 on bunny00; now 3e-4 on the FAUST bodies, 7e-5 and 8e-5 on the TOSCA gorilla and man,
+// 8e-6 on bunny00 (DESIGN 6, BENCHMARKS "Contraction on real meshes").
+inline ContractOptions proxy_contraction() {
+  ContractOptions o;
+  o.cot_max = 5;
+  o.uniform_blend = 1;
+  o.max_laplacian_growth = 1e8;
+  o.stop_when_stagnant = false;
+  return o;
+}
+
 // Where the contracted shape handed to the surgery comes from: Laplacian contraction (Au et al.,
 // the paper's method), the medial poles (medial_poles.h), or both with the better one kept.
 enum class SkeletonMethod { automatic, contraction, medial };
 
 struct SkeletonOptions {
   SkeletonMethod method = SkeletonMethod::automatic;
-  ContractOptions contraction;     // used on the proxy (cotangent weights)
+  ContractOptions contraction = proxy_contraction();  // used on the proxy (cotangent weights)
   // Used on parts contracted as they are: uniform weights with a large start weight, because raw
   // CAD meshes (long thin triangles) make cotangent weights diverge.
   ContractOptions raw_contraction = uniform_contraction();
