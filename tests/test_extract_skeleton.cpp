@@ -294,6 +294,16 @@ TEST_CASE("real meshes: cycles equal genus and every sample inside and no branch
   }
 }
 
+TEST_CASE("Two small tunnels through a thick bar: one cycle each, every sample inside (issue 17)", "[skeleton]") {
+  // Each tunnel's radius (0.15) is under a fifth of the bar's thickness (1.6).
+  const sdm::Mesh m = sdm::make_primitive("two-tunnels");
+  const sdm::Skeleton s = sdm::extract_skeleton(m);
+  CHECK(s.cycles() == 2);
+  CHECK(s.components() == 1);
+  check_map(s, m);
+  CHECK(outside_samples(s, m) == 0);
+}
+
 TEST_CASE("The proxy contraction converges on real bodies and bunny00 (issue 17)", "[skeleton]") {
   // With the cotangents clamped at 1e4 and alone, the area ratio stalled at 0.16-0.54 on these
   // bodies and at 0.017 on bunny00 (the area grew again from the third iteration). Measured now:

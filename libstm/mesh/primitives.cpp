@@ -97,6 +97,18 @@ ImplicitShape crossed_cylinders_shape() {
   return {f, Vec(-2, -2, -0.5), Vec(2, 2, 0.5), 0.5};
 }
 
+// A thick bar along x (radius 0.8, length 3.2, ends rounded) with two small round tunnels through
+// it along y (radius 0.15, at x = -0.7 and 0.7), their rims rounded: genus 2, each tunnel under a
+// fifth of the bar's thickness (issue 17: a bone with two small tunnels got a skeleton without cycles).
+ImplicitShape two_tunnels_shape() {
+  auto f = [](const Vec& p) {
+    const double bar = rounded_cylinder_sdf(p, Vec::Zero(), 0, 0.8, 1.6, 0.2);
+    const double a = std::hypot(p.x() + 0.7, p.z()) - 0.15, b = std::hypot(p.x() - 0.7, p.z()) - 0.15;
+    return -smooth_min(-bar, smooth_min(a, b, 0.05), 0.05);  // the bar minus both tunnels, rims rounded
+  };
+  return {f, Vec(-1.6, -0.8, -0.8), Vec(1.6, 0.8, 0.8), 0.15};
+}
+
 // ---------------------------------------------------------------------------------------------
 // Polygonisation: marching tetrahedra on a regular grid, each cube split into the six Kuhn
 // tetrahedra around its main diagonal. The same split in every cube makes neighbouring cubes'
@@ -390,7 +402,7 @@ struct Entry {
   int default_vertices;
 };
 const Entry kEntries[] = {{"ypsilon", 480},         {"bottle", 1530},   {"donut", 1728},  {"triple-torus", 2256},
-                          {"crossed-cylinders", 3660}, {"cylinder", 1200}, {"capsule", 1200}};
+                          {"crossed-cylinders", 3660}, {"cylinder", 1200}, {"capsule", 1200}, {"two-tunnels", 4000}};
 
 }  // namespace
 
@@ -418,6 +430,7 @@ Mesh make_primitive(const std::string& name, int resolution) {
   if (n == "bottle") return implicit_primitive(bottle_shape(), target);
   if (n == "triple-torus") return implicit_primitive(triple_torus_shape(), target);
   if (n == "crossed-cylinders") return implicit_primitive(crossed_cylinders_shape(), target);
+  if (n == "two-tunnels") return implicit_primitive(two_tunnels_shape(), target);
   if (n == "donut") return revolved_primitive(donut, 4 * M_PI * M_PI * 1.0 * 0.4, target);
   if (n == "cylinder") return revolved_primitive(cylinder, 2 * M_PI * 2.0 + 2 * M_PI, target);
   return revolved_primitive(capsule, 2 * M_PI * 2.0 + 4 * M_PI, target);

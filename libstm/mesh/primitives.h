@@ -23,6 +23,9 @@ namespace sdm {
 //   capsule            [1200, genus 0] axis z, radius 1: the cylinder x^2 + y^2 = 1, z in [-1, 1],
 //                                      closed by hemispheres of radius 1 centred at (0, 0, +-1)
 //                                      (total length 4). Every vertex lies on that surface.
+//   two-tunnels        [4000, genus 2] a thick bar along x (radius 0.8, length 3.2, ends rounded)
+//                                      with two small tunnels along y (radius 0.15, at x = +-0.7):
+//                                      the skeleton must keep one cycle per tunnel (issue 17).
 // The blended shapes are smooth implicit surfaces (smooth unions of distance fields), polygonised
 // and isotropically remeshed, their vertices projected onto the implicit surface; the donut,
 // cylinder and capsule are surfaces of revolution sampled exactly.
@@ -33,7 +36,8 @@ namespace sdm {
 // lists the valid ones) or a resolution outside [200, 1000000].
 Mesh make_primitive(const std::string& name, int resolution = 0);
 
-// The valid names, in the order of the paper's Table I followed by the analytic shapes.
+// The valid names, in the order of the paper's Table I followed by the analytic shapes and the
+// tunnelled bar.
 std::vector<std::string> primitive_names();
 
 // A lower bound on the smallest triangle angle of every primitive, in degrees (measured: above 31
