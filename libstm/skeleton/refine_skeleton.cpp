@@ -194,8 +194,14 @@ void Refinement::place(int a) {
 }
 
 void Refinement::place_all() {
+  std::vector<Eigen::Vector3d> wanted(g_.pos.begin(), g_.pos.end());
   for (int a = 0; a < n_; ++a)
     if (alive_[a]) place(a);
+  // A node moved because an edge to a neighbour's old place crossed the surface goes back where it
+  // wanted to be when, with the neighbours where they ended, it and its edges lie inside (its
+  // neighbours' other edges are unchanged, so they stay inside too).
+  for (int a = 0; a < n_; ++a)
+    if (alive_[a] && g_.pos[a] != wanted[a] && node_ok(a, wanted[a])) g_.pos[a] = wanted[a];
 }
 
 // The merged nodes leave the graph; the adjacency becomes its edges.
