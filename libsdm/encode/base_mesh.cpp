@@ -2,6 +2,7 @@
 
 #include "libstm/core/errors.h"
 #include "libstm/core/json_int.h"
+#include "libstm/core/stopwatch.h"
 #include "libstm/geometry/capsule_ray.h"
 #include "libstm/layout/segments.h"
 #include "libstm/geometry/triangle_bvh.h"
@@ -14,6 +15,8 @@
 #include <OpenMesh/Tools/Decimater/ModQuadricT.hh>
 
 #include <algorithm>
+#include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <set>
 
@@ -274,7 +277,8 @@ constexpr int kMultipleChoiceFactor = 8;
 // Decimates m to target_vertices with quadrics, no normal flips and collapses only between
 // neighbouring skeleton nodes (node: per vertex of m). Deterministic: the multiple-choice stage
 // draws its candidates from rand(), seeded here (nothing else in sdm draws from it).
-void decimate_base(Mesh& m, const std::vector<int>& node, const Skeleton& skeleton, int target_vertices, double max_edge) {
+void decimate_base(Mesh& m, const std::vector<int>& node, const Skeleton& skeleton, int target_vertices, double max_edge,
+                   const Progress& progress) {
   m.request_face_normals();
   m.update_face_normals();
   OpenMesh::Decimater::MixedDecimaterT<Mesh> decimater(m);
@@ -307,8 +311,16 @@ void decimate_base(Mesh& m, const std::vector<int>& node, const Skeleton& skelet
     while (m.n_vertices() > coarse) {
       const size_t n = m.n_vertices(), goal = std::max(coarse, n / 2);
       decimater.set_samples(n > 4 * coarse ? 2 : 10);
+      const Stopwatch round;
       const size_t done = decimater.McDecimaterT<Mesh>::decimate(n - goal);
       m.garbage_collection();
+      // Each round halves the vertices and takes about half as long as the one before, so what is
+      // left takes about as long as this round did (plus the heap's last stretch).
+      const double s = round.seconds();
+      char line[160];
+      std::snprintf(line, sizeof line, "base mesh: %zu -> %zu vertices in %.1f s (%.0f k collapses/s), about %.0f s left", n,
+                    size_t(m.n_vertices()), s, double(done) / std::max(s, 1e-9) / 1e3, std::ceil(s));
+      report_progress(progress, line);
       if (2 * done < n - goal) break;  // the candidates ran out of legal collapses: the heap finishes
     }
   }
@@ -319,7 +331,7 @@ void decimate_base(Mesh& m, const std::vector<int>& node, const Skeleton& skelet
 
 }  // namespace
 
-BaseMesh make_base_mesh(const Mesh& input, const Layout& layout, int target_vertices) {
+BaseMesh make_base_mesh(const Mesh& input, const Layout& layout, int target_vertices, const Progress& progress) {
   const int nv = int(input.n_vertices());
   if (target_vertices <= 0) target_vertices = std::clamp(nv / 4, std::min(nv, 400), 4000);
   const BaseSource src = base_source(input, layout.skeleton, target_vertices);
@@ -333,7 +345,7 @@ BaseMesh make_base_mesh(const Mesh& input, const Layout& layout, int target_vert
     for (auto v : m.vertices()) node[v.idx()] = src.node[m.property(original, v)];
     double longest = 0;
     for (auto e : input.edges()) longest = std::max(longest, double(input.calc_edge_length(e)));
-    decimate_base(m, node, layout.skeleton, target_vertices, 8 * longest);
+    decimate_base(m, node, layout.skeleton, target_vertices, 8 * longest, progress);
   }
   // Segments of the base faces: the skeleton's map restricted to the surviving vertices.
   Skeleton sk = layout.skeleton;

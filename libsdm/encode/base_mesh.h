@@ -8,6 +8,7 @@
 // into one closed manifold there. A decimated copy of the input is manifold by construction, with
 // the input's boundary loops where it has holes, and its faces carry their segment, so levels of
 // detail stay per segment.
+#include "libstm/core/progress.h"
 #include "libstm/layout/layout.h"
 
 #include <array>
@@ -32,8 +33,9 @@ struct BaseMesh {
 // corner into its face's capsule. A map texel holds one depth per ray, so a face its segment cannot
 // carry alone (turned away from the segment's rays, wrapped around its axis, or folded over by
 // another sheet of the same segment's faces along those rays) moves to the nearest segment that
-// can. target_vertices <= 0 picks a size from the mesh.
-BaseMesh make_base_mesh(const Mesh& mesh, const Layout& layout, int target_vertices = 0);
+// can. target_vertices <= 0 picks a size from the mesh. `progress` hears of the decimation's rounds
+// on large meshes (vertices, seconds, an estimate of the rest).
+BaseMesh make_base_mesh(const Mesh& mesh, const Layout& layout, int target_vertices = 0, const Progress& progress = {});
 
 nlohmann::json base_mesh_to_json(const BaseMesh& base);
 // Throws InputError naming what is wrong (sizes, indices, segments out of range, non-finite texel
