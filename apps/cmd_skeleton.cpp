@@ -32,7 +32,8 @@ Command add_skeleton_command(CLI::App& parent) {
   app->add_option("--laplacian-weight", o->sk.contraction.laplacian_weight, "Initial Laplacian weight of the proxy contraction (relative)");
   app->add_option("--laplacian-scale", o->sk.contraction.laplacian_scale, "Growth of the proxy Laplacian weight per iteration");
   app->add_option("--max-iterations", o->sk.contraction.max_iterations, "Most proxy contraction iterations");
-  app->add_option("--cot-min", o->sk.contraction.cot_min, "Lower clamp of the cotangent weights");
+  app->add_option("--cot-min", o->sk.contraction.cot_min, "Lower clamp of the proxy's cotangent weights (the upper clamp is 5)")
+      ->check(CLI::Range(-100.0, 4.0));
   app->add_option("--medial-smoothing", o->sk.medial_smoothing, "Umbrella smoothing steps of the medial poles before their surgery");
   app->add_option("--sampling-weight", o->sk.sampling_weight, "Weight of the sampling term of the collapse cost");
   return {app, [o]() {
