@@ -269,8 +269,9 @@ constexpr double kBoundaryTolerance = 0.002;
 // no heap; 2 candidates while over 4 times that size, where every edge is far shorter than the
 // base mesh's, then OpenMesh's 10) down to kMultipleChoiceFactor times the target, and the greedy
 // heap finishes. The heap alone re-checks every neighbour's collapses after each collapse: 523k
-// vertices to 4000 took 33 s of a 1024 encode's 37 s; now 8.3 s (BENCHMARKS "Encoding large
-// meshes"), the round trip as close (RMS 0.0156 -> 0.0142 %). Smaller meshes keep the heap alone.
+// vertices to 4000 took 33 s of a 1024 encode's 37 s; now 8.3-10.8 s (BENCHMARKS "Large meshes
+// through the pipeline"), the round trip as close (RMS 0.0156 -> 0.0142 %). Smaller meshes keep the
+// heap alone.
 constexpr int kMultipleChoiceFrom = 100000;
 constexpr int kMultipleChoiceFactor = 8;
 
