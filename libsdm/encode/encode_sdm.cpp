@@ -3,11 +3,13 @@
 #include "libsdm/encode/base_mesh.h"
 #include "libsdm/encode/texel_targets.h"
 #include "libstm/core/parallel.h"
+#include "libstm/core/stopwatch.h"
 #include "libstm/geometry/capsule_ray.h"
 #include "libstm/layout/segments.h"
 #include "libstm/geometry/triangle_bvh.h"
 
 #include <cmath>
+#include <cstdio>
 
 namespace sdm {
 namespace {
@@ -173,9 +175,22 @@ SdmImage encode_sdm(const Mesh& mesh, const Layout& layout, const EncodeOptions&
   im.A.assign(im.D.size(), 0.0f);
   im.foot.assign(im.D.size(), NAN);
   const EncodeScene scene = encode_scene(mesh, layout, options);
+  // Progress every 8 segments, with the rate so far and what it leaves for the texels still to do.
+  double all_texels = 0;
+  for (const LayoutSegment& g : layout.segments) all_texels += double(g.w) * g.h;
+  const Stopwatch clock;
   for (size_t s = 0; s < layout.segments.size(); ++s) {
-    if (s % 8 == 0)
-      report_progress(options.progress, "encoding segment " + std::to_string(s + 1) + "/" + std::to_string(layout.segments.size()));
+    if (s % 8 == 0) {
+      std::string line = "encoding segment " + std::to_string(s + 1) + "/" + std::to_string(layout.segments.size());
+      const double t = clock.seconds();
+      if (st.texels > 0 && t > 0.5) {
+        char rate[96];
+        std::snprintf(rate, sizeof rate, " (%.2f M texels/s, about %.0f s left)", st.texels / t / 1e6,
+                      std::ceil((all_texels - double(st.texels)) * t / double(st.texels)));
+        line += rate;
+      }
+      report_progress(options.progress, line);
+    }
     SegmentEncoder(scene, layout, int(s)).encode(im, st);
   }
   st.base_faces = int(scene.base.triangles.rows());
