@@ -9,6 +9,17 @@
 #include <random>
 
 namespace sdm {
+namespace {
+
+// The closest point of bvh's surface to every row of P, on every core (each row its own slot: the
+// same result on any number of threads).
+std::vector<TriangleBvh::Closest> closest_points(const TriangleBvh& bvh, const Eigen::MatrixX3d& P) {
+  std::vector<TriangleBvh::Closest> closest(size_t(P.rows()));
+  parallel_for(int(P.rows()), 4096, [&](int i) { closest[size_t(i)] = bvh.closest_point(P.row(i).transpose()); });
+  return closest;
+}
+
+}  // namespace
 
 Eigen::MatrixX3d sample_surface(const Mesh& mesh, int count, unsigned seed) {
   const Eigen::MatrixX3d V = vertex_matrix(mesh);
@@ -38,15 +49,14 @@ SurfaceDistance surface_distance(const Mesh& a, const Mesh& b, int samples) {
   SurfaceDistance d;
   d.samples_per_surface = samples;
   d.diagonal = bounding_box_diagonal(a);
-  const TriangleBvh bvh_a(vertex_matrix(a), face_matrix(a));
-  const TriangleBvh bvh_b(vertex_matrix(b), face_matrix(b));
+  const Eigen::MatrixX3d va = vertex_matrix(a), vb = vertex_matrix(b);
+  const TriangleBvh bvh_a(va, face_matrix(a));
+  const TriangleBvh bvh_b(vb, face_matrix(b));
   const Eigen::MatrixX3d pa = sample_surface(a, samples, 1);
   const Eigen::MatrixX3d pb = sample_surface(b, samples, 2);
   double sum2 = 0, sum = 0;
   auto measure = [&](const Eigen::MatrixX3d& P, const TriangleBvh& other, bool on_b, bool in_rms) {
-    // Closest points on every core, then taken in order (the same result on any number of threads).
-    std::vector<TriangleBvh::Closest> closest(P.rows());
-    parallel_for(int(P.rows()), 4096, [&](int i) { closest[i] = other.closest_point(P.row(i).transpose()); });
+    const std::vector<TriangleBvh::Closest> closest = closest_points(other, P);  // then taken in order
     for (int i = 0; i < P.rows(); ++i) {
       const auto& c = closest[i];
       if (c.distance > d.hausdorff) d.hausdorff = c.distance, d.worst_point = P.row(i).transpose(), d.worst_closest = c.point, d.worst_on_b = on_b;
@@ -57,8 +67,8 @@ SurfaceDistance surface_distance(const Mesh& a, const Mesh& b, int samples) {
   };
   measure(pa, bvh_b, false, true);
   measure(pb, bvh_a, true, true);
-  measure(vertex_matrix(a), bvh_b, false, false);
-  measure(vertex_matrix(b), bvh_a, true, false);
+  measure(va, bvh_b, false, false);
+  measure(vb, bvh_a, true, false);
   d.rms = std::sqrt(sum2 / (2.0 * samples));
   d.mean = sum / (2.0 * samples);
   return d;
@@ -68,13 +78,11 @@ SurfaceCoverage surface_coverage(const Mesh& reference, const Mesh& carrier, dou
   SurfaceCoverage c;
   const TriangleBvh bvh(vertex_matrix(carrier), face_matrix(carrier));
   const std::vector<double> area = vertex_areas(reference);
-  // The distances on every core, summed in vertex order (the same sums on any number of threads).
-  std::vector<double> distance(reference.n_vertices());
-  parallel_for(int(distance.size()), 4096, [&](int i) { distance[i] = bvh.closest_point(point(reference, reference.vertex_handle(i))).distance; });
+  const std::vector<TriangleBvh::Closest> closest = closest_points(bvh, vertex_matrix(reference));  // summed in vertex order
   double total = 0, within = 0, sq = 0;
   for (auto v : reference.vertices()) {
     const Eigen::Vector3d p = point(reference, v);
-    const double d = distance[v.idx()], a = area[v.idx()];
+    const double d = closest[size_t(v.idx())].distance, a = area[v.idx()];
     total += a, sq += a * d * d;
     if (d <= tolerance) within += a;
     if (d > c.worst) c.worst = d, c.worst_point = p;

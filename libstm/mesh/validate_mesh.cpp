@@ -215,11 +215,7 @@ void check_vertex_fans(const MeshSoup& soup, const std::vector<char>& face_ok, M
       for (int v : soup.triangles[f]) vf[fill[size_t(v)]++] = int(f);
   std::vector<int> fans(nv, 1);
   const size_t half = nv / 2;
-  {
-    BackgroundTask second([&] { count_fans(soup, start, vf, half, nv, fans); });
-    count_fans(soup, start, vf, 0, half, fans);
-    second.wait();
-  }
+  run_concurrently([&] { count_fans(soup, start, vf, half, nv, fans); }, [&] { count_fans(soup, start, vf, 0, half, fans); });
   long nm_vertices = 0;
   std::string nmv_example;
   for (size_t v = 0; v < nv; ++v)
