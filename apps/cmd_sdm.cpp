@@ -373,7 +373,9 @@ Command add_roundtrip_command(CLI::App& parent) {
             const sdm::Layout layout = layout_for(mesh, encode_layout_source("", "", o->size)).layout;
             sdm::Stopwatch stage;
             progress("encoding");
-            const auto [im, map_bytes] = through_file(sdm::encode_sdm(mesh, layout), precision);
+            sdm::EncodeOptions eo;
+            eo.progress = [](const std::string& s) { progress("  " + s); };  // as encode reports it
+            const auto [im, map_bytes] = through_file(sdm::encode_sdm(mesh, layout, eo), precision);
             const double encode_s = stage.lap();
             progress("decoding");
             sdm::DecodeOptions d;
