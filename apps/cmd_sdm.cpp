@@ -143,14 +143,15 @@ sdm::SelfIntersections check_self_intersections(const sdm::Mesh& mesh, bool stri
 }
 
 // The share of the input's surface (by vertex area) that the decoded surface carries within 1 % of
-// the diagonal (diag: the input's). Under 90 %: a warning, or a refusal under --strict.
-constexpr double kCarriedTolerance = 0.01, kCarriedFloor = 0.9;
-sdm::SurfaceCoverage check_carried(const sdm::Mesh& input, const sdm::Mesh& decoded, double diag, bool strict) {
+// the diagonal (diag: the input's). Under `floor` (--min-carried, 90 % by default): a warning, or a
+// refusal under --strict.
+constexpr double kCarriedTolerance = 0.01;
+sdm::SurfaceCoverage check_carried(const sdm::Mesh& input, const sdm::Mesh& decoded, double diag, double floor, bool strict) {
   sdm::SurfaceCoverage c = sdm::surface_coverage(input, decoded, kCarriedTolerance * diag);
-  if (c.share >= kCarriedFloor) return c;
+  if (c.share >= floor) return c;
   std::ostringstream what;
   what << "the map carries only " << std::round(1000 * c.share) / 10 << " % of the surface within "
-       << 100 * kCarriedTolerance << " % of the diagonal (at least " << 100 * kCarriedFloor << " % expected); the farthest point, "
+       << 100 * kCarriedTolerance << " % of the diagonal (at least " << 100 * floor << " % expected); the farthest point, "
        << point_text(c.worst_point) << ", is " << std::round(1000 * c.worst / diag) / 10 << " % of the diagonal away";
   const std::string fix = "try a larger --size, or check the input for sheets inside each other or parts the skeleton misses "
                           "('sdm skeleton --png')";
@@ -214,13 +215,21 @@ void write_error_png(const sdm::Mesh& input, sdm::Mesh decoded, double diag, con
   sdm::write_png(sdm::contact_sheet(views, 2), path);
 }
 
+void add_min_carried_option(CLI::App* app, double& floor) {
+  app->add_option("--min-carried", floor,
+                  "Share of the input's surface the decoded map must carry within 1 % of the diagonal; below it a warning, "
+                  "or a refusal with --strict")
+      ->capture_default_str()
+      ->check(CLI::Range(0.0, 1.0));
+}
+
 }  // namespace
 
 Command add_encode_command(CLI::App& parent) {
   struct Opts {
     std::string mesh, out, layout, skeleton, png, max_memory, precision = "10";  // BENCHMARKS: float's accuracy, 3.6-6x smaller at 1024
     int size = 1024;
-    double min_part = 0;
+    double min_part = 0, min_carried = 0.9;
     bool fill_holes = false;
     bool json = false, strict = false;
   };
@@ -239,7 +248,8 @@ Command add_encode_command(CLI::App& parent) {
   add_max_memory_option(app, o->max_memory);
   app->add_option("--precision", o->precision, kPrecisionHelp)->capture_default_str();
   app->add_flag("--strict", o->strict,
-                "Refuse (exit 2, nothing written) a self-intersecting input or a map that carries under 90 % of the surface");
+                "Refuse (exit 2, nothing written) a self-intersecting input or a map that carries under --min-carried of the surface");
+  add_min_carried_option(app, o->min_carried);
   app->add_flag("--json", o->json, "Print one JSON object with the summary");
   return {app, [o]() {
             if (o->layout.empty()) check_atlas_memory(o->size, 10, o->max_memory);
@@ -257,7 +267,7 @@ Command add_encode_command(CLI::App& parent) {
             progress("  checking the map (decoded at level 3)");
             const double diag = sdm::bounding_box_diagonal(mesh);
             const sdm::SurfaceCoverage carried =
-                check_carried(mesh, sdm::decode_sdm(sdm::as_stored(im, precision), sdm::DecodeOptions{}), diag, o->strict);
+                check_carried(mesh, sdm::decode_sdm(sdm::as_stored(im, precision), sdm::DecodeOptions{}), diag, o->min_carried, o->strict);
             const double check_s = clock.lap();
             sdm::write_sdm_exr(im, o->out, precision);
             if (!o->png.empty()) sdm::write_png(false_colour(im), o->png);
@@ -339,7 +349,7 @@ Command add_roundtrip_command(CLI::App& parent) {
   struct Opts {
     std::string mesh, out, png, precision = "10";
     int size = 1024, lod = 3, samples = 100000;
-    double max_rms = -1, min_part = 0;
+    double max_rms = -1, min_part = 0, min_carried = 0.9;
     bool fill_holes = false;
     std::string max_memory;
     bool json = false, strict = false;
@@ -363,7 +373,8 @@ Command add_roundtrip_command(CLI::App& parent) {
   add_fill_holes_option(app, o->fill_holes);
   add_max_memory_option(app, o->max_memory);
   app->add_flag("--strict", o->strict,
-                "Refuse (exit 2) a self-intersecting input or a decoded surface that carries under 90 % of the input");
+                "Refuse (exit 2) a self-intersecting input or a decoded surface that carries under --min-carried of the input");
+  add_min_carried_option(app, o->min_carried);
   app->add_flag("--json", o->json, "Print one JSON object with the summary");
   return {app, [o]() {
             const sdm::Stopwatch total;
@@ -386,7 +397,7 @@ Command add_roundtrip_command(CLI::App& parent) {
             sdm::DecodeTrace trace;
             const sdm::Mesh out = sdm::decode_sdm(im, d, &trace);
             const double decode_s = stage.lap();
-            const sdm::SurfaceCoverage carried = check_carried(mesh, out, sdm::bounding_box_diagonal(mesh), o->strict);
+            const sdm::SurfaceCoverage carried = check_carried(mesh, out, sdm::bounding_box_diagonal(mesh), o->min_carried, o->strict);
             if (!o->out.empty()) sdm::write_mesh(out, o->out);
             progress("measuring");
             const sdm::SurfaceDistance dist = sdm::surface_distance(mesh, out, o->samples);
@@ -394,6 +405,7 @@ Command add_roundtrip_command(CLI::App& parent) {
             const double psnr = 20 * std::log10(1.0 / rms);
             const SurfaceTopology top = topology_of(out), input_top = topology_of(mesh);
             const WorstError worst = locate_worst(dist, out, trace);
+            const double edge_ratio = longest_edge(out) / longest_edge(mesh);  // issue 17: at most 1
             if (!o->png.empty()) write_error_png(mesh, out, dist.diagonal, o->png);
             const nlohmann::json worst_json = {{"position", {worst.position.x(), worst.position.y(), worst.position.z()}},
                                                {"segment", worst.segment}, {"base_face", worst.base_face},
@@ -405,13 +417,14 @@ Command add_roundtrip_command(CLI::App& parent) {
                           {"closed", top.closed()}, {"manifold", top.manifold}, {"boundary_loops", top.boundary_loops},
                           {"input_boundary_loops", input_top.boundary_loops}, {"encode_seconds", encode_s}, {"decode_seconds", decode_s},
                           {"total_seconds", total.seconds()}, {"samples", o->samples}, {"carried", carried.share},
-                          {"self_intersections", crossings.pairs}, {"worst", worst_json}});
+                          {"self_intersections", crossings.pairs}, {"longest_edge_ratio", edge_ratio}, {"worst", worst_json}});
             } else {
               std::cout << o->mesh << " at " << o->size << ", level " << o->lod << ": RMS " << 100 * rms << " %, Hausdorff "
                         << 100 * hd << " % of the diagonal, PSNR " << psnr << " dB, " << out.n_faces() << " faces, "
                         << top.text() << " (input: " << input_top.boundary_loops << " boundary loop(s)), map " << map_bytes << " bytes (" << precision.name() << ")\n"
                         << "  worst at " << point_text(worst.position) << ", segment " << worst.segment << ", base face "
-                        << worst.base_face << " (" << worst_json.at("where").get<std::string>() << ")\n";
+                        << worst.base_face << " (" << worst_json.at("where").get<std::string>() << ")\n"
+                        << "  longest decoded edge " << edge_ratio << " times the input's\n";
             }
             if (o->max_rms >= 0 && rms > o->max_rms) {
               std::cerr << "sdm roundtrip: RMS " << rms << " exceeds --max-rms " << o->max_rms << std::endl;

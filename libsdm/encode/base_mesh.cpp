@@ -344,9 +344,7 @@ BaseMesh make_base_mesh(const Mesh& input, const Layout& layout, int target_vert
   if (target_vertices < int(m.n_vertices())) {
     std::vector<int> node(m.n_vertices());
     for (auto v : m.vertices()) node[v.idx()] = src.node[m.property(original, v)];
-    double longest = 0;
-    for (auto e : input.edges()) longest = std::max(longest, double(input.calc_edge_length(e)));
-    decimate_base(m, node, layout.skeleton, target_vertices, 8 * longest, progress);
+    decimate_base(m, node, layout.skeleton, target_vertices, 8 * longest_edge(input), progress);
   }
   // Segments of the base faces: the skeleton's map restricted to the surviving vertices.
   Skeleton sk = layout.skeleton;

@@ -12,6 +12,12 @@ double surface_area(const Mesh& m) {
   return area;
 }
 
+double longest_edge(const Mesh& m) {
+  double longest = 0;
+  for (auto e : m.edges()) longest = std::max(longest, double(m.calc_edge_length(e)));
+  return longest;
+}
+
 std::vector<double> vertex_areas(const Mesh& m, double factor) {
   std::vector<double> a(m.n_vertices(), 0.0);
   for (auto f : m.faces()) {

@@ -18,6 +18,9 @@ inline double face_area(const Mesh& m, Mesh::FaceHandle f) {
 /// Total area of the faces.
 double surface_area(const Mesh& mesh);
 
+/// Length of the longest edge (0 for a mesh without edges).
+double longest_edge(const Mesh& mesh);
+
 /// Per vertex, a third of the area of its faces (the barycentric dual area), times `factor`.
 std::vector<double> vertex_areas(const Mesh& mesh, double factor = 1.0);
 
