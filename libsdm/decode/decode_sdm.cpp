@@ -127,7 +127,8 @@ bool share_corner(const BaseMesh& base, int f, int g) {
 }
 
 // The bilinear lookup of a point of base face f over the texels encoded for f or for a face that
-// shares a corner with it (the others skipped, the weights renormalised; NaN when none is left).
+// shares a corner with it (the others, and texels no face reads, skipped, the weights renormalised;
+// NaN when none is left).
 // A texel read near a face's border can be encoded for another base face whose reference triangle
 // overlaps this face's on the capsule: another sheet along the ray. On FAUST 085 such a texel,
 // encoded for the hanging hand, put a point of the hip 6 cm off (Hausdorff 2.75 %, now 0.55 %; the
@@ -137,7 +138,7 @@ bool share_corner(const BaseMesh& base, int f, int g) {
 double sample_own_texels(const BaseMesh& base, const LayoutSegment& seg, const TexelReads& reads, int f, double u, double v) {
   return sample_texels(seg, u, v, [&](int ix, int iy) {
     const int g = reads.face(ix, iy);
-    return g < 0 || g == f || share_corner(base, f, g) ? reads.value(ix, iy) : NAN;
+    return g >= 0 && (g == f || share_corner(base, f, g)) ? reads.value(ix, iy) : NAN;
   });
 }
 
@@ -226,7 +227,9 @@ Mesh decode_sdm(const SdmImage& image, const DecodeOptions& options, DecodeTrace
     const int f = tess.point_face[size_t(i)];
     const double r = reach[f];
     const double d = sample_own_texels(base, layout.segments[a.segment], reads, f, a.u, a.v);
-    Eigen::Vector3d p = std::isnan(d) ? a.flat : Eigen::Vector3d(a.ray.origin + d * a.ray.direction);
+    // No texel left, or a depth of 0 (the encoder's foot clamped at the ray's origin: every ray of a
+    // cap starts at its centre, so such points coincide and make zero-area faces): the flat point.
+    Eigen::Vector3d p = !(d > 0) ? a.flat : Eigen::Vector3d(a.ray.origin + d * a.ray.direction);
     // Safeguard: near junctions a texel's ray can leave the segment's region and meet a far
     // surface; a point displaced farther from its decoded base triangle than half the triangle's
     // longest edge is such a point, and the flat base triangle's own point is the better estimate

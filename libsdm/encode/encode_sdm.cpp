@@ -1,6 +1,7 @@
 #include "libsdm/encode/encode_sdm.h"
 
 #include "libsdm/encode/base_mesh.h"
+#include "libsdm/encode/base_regions.h"
 #include "libsdm/encode/texel_targets.h"
 #include "libstm/core/parallel.h"
 #include "libstm/core/stopwatch.h"
@@ -41,6 +42,7 @@ struct EncodeScene {
   TriangleBvh all;                                // every face of the mesh
   std::vector<std::vector<int>> faces_of;         // per segment, its faces of the mesh
   BaseMesh base;
+  BaseRegions regions;  // which input faces each base face's texels may take crossings with
 };
 
 EncodeScene encode_scene(const Mesh& mesh, const Layout& layout, const EncodeOptions& options) {
@@ -53,25 +55,29 @@ EncodeScene encode_scene(const Mesh& mesh, const Layout& layout, const EncodeOpt
   for (size_t f = 0; f < sc.face_segment.size(); ++f) sc.faces_of[sc.face_segment[f]].push_back(int(f));
   report_progress(options.progress, "building the base mesh");
   sc.base = make_base_mesh(mesh, layout, options.base_vertices, options.progress);
+  sc.regions = BaseRegions(sc.V, sc.F, sc.base);
   return sc;
 }
 
-// The crossing of a ray with the surface nearest a target point, among those within `reach` of
-// the target's foot on the ray; face -1 when there is none.
+// The crossing of a ray with the surface nearest a target point of base face `base_face`, among
+// those within `reach` of the target's foot on the ray and with faces the base face stands for
+// (base_regions.h); face -1 when there is none.
 struct Crossing {
   double t = -1, distance = INFINITY;
   int face = -1;
 };
 
-Crossing crossing_nearest(const TriangleBvh& all, const CapsuleRay& ray, const Eigen::Vector3d& target, double foot, double reach) {
+Crossing crossing_nearest(const TriangleBvh& all, const BaseRegions& regions, int base_face, const CapsuleRay& ray,
+                          const Eigen::Vector3d& target, double foot, double reach) {
   Crossing best;
   double t_min = std::max(0.0, foot - reach);
   for (int n = 0; n < 64; ++n) {
     const auto hit = all.first_hit(ray.origin, ray.direction, t_min, foot + reach);
     if (hit.face < 0) break;
+    t_min = hit.t + 1e-9 * (1 + hit.t);
+    if (!regions.plausible(hit.face, base_face)) continue;
     const double dist = (ray.origin + hit.t * ray.direction - target).norm();
     if (dist < best.distance) best.distance = dist, best.t = hit.t, best.face = hit.face;
-    t_min = hit.t + 1e-9 * (1 + hit.t);
   }
   return best;
 }
@@ -150,7 +156,7 @@ void SegmentEncoder::encode_texel(int ix, int iy, SdmImage& im, EncodeStats& st)
   for (int c = 0; c < 3; ++c) longest = std::max(longest, (corner[c] - corner[(c + 1) % 3]).norm());
   const double reach = 0.5 * longest, foot = aim->foot;
   im.foot[texel_index(im, ix, iy)] = float(foot);
-  const Crossing best = crossing_nearest(sc_.all, ray, aim->point, foot, reach);
+  const Crossing best = crossing_nearest(sc_.all, sc_.regions, aim->base_face, ray, aim->point, foot, reach);
   if (best.face < 0 || best.distance > reach) {
     D = float(std::max(0.0, foot));
     ++st.filled;
