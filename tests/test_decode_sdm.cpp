@@ -1,6 +1,7 @@
 // SDM decoding: closed output at any mix of levels, and a surface that follows a moved skeleton.
 #include "libsdm/decode/decode_sdm.h"
 #include "libsdm/encode/encode_sdm.h"
+#include "libstm/mesh/mesh_geometry.h"
 #include "libstm/mesh/surface_distance.h"
 #include "libstm/core/errors.h"
 #include "libstm/skeleton/extract_skeleton.h"
@@ -83,10 +84,12 @@ SurfaceDistance acceptance_round_trip(const std::string& name, const Mesh& mesh,
   CHECK(d.hausdorff / d.diagonal <= max_hausdorff);
   CHECK(r.usable());
   CHECK(r.boundary_loops == 0);
-  if (allow_degenerate)
+  if (allow_degenerate) {
     for (const auto& f : r.findings) CHECK(f.kind.find("degenerate") != std::string::npos);
-  else
+  } else {
     CHECK(r.findings.empty());
+    CHECK(longest_edge(out) <= longest_edge(mesh));  // issue 17: no decoded edge longer than the input's longest
+  }
   CHECK(r.genus_per_part == in.genus_per_part);
   return d;
 }

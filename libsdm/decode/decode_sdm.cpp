@@ -173,8 +173,9 @@ Mesh decode_sdm(const SdmImage& image, const DecodeOptions& options, DecodeTrace
 
   std::vector<CapsuleFrame> frames;
   for (size_t s = 0; s < layout.segments.size(); ++s) frames.push_back(capsule_frame(layout, int(s)));
-  // Corners on a reference capsule of the segment's radius: interpolating there, then mapping back
-  // with capsule_uv, handles the phi = 0 seam and the poles, where (u, v) themselves jump.
+  // Corners on a reference capsule of the segment's radius (their rays, at their stored (u, v)).
+  // Points inside a face take the ray through their flat point instead, through capsule_uv, which
+  // handles the phi = 0 seam and the poles, where (u, v) themselves jump.
   std::vector<std::array<Eigen::Vector3d, 3>> reference(base.triangles.rows());
   for (int f = 0; f < base.triangles.rows(); ++f) {
     const LayoutSegment& seg = layout.segments[base.face_segment[f]];
@@ -215,9 +216,15 @@ Mesh decode_sdm(const SdmImage& image, const DecodeOptions& options, DecodeTrace
     const Eigen::Vector3d& b = tess.point_bary[size_t(i)];
     PointRay& p = at[size_t(i)];
     p.segment = base.face_segment[f];
-    const auto [ray, uv] = ray_at(p.segment, b[0] * reference[f][0] + b[1] * reference[f][1] + b[2] * reference[f][2]);
-    p.ray = ray, p.u = uv.u, p.v = uv.v;
     p.flat = b[0] * corner[f][0] + b[1] * corner[f][1] + b[2] * corner[f][2];
+    // The ray through the flat point itself, so that the decoded point only moves along it onto
+    // the surface and the points keep the flat face's even spacing. Interpolating on the reference
+    // triangle instead spaced them evenly on the capsule: where the surface lies far from the
+    // capsule or across its rays they spread unevenly, and two segments on either side of a base
+    // edge spread them differently (decoded edges up to 1.6-2 times the input's longest on the
+    // paper's tubes; now at most 0.9: DESIGN 6).
+    const auto [ray, uv] = ray_at(p.segment, p.flat);
+    p.ray = ray, p.u = uv.u, p.v = uv.v;
   });
   TexelReads reads(image, layout, base, corner);
   reads.prepare(at);
