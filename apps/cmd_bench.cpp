@@ -529,7 +529,9 @@ int run_pipeline_bench(const BenchOptions& o) {
       lo.size = o.size;
       const Layout L = compute_layout(mesh, sk, lo);
       layout = std::min(layout, sw.lap());
-      const SdmImage im = encode_sdm(mesh, L);
+      EncodeOptions eo;
+      eo.fill_unread = false;  // as `sdm encode` writes a file
+      const SdmImage im = encode_sdm(mesh, L, eo);
       encode = std::min(encode, sw.lap());
       DecodeOptions d;
       d.level = 3;

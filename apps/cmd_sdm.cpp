@@ -262,6 +262,7 @@ Command add_encode_command(CLI::App& parent) {
             sdm::EncodeStats st;
             sdm::EncodeOptions eo;
             eo.progress = [](const std::string& s) { progress("  " + s); };
+            eo.fill_unread = !o->png.empty();  // only the picture shows texels no face reads
             const sdm::SdmImage im = sdm::encode_sdm(mesh, layout, eo, &st);
             const double encode_s = clock.lap();
             progress("  checking the map (decoded at level 3)");
@@ -386,6 +387,7 @@ Command add_roundtrip_command(CLI::App& parent) {
             progress("encoding");
             sdm::EncodeOptions eo;
             eo.progress = [](const std::string& s) { progress("  " + s); };  // as encode reports it
+            eo.fill_unread = false;  // the file leaves them out
             const auto [im, map_bytes] = through_file(sdm::encode_sdm(mesh, layout, eo), precision);
             const double encode_s = stage.lap();
             progress("decoding");

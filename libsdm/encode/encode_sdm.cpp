@@ -85,7 +85,7 @@ Crossing crossing_nearest(const TriangleBvh& all, const BaseRegions& regions, in
 // The texels of one segment's rectangle.
 class SegmentEncoder {
  public:
-  SegmentEncoder(const EncodeScene& scene, const Layout& layout, int s);
+  SegmentEncoder(const EncodeScene& scene, const Layout& layout, int s, bool fill_unread);
   void encode(SdmImage& im, EncodeStats& st) const;
 
  private:
@@ -95,12 +95,13 @@ class SegmentEncoder {
   const EncodeScene& sc_;
   const LayoutSegment& seg_;
   const int s_;
+  const bool fill_unread_;  // EncodeOptions::fill_unread
   const TexelTargets targets_;
   TriangleBvh own_;
 };
 
-SegmentEncoder::SegmentEncoder(const EncodeScene& scene, const Layout& layout, int s)
-    : sc_(scene), seg_(layout.segments[s]), s_(s), targets_(layout, scene.base, scene.base.corner_position, s) {
+SegmentEncoder::SegmentEncoder(const EncodeScene& scene, const Layout& layout, int s, bool fill_unread)
+    : sc_(scene), seg_(layout.segments[s]), s_(s), fill_unread_(fill_unread), targets_(layout, scene.base, scene.base.corner_position, s) {
   own_ = TriangleBvh(sc_.V, sc_.F, sc_.faces_of[s]);
 }
 
@@ -140,7 +141,8 @@ void SegmentEncoder::encode_texel(int ix, int iy, SdmImage& im, EncodeStats& st)
   float& A = im.A[texel_index(im, ix, iy)];
   const auto aim = targets_.target(ray);
   if (!aim) {
-    encode_unread(ray, D, A, st);
+    if (fill_unread_) encode_unread(ray, D, A, st);
+    else D = NAN;
     return;
   }
   const auto& corner = sc_.base.corner_position[aim->base_face];
@@ -197,7 +199,7 @@ SdmImage encode_sdm(const Mesh& mesh, const Layout& layout, const EncodeOptions&
       }
       report_progress(options.progress, line);
     }
-    SegmentEncoder(scene, layout, int(s)).encode(im, st);
+    SegmentEncoder(scene, layout, int(s), options.fill_unread).encode(im, st);
   }
   st.base_faces = int(scene.base.triangles.rows());
   im.layout = layout_to_json(layout);

@@ -23,6 +23,11 @@ namespace sdm {
 struct EncodeOptions {
   int base_vertices = 0;  // size of the base mesh (0: chosen from the mesh)
   Progress progress;
+  // Texels no base face reads: the first crossing of their ray with the segment's faces (else any),
+  // for pictures of the map (`sdm encode --png`); false leaves them NaN, as every file stores and
+  // every reader sees them (format 3), and saves two ray casts each: `sdm encode` of a 30k-vertex
+  // mesh at 1024, encode stage 2.70-2.83 -> 2.27-2.41 s, the file byte for byte the same.
+  bool fill_unread = true;
 };
 
 struct EncodeStats {
