@@ -75,13 +75,14 @@ class TexelReads {
   TexelReads(const SdmImage& image, const Layout& layout, const BaseMesh& base, const std::vector<std::array<Eigen::Vector3d, 3>>& corners)
       : image_(image), layout_(layout), base_(base), corners_(corners), targets_(layout.segments.size()) {}
 
-  // A float map's point whose four depths lie within reach[i] / 4 of each other reads texels of one
-  // sheet and takes them as they are; the others have the base face of each texel computed (a
+  // A float map's point whose four depths lie within a quarter of its face's reach
+  // (reach[point_face[i]]) of each other reads texels of one sheet and takes them as they are; the
+  // others have the base face of each texel computed (a
   // search of the segment's reference triangles per texel: the 30k-vertex bunny's level-3 decode
   // 0.23 -> 0.36 s when done for every texel). A quantised map's texels need their base face's
   // prediction for their depth anyway, and all its points are checked (checking only the spread
   // ones there: rotor RMS 0.32 -> 0.36 %).
-  void prepare(const std::vector<PointRay>& points, const std::vector<double>& reach) {
+  void prepare(const std::vector<PointRay>& points, const std::vector<int>& point_face, const std::vector<double>& reach) {
     face_.assign(image_.D.size(), -1);
     checked_.assign(points.size(), 1);
     if (image_.residual) {
@@ -97,7 +98,7 @@ class TexelReads {
         if (!std::isnan(d)) lo = std::min(lo, d), hi = std::max(hi, d);
         return 0.0;
       });
-      checked_[size_t(i)] = hi - lo > 0.25 * reach[size_t(i)];
+      checked_[size_t(i)] = hi - lo > 0.25 * reach[size_t(point_face[size_t(i)])];
     });
     compute_texels(points, [&](size_t i) { return checked_[i] != 0; });
   }
@@ -153,14 +154,6 @@ class TexelReads {
   std::vector<char> checked_;
 };
 
-// Whether base faces f and g share a corner (or are one face).
-bool share_corner(const BaseMesh& base, int f, int g) {
-  for (int a = 0; a < 3; ++a)
-    for (int b = 0; b < 3; ++b)
-      if (base.triangles(f, a) == base.triangles(g, b)) return true;
-  return false;
-}
-
 // The bilinear lookup of a point of base face f over the texels encoded for f or for a face that
 // shares a corner with it (the others, and texels no face reads, skipped, the weights renormalised;
 // NaN when none is left).
@@ -175,7 +168,7 @@ double sample_own_texels(const BaseMesh& base, const LayoutSegment& seg, const T
   if (!reads.checked(point)) return sample_texels(seg, u, v, [&](int ix, int iy) { return reads.value(ix, iy); });
   return sample_texels(seg, u, v, [&](int ix, int iy) {
     const int g = reads.face(ix, iy);
-    return g >= 0 && (g == f || share_corner(base, f, g)) ? reads.value(ix, iy) : NAN;
+    return g >= 0 && faces_share_corner(base.triangles, f, g) ? reads.value(ix, iy) : NAN;
   });
 }
 
@@ -265,10 +258,8 @@ Mesh decode_sdm(const SdmImage& image, const DecodeOptions& options, DecodeTrace
     const auto [ray, uv] = ray_at(p.segment, p.flat);
     p.ray = ray, p.u = uv.u, p.v = uv.v;
   });
-  std::vector<double> point_reach(n);
-  for (size_t i = 0; i < n; ++i) point_reach[i] = reach[size_t(tess.point_face[i])];
   TexelReads reads(image, layout, base, corner);
-  reads.prepare(at, point_reach);
+  reads.prepare(at, tess.point_face, reach);
   std::vector<Eigen::Vector3d> placed(n);
   parallel_for(int(n), 4096, [&](int i) {
     const PointRay& a = at[size_t(i)];

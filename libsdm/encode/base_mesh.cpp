@@ -280,9 +280,9 @@ constexpr int kMultipleChoiceFrom = 100000;
 constexpr int kMultipleChoiceFactor = 8;
 
 // Decimates m to target_vertices with quadrics, no normal flips and collapses only between
-// neighbouring skeleton nodes (node: per vertex of m). Deterministic: the multiple-choice stage
+// neighbouring skeleton nodes (node: m's vertex property of them; it survives the collections). Deterministic: the multiple-choice stage
 // draws its candidates from rand(), seeded here (nothing else in sdm draws from it).
-void decimate_base(Mesh& m, const std::vector<int>& node, const Skeleton& skeleton, int target_vertices, double max_edge,
+void decimate_base(Mesh& m, OpenMesh::VPropHandleT<int> node, const Skeleton& skeleton, int target_vertices, double max_edge,
                    const Progress& progress) {
   m.request_face_normals();
   m.update_face_normals();
@@ -301,10 +301,7 @@ void decimate_base(Mesh& m, const std::vector<int>& node, const Skeleton& skelet
   decimater.module(length).set_max_length(max_edge);
   std::set<std::pair<int, int>> adjacent;
   for (const auto& e : skeleton.edges) adjacent.insert({e[0], e[1]}), adjacent.insert({e[1], e[0]});
-  OpenMesh::VPropHandleT<int> node_of;
-  m.add_property(node_of);
-  for (auto v : m.vertices()) m.property(node_of, v) = node[v.idx()];
-  decimater.module(nodes).set_nodes(node_of, std::move(adjacent));
+  decimater.module(nodes).set_nodes(node, std::move(adjacent));
   decimater.module(quadric).unset_max_err();
   decimater.module(flipping).set_max_normal_deviation(60.0);
   decimater.initialize();
@@ -330,7 +327,6 @@ void decimate_base(Mesh& m, const std::vector<int>& node, const Skeleton& skelet
     }
   }
   decimater.DecimaterT<Mesh>::decimate_to(size_t(target_vertices));
-  m.remove_property(node_of);
   m.garbage_collection();
 }
 
@@ -345,7 +341,7 @@ BaseMesh make_base_mesh(const Mesh& input, const Layout& layout, int target_vert
   OpenMesh::VPropHandleT<int> node;  // skeleton node of each base vertex
   m.add_property(node);
   for (auto v : m.vertices()) m.property(node, v) = src.node[size_t(v.idx())];
-  if (target_vertices < int(m.n_vertices())) decimate_base(m, src.node, layout.skeleton, target_vertices, kMaxBaseEdge * longest_edge(input), progress);
+  if (target_vertices < int(m.n_vertices())) decimate_base(m, node, layout.skeleton, target_vertices, kMaxBaseEdge * longest_edge(input), progress);
   // Segments of the base faces: the skeleton's map restricted to the surviving vertices.
   Skeleton sk = layout.skeleton;
   sk.vertex_node.resize(m.n_vertices());
@@ -372,6 +368,13 @@ BaseMesh make_base_mesh(const Mesh& input, const Layout& layout, int target_vert
     }
   }
   return base;
+}
+
+bool faces_share_corner(const Eigen::MatrixX3i& triangles, int f, int g) {
+  for (int a = 0; a < 3; ++a)
+    for (int b = 0; b < 3; ++b)
+      if (triangles(f, a) == triangles(g, b)) return true;
+  return false;
 }
 
 nlohmann::json base_mesh_to_json(const BaseMesh& base) {

@@ -37,6 +37,10 @@ struct BaseMesh {
 // on large meshes (vertices, seconds, an estimate of the rest).
 BaseMesh make_base_mesh(const Mesh& mesh, const Layout& layout, int target_vertices = 0, const Progress& progress = {});
 
+/// Whether base faces f and g (rows of `triangles`) share a corner, or are one face: the faces whose
+/// texels a point of f may read (decode_sdm) and whose input f's texels may cross (base_regions.h).
+bool faces_share_corner(const Eigen::MatrixX3i& triangles, int f, int g);
+
 nlohmann::json base_mesh_to_json(const BaseMesh& base);
 // Throws InputError naming what is wrong (sizes, indices, segments out of range, non-finite texel
 // coordinates, degenerate faces, unused vertices, or a surface that is not manifold and consistently oriented).

@@ -28,13 +28,8 @@ BaseRegions::BaseRegions(const Eigen::MatrixX3d& V, const Eigen::MatrixX3i& F, c
 
 bool BaseRegions::plausible(int face, int base_face) const {
   if (F_.rows() == 0 || face_length_[size_t(face)] > base_length_[size_t(base_face)]) return true;
-  for (int k = 0; k < 3; ++k) {
-    const int g = owner_[size_t(F_(face, k))];
-    if (g == base_face) return true;
-    for (int a = 0; a < 3; ++a)
-      for (int b = 0; b < 3; ++b)
-        if (base_(g, a) == base_(base_face, b)) return true;
-  }
+  for (int k = 0; k < 3; ++k)
+    if (faces_share_corner(base_, owner_[size_t(F_(face, k))], base_face)) return true;
   return false;
 }
 

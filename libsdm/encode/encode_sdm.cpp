@@ -102,7 +102,7 @@ class SegmentEncoder {
 
 SegmentEncoder::SegmentEncoder(const EncodeScene& scene, const Layout& layout, int s, bool fill_unread)
     : sc_(scene), seg_(layout.segments[s]), s_(s), fill_unread_(fill_unread), targets_(layout, scene.base, scene.base.corner_position, s) {
-  own_ = TriangleBvh(sc_.V, sc_.F, sc_.faces_of[s]);
+  if (fill_unread_) own_ = TriangleBvh(sc_.V, sc_.F, sc_.faces_of[s]);  // only encode_unread casts into it
 }
 
 // Rows on every core: each texel writes only its own D, A and foot, each row counts into its own
