@@ -281,7 +281,7 @@ void Contraction::run(Solver& solver) {
     update_weights();
     // Stagnation: once the shape is thin, an iteration that no longer halves the area only
     // costs time (the surgery copes with the rest).
-    if (opt_.stop_when_stagnant && ratio_ < 1e-3 && ratio_ > 0.5 * previous) break;
+    if (opt_.stop_when_stagnant && ratio_ < opt_.stagnant_below && ratio_ > 0.5 * previous) break;
   }
 }
 

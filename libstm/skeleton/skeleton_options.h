@@ -21,14 +21,18 @@ inline ContractOptions uniform_contraction() {
 // and all 20 iterations run. With the clamp at 1e4 and the cotangents alone, the near-degenerate
 // triangles of the contracting shape got weights in the thousands, the area grew again from the
 // third iteration, and the area ratio stalled at 0.16-0.54 on every body of ../shared/models/humans
-// and 0.017 on bunny00; now 3e-4 on the FAUST bodies, 7e-5 and 8e-5 on the TOSCA gorilla and man,
-// 8e-6 on bunny00 (DESIGN 6, BENCHMARKS "Contraction on real meshes").
+// and 0.017 on bunny00; then 3e-4 on the FAUST bodies, 7e-5 and 8e-5 on the TOSCA gorilla and man,
+// 8e-6 on bunny00. Vertices are pinned only once their one-ring has shrunk by 1e11 (was 1e8): pinned
+// from the 15th iteration on, the contracted rim of the torso's sheet held it in place and the
+// FAUST bodies stopped at 3-4e-4; now every mesh of ../shared/models reaches 1e-6 or less
+// (DESIGN 4.1, BENCHMARKS "Contraction on real meshes").
 inline ContractOptions proxy_contraction() {
   ContractOptions o;
   o.cot_max = 5;
   o.uniform_blend = 1;
   o.max_laplacian_growth = 1e8;
   o.stop_when_stagnant = false;
+  o.pin_area_ratio = 1e-11;
   return o;
 }
 
