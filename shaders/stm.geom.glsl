@@ -1,9 +1,13 @@
 #version 450 core
 // Mesh pass of render_stm: chooses each triangle's segment with the rule of assign_faces
-// (libstm/segments.cpp). distance_to_segment, face_stretch, rate_candidate and better_candidate
-// below mirror the C++ functions of the same names line by line, in float: keep them in step.
-// Candidates are the segments incident to the nodes of the triangle's vertices (all segments when
-// there are none), visited in increasing index like the C++ (the order decides exact ties).
+// (libstm/layout/segments.cpp) given the layout's radii (assign_faces_with_radii).
+// distance_to_segment, face_stretch, rate_candidate, better_candidate, second_pass_cost and
+// better_second below mirror the C++ functions of the same names line by line, in float: keep them
+// in step. First pass: the segments incident to the nodes of the triangle's vertices (all segments
+// when there are none), visited in increasing index like the C++ (the order decides exact ties).
+// Second pass: a face the first pass's segment folds or stretches by 2 or more at the segment's
+// radius tries the segments at nodes within two skeleton edges (ties to the lower index, so the
+// order of the visits does not matter).
 // The pass also picks the angle the fragment shader unwraps phi against (the centroid's).
 layout(triangles) in;
 layout(triangle_strip, max_vertices = 3) out;
@@ -44,7 +48,7 @@ float distance_to_segment(vec3 p, vec3 a, vec3 b) {
   return length(p - (a + c * ab));
 }
 
-float face_stretch(vec3 p[3], float orient, vec3 a, vec3 b, out bool folded) {
+float face_stretch(vec3 p[3], float orient, vec3 a, vec3 b, float radius, out bool folded) {
   folded = false;
   vec3 ab = b - a;
   float len = length(ab);
@@ -55,6 +59,7 @@ float face_stretch(vec3 p[3], float orient, vec3 a, vec3 b, out bool folded) {
   vec3 e2 = cross(axis, e1);
   float r = 0.0;
   for (int k = 0; k < 3; ++k) r += distance_to_segment(p[k], a, b) / 3.0;
+  if (radius > 0.0) r = radius;
   if (!(r > 0.0)) return kInf;
   float phi[3], v[3], rho[3];
   for (int k = 0; k < 3; ++k) {
@@ -106,7 +111,7 @@ Candidate rate_candidate(vec3 p[3], float orient, vec3 a, vec3 b) {
   if (length(n) > 0.0) n = normalize(n);
   n *= orient;
   bool folded = false;
-  x.stretch = face_stretch(p, orient, a, b, folded);
+  x.stretch = face_stretch(p, orient, a, b, 0.0, folded);
   x.rank = folded ? 2 : x.stretch < kGoodStretch ? 0 : 1;
   vec3 ab = b - a;
   float l2 = dot(ab, ab);
@@ -157,6 +162,53 @@ void consider(int e, vec3 p[3], float orient) {
   if (best < 0 || better_candidate(x, best_fit)) best = e, best_fit = x;
 }
 
+float second_pass_cost(vec3 p[3], float orient, int e, out bool folded) {
+  float s = face_stretch(p, orient, texelFetch(u_segments, 6 * e).xyz, texelFetch(u_segments, 6 * e + 1).xyz,
+                         texelFetch(u_segments, 6 * e + 5).z, folded);
+  return folded && s < kInf ? 2.0 * s : s;
+}
+
+bool better_second(float x, int e, float bx, int be) {
+  bool xi = x >= kInf, bi = bx >= kInf;
+  if (xi || bi) return xi && bi ? e < be : bi;
+  if (abs(x - bx) <= kTol * bx) return e < be;
+  return x < bx;
+}
+
+float best_cost;
+
+void reconsider(int e, vec3 p[3], float orient) {
+  bool folded;
+  float c = second_pass_cost(p, orient, e, folded);
+  if (better_second(c, e, best_cost, best)) best = e, best_cost = c;
+}
+
+int other_node(int e, int n) {
+  int a = int(texelFetch(u_segments, 6 * e).w), b = int(texelFetch(u_segments, 6 * e + 1).w);
+  return a == n ? b : a;
+}
+
+void second_pass(vec3 p[3], float orient) {
+  bool folded;
+  best_cost = second_pass_cost(p, orient, best, folded);
+  if (!folded && best_cost < kGoodStretch) return;
+  for (int k = 0; k < 3; ++k) {
+    int n0 = vg_node[k];
+    for (int i = texelFetch(u_nodes, n0).x; i < texelFetch(u_nodes, n0 + 1).x; ++i) {
+      int e1 = texelFetch(u_nodes, i).x;
+      reconsider(e1, p, orient);
+      int n1 = other_node(e1, n0);
+      for (int j = texelFetch(u_nodes, n1).x; j < texelFetch(u_nodes, n1 + 1).x; ++j) {
+        int e2 = texelFetch(u_nodes, j).x;
+        reconsider(e2, p, orient);
+        int n2 = other_node(e2, n1);
+        for (int l = texelFetch(u_nodes, n2).x; l < texelFetch(u_nodes, n2 + 1).x; ++l)
+          reconsider(texelFetch(u_nodes, l).x, p, orient);
+      }
+    }
+  }
+}
+
 void main() {
   vec3 p[3] = vec3[3](vg_position[0], vg_position[1], vg_position[2]);
   // One part, one orientation: the corners agree, so the first one's will do.
@@ -165,6 +217,7 @@ void main() {
   if (e < 0)  // nodes without edges: any segment may take the face
     for (int i = 0; i < u_segment_count; ++i) consider(i, p, orient);
   for (; e >= 0; e = next_candidate(e)) consider(e, p, orient);
+  second_pass(p, orient);
   int s = best;
 
   // Reference angle: the centroid's, or a corner's when the centroid lies on the axis.

@@ -66,7 +66,7 @@ std::set<std::pair<int, int>> own_region(const Mesh& mesh, const Layout& layout,
   std::set<std::pair<int, int>> texels;
   const LayoutSegment& seg = layout.segments[s];
   const int ex = seg.rotated ? seg.h : seg.w, ey = seg.rotated ? seg.w : seg.h;
-  for (const auto& t : atlas_triangles(mesh, layout, assign_faces(mesh, layout.skeleton))) {
+  for (const auto& t : atlas_triangles(mesh, layout, assign_faces(mesh, layout))) {
     if (t.segment != s) continue;
     Eigen::Vector2d lo = t.atlas[0].cwiseMin(t.atlas[1]).cwiseMin(t.atlas[2]);
     Eigen::Vector2d hi = t.atlas[0].cwiseMax(t.atlas[1]).cwiseMax(t.atlas[2]);

@@ -85,7 +85,7 @@ TEST_CASE("the shaders' STM coordinates match the CPU capsule mapping", "[render
   ro.azimuth_deg = 60;
   sdm::StmRenderProbe probe;
   sdm::render_stm(gl, sc.mesh, sc.layout, sc.atlas, ro, nullptr, &probe);
-  const std::vector<int> fs = sdm::assign_faces(sc.mesh, sc.layout.skeleton);
+  const std::vector<int> fs = sdm::assign_faces(sc.mesh, sc.layout);
   int n = 0, near_pole = 0, other_segment = 0;
   double worst = 0;
   for (int i = 0; i < ro.width * ro.height; ++i) {
@@ -130,8 +130,8 @@ TEST_CASE("the shader chooses the segments of assign_faces on a mesh wound insid
   const sdm::Mesh inverted = sdm::build_mesh(soup);
   REQUIRE(inverted.n_faces() == sc.mesh.n_faces());
   // Made outward per part, the rule does not see the winding.
-  const std::vector<int> fs = sdm::assign_faces(inverted, sc.layout.skeleton);
-  CHECK(fs == sdm::assign_faces(sc.mesh, sc.layout.skeleton));
+  const std::vector<int> fs = sdm::assign_faces(inverted, sc.layout);
+  CHECK(fs == sdm::assign_faces(sc.mesh, sc.layout));
   sdm::RenderOptions ro;
   ro.width = ro.height = 256;
   ro.azimuth_deg = 240;

@@ -49,7 +49,7 @@ EncodeScene encode_scene(const Mesh& mesh, const Layout& layout, const EncodeOpt
   EncodeScene sc;
   sc.V = vertex_matrix(mesh);
   sc.F = face_matrix(mesh);
-  sc.face_segment = assign_faces(mesh, layout.skeleton);
+  sc.face_segment = assign_faces(mesh, layout);
   sc.all = TriangleBvh(sc.V, sc.F);
   sc.faces_of.resize(layout.segments.size());
   for (size_t f = 0; f < sc.face_segment.size(); ++f) sc.faces_of[sc.face_segment[f]].push_back(int(f));

@@ -62,8 +62,12 @@ Layout compute_layout(const Mesh& mesh, const Skeleton& input, const LayoutOptio
   if (ne != int(input.edges.size()))
     say("cut long edges: " + std::to_string(input.edges.size()) + " skeleton edges -> " + std::to_string(ne) + " segments");
   say("assigning faces to " + std::to_string(ne) + " segments");
-  const std::vector<int> fs = assign_faces(mesh, skeleton);
-  const std::vector<SegmentGeometry> geo = segment_geometry(mesh, skeleton, fs);
+  std::vector<double> radius;
+  const std::vector<int> fs = assign_faces(mesh, skeleton, &radius);
+  std::vector<SegmentGeometry> geo = segment_geometry(mesh, skeleton, fs);
+  // The rectangles are made for the radii assign_faces' second pass rated with (its first pass's
+  // geometry): the shaders, given the layout, then choose the segments this assignment chose.
+  for (int s = 0; s < ne; ++s) geo[s].radius = radius[s], geo[s].cap = M_PI * radius[s] / 2;
   say("carrying frames along the skeleton");
   const std::vector<SegmentFrame> frames = segment_frames(mesh, skeleton, fs);
 
@@ -109,6 +113,17 @@ Layout compute_layout(const Mesh& mesh, const Skeleton& input, const LayoutOptio
 CapsuleFrame capsule_frame(const Layout& L, int s) {
   const LayoutSegment& g = L.segments.at(s);
   return {L.skeleton.nodes.at(g.a), L.skeleton.nodes.at(g.b), g.e1, g.e2};
+}
+
+std::vector<double> layout_radii(const Layout& L) {
+  std::vector<double> r;
+  r.reserve(L.segments.size());
+  for (const LayoutSegment& g : L.segments) r.push_back(g.radius);
+  return r;
+}
+
+std::vector<int> assign_faces(const Mesh& mesh, const Layout& L) {
+  return assign_faces_with_radii(mesh, L.skeleton, layout_radii(L));
 }
 
 Eigen::Vector2d local_to_atlas(const LayoutSegment& g, double u, double v) {
@@ -340,7 +355,7 @@ std::vector<AtlasTriangle> atlas_triangles(const Mesh& mesh, const Layout& L, co
 
 StmCoordinates stm_coordinates(const Mesh& mesh, const Layout& L, const std::vector<int>& face_segment) {
   StmCoordinates r;
-  r.face_segment = face_segment.size() == mesh.n_faces() ? face_segment : assign_faces(mesh, L.skeleton);
+  r.face_segment = face_segment.size() == mesh.n_faces() ? face_segment : assign_faces(mesh, L);
   r.mesh = mesh;
   r.mesh.request_halfedge_texcoords2D();
   const std::vector<AtlasTriangle> tris = atlas_triangles(mesh, L, r.face_segment);

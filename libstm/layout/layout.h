@@ -61,6 +61,11 @@ struct LayoutOptions {
 // atlas too small for the rectangles.
 Layout compute_layout(const Mesh& mesh, const Skeleton& skeleton, const LayoutOptions& options = {});
 
+// Faces -> segments as the layout's shaders assign them: assign_faces_with_radii (segments.h) with
+// the layout's radii (layout_radii: LayoutSegment::radius, segment by segment).
+std::vector<double> layout_radii(const Layout& layout);
+std::vector<int> assign_faces(const Mesh& mesh, const Layout& layout);
+
 // The capsule frame of segment s, and its local -> atlas texel map.
 CapsuleFrame capsule_frame(const Layout& layout, int s);
 Eigen::Vector2d local_to_atlas(const LayoutSegment& seg, double u, double v);
@@ -91,7 +96,7 @@ std::vector<AtlasTriangle> atlas_triangles(const Mesh& mesh, const Layout& layou
 
 struct StmCoordinates {
   Mesh mesh;                      // copy of the input with per-halfedge STM texcoords in [0, 1]
-  std::vector<int> face_segment;  // assign_faces(mesh, layout.skeleton), or the one given
+  std::vector<int> face_segment;  // assign_faces(mesh, layout), or the one given
   int seam_faces = 0;             // faces unwrapped across phi = 0
   double coverage = 0;            // layout.coverage
   double stretch = 0;             // l2_stretch of the result

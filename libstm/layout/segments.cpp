@@ -24,12 +24,12 @@ void check_inputs(const Mesh& mesh, const Skeleton& sk) {
 // Faces mapped with less stretch than this by some candidate never go to a worse one.
 constexpr double kGoodStretch = 2.0;
 
-// L2 stretch (Sander et al. 2001) of face p under the capsule map of segment a -> b with the face's
-// mean distance to the segment as the radius; infinity when the map flattens it. *folded tells
-// whether the map turns the face over (orient: +1 when p's order winds around the outward normal,
-// -1 for a part wound inside out). See assign_faces.
+// L2 stretch (Sander et al. 2001) of face p under the capsule map of segment a -> b with radius
+// `radius`, or the face's mean distance to the segment when it is 0; infinity when the map flattens
+// the face. *folded tells whether the map turns the face over (orient: +1 when p's order winds
+// around the outward normal, -1 for a part wound inside out). See assign_faces.
 double face_stretch(const Eigen::Vector3d p[3], double orient, const Eigen::Vector3d& a, const Eigen::Vector3d& b,
-                    bool* folded) {
+                    double radius, bool* folded) {
   *folded = false;
   const double inf = std::numeric_limits<double>::infinity();
   const Eigen::Vector3d ab = b - a;
@@ -42,6 +42,7 @@ double face_stretch(const Eigen::Vector3d p[3], double orient, const Eigen::Vect
   const Eigen::Vector3d e2 = axis.cross(e1);
   double r = 0;
   for (int k = 0; k < 3; ++k) r += distance_to_segment(p[k], a, b) / 3;
+  if (radius > 0) r = radius;
   if (!(r > 0)) return inf;
   double phi[3], v[3], rho[3];
   for (int k = 0; k < 3; ++k) {
@@ -104,7 +105,7 @@ Candidate rate_candidate(const Eigen::Vector3d p[3], double orient, const Eigen:
   if (n.norm() > 0) n.normalize();
   n *= orient;
   bool folded = false;
-  x.stretch = face_stretch(p, orient, a, b, &folded);
+  x.stretch = face_stretch(p, orient, a, b, 0.0, &folded);
   x.rank = folded ? 2 : x.stretch < kGoodStretch ? 0 : 1;
   const Eigen::Vector3d ab = b - a;
   const double l2 = ab.squaredNorm();
@@ -163,29 +164,40 @@ std::vector<int> face_orientation(const Mesh& mesh) {
   return result;
 }
 
-std::vector<int> assign_faces(const Mesh& mesh, const Skeleton& sk) {
-  check_inputs(mesh, sk);
+namespace {
+
+// Segments per node (a loop once).
+std::vector<std::vector<int>> node_segments(const Skeleton& sk) {
   std::vector<std::vector<int>> node_edges(sk.nodes.size());
   for (size_t e = 0; e < sk.edges.size(); ++e) {
     node_edges[sk.edges[e][0]].push_back(int(e));
     if (sk.edges[e][1] != sk.edges[e][0]) node_edges[sk.edges[e][1]].push_back(int(e));
   }
-  // The rule needs outward normals: a part wound inside out is flipped.
-  const std::vector<int> orientation = face_orientation(mesh);
-  // Faces on every core, each writing its own entry; a face that fails is marked and the first
-  // such face (by index) named afterwards, as one pass in face order would.
-  constexpr int kNoEdge = -2, kNoSegment = -3;
+  return node_edges;
+}
+
+// The face's corners and, appended to `nodes`, their skeleton nodes.
+void face_corners(const Mesh& mesh, const Skeleton& sk, int fi, Eigen::Vector3d p[3], std::vector<int>& nodes) {
+  int k = 0;
+  for (auto v : mesh.fv_range(mesh.face_handle(fi))) {
+    p[k++] = point(mesh, v);
+    nodes.push_back(sk.vertex_node[v.idx()]);
+  }
+}
+
+// The first pass of assign_faces: candidates at the face's own nodes, rated with rate_candidate.
+// Faces whose nodes have no edge get kNoEdge (-2), faces no candidate takes kNoSegment (-3).
+constexpr int kNoEdge = -2, kNoSegment = -3;
+std::vector<int> first_pass(const Mesh& mesh, const Skeleton& sk, const std::vector<std::vector<int>>& node_edges,
+                            const std::vector<int>& orientation) {
   std::vector<int> result(mesh.n_faces(), -1);
   parallel_for(int(mesh.n_faces()), 2048, [&](int fi) {
-    const auto f = mesh.face_handle(fi);
     Eigen::Vector3d p[3];
-    int k = 0;
-    thread_local std::vector<int> cand;  // reused face after face by each thread
-    cand.clear();
-    for (auto v : mesh.fv_range(f)) {
-      p[k++] = point(mesh, v);
-      for (int e : node_edges[sk.vertex_node[v.idx()]]) cand.push_back(e);
-    }
+    thread_local std::vector<int> nodes, cand;  // reused face after face by each thread
+    nodes.clear(), cand.clear();
+    face_corners(mesh, sk, fi, p, nodes);
+    for (int n : nodes)
+      for (int e : node_edges[n]) cand.push_back(e);
     std::sort(cand.begin(), cand.end());
     cand.erase(std::unique(cand.begin(), cand.end()), cand.end());
     // A face whose nodes have no edge belongs to a part the skeleton does not reach: giving it to
@@ -194,15 +206,72 @@ std::vector<int> assign_faces(const Mesh& mesh, const Skeleton& sk) {
       result[fi] = kNoEdge;
       return;
     }
-    const double orient = orientation[fi];
     int best = -1;
     Candidate best_fit;
     for (int e : cand) {
-      const Candidate x = rate_candidate(p, orient, sk.nodes[sk.edges[e][0]], sk.nodes[sk.edges[e][1]]);
+      const Candidate x = rate_candidate(p, orientation[fi], sk.nodes[sk.edges[e][0]], sk.nodes[sk.edges[e][1]]);
       if (best < 0 || better_candidate(x, best_fit)) best = e, best_fit = x;
     }
     result[fi] = best < 0 ? kNoSegment : best;
   });
+  return result;
+}
+
+// What the second pass minimises: the stretch with the segment's radius, twice that when the map
+// folds the face (a folded face overlaps its neighbours in the atlas), infinity when it flattens it.
+double second_pass_cost(const Eigen::Vector3d p[3], double orient, const Skeleton& sk, int e, double radius,
+                        bool* folded) {
+  const double s = face_stretch(p, orient, sk.nodes[sk.edges[e][0]], sk.nodes[sk.edges[e][1]], radius, folded);
+  return *folded ? 2 * s : s;
+}
+
+// Whether cost x of segment e beats cost bx of segment be in the second pass: lower cost, ties
+// (within float noise, or both infinite) to the lower index, so the visiting order does not matter.
+bool better_second(double x, int e, double bx, int be) {
+  const bool xi = std::isinf(x), bi = std::isinf(bx);
+  if (xi || bi) return xi && bi ? e < be : bi;
+  if (std::abs(x - bx) <= 1e-9 * bx) return e < be;
+  return x < bx;
+}
+
+// The second pass (see assign_faces): faces their first-pass segment maps folded or with stretch
+// >= kGoodStretch at its radius try every segment at a node within two edges of their nodes.
+void second_pass(const Mesh& mesh, const Skeleton& sk, const std::vector<std::vector<int>>& node_edges,
+                 const std::vector<int>& orientation, const std::vector<double>& radii, std::vector<int>& result) {
+  std::vector<std::vector<int>> node_nb(sk.nodes.size());
+  for (const auto& e : sk.edges) node_nb[e[0]].push_back(e[1]), node_nb[e[1]].push_back(e[0]);
+  parallel_for(int(mesh.n_faces()), 2048, [&](int fi) {
+    const int first = result[fi];
+    Eigen::Vector3d p[3];
+    thread_local std::vector<int> nodes;
+    nodes.clear();
+    face_corners(mesh, sk, fi, p, nodes);
+    const double orient = orientation[fi];
+    bool folded = false;
+    double best_cost = second_pass_cost(p, orient, sk, first, radii[first], &folded);
+    if (!folded && best_cost < kGoodStretch) return;
+    for (int hop = 0; hop < 2; ++hop)
+      for (size_t i = 0, n = nodes.size(); i < n; ++i)
+        for (int m : node_nb[nodes[i]]) nodes.push_back(m);
+    std::sort(nodes.begin(), nodes.end());
+    nodes.erase(std::unique(nodes.begin(), nodes.end()), nodes.end());
+    int best = first;
+    for (int n : nodes)
+      for (int e : node_edges[n]) {
+        const double c = second_pass_cost(p, orient, sk, e, radii[e], &folded);
+        if (better_second(c, e, best_cost, best)) best = e, best_cost = c;
+      }
+    result[fi] = best;
+  });
+}
+
+std::vector<int> assign(const Mesh& mesh, const Skeleton& sk, const std::vector<double>* given, std::vector<double>* used) {
+  check_inputs(mesh, sk);
+  const std::vector<std::vector<int>> node_edges = node_segments(sk);
+  // The rule needs outward normals: a part wound inside out is flipped.
+  const std::vector<int> orientation = face_orientation(mesh);
+  std::vector<int> result = first_pass(mesh, sk, node_edges, orientation);
+  // A face that failed is named afterwards, the first one by index, as one pass in face order would.
   for (auto f : mesh.faces()) {
     if (result[f.idx()] == kNoEdge)
       throw InputError("face " + std::to_string(f.idx()) + " belongs to skeleton node " +
@@ -210,7 +279,29 @@ std::vector<int> assign_faces(const Mesh& mesh, const Skeleton& sk) {
                        ", which has no edge: every connected part of the mesh needs at least one skeleton edge");
     if (result[f.idx()] == kNoSegment) throw InputError("face " + std::to_string(f.idx()) + " has no skeleton segment in reach");
   }
+  std::vector<double> radii;
+  if (given) {
+    if (given->size() != sk.edges.size())
+      throw InputError("got " + std::to_string(given->size()) + " segment radii for " + std::to_string(sk.edges.size()) + " skeleton edges");
+    for (double r : *given)
+      if (!(r > 0) || !std::isfinite(r)) throw InputError("segment radii must be positive");
+    radii = *given;
+  } else {
+    for (const SegmentGeometry& g : segment_geometry(mesh, sk, result)) radii.push_back(g.radius);
+  }
+  second_pass(mesh, sk, node_edges, orientation, radii, result);
+  if (used) *used = std::move(radii);
   return result;
+}
+
+}  // namespace
+
+std::vector<int> assign_faces(const Mesh& mesh, const Skeleton& sk, std::vector<double>* radii_used) {
+  return assign(mesh, sk, nullptr, radii_used);
+}
+
+std::vector<int> assign_faces_with_radii(const Mesh& mesh, const Skeleton& sk, const std::vector<double>& radii) {
+  return assign(mesh, sk, &radii, nullptr);
 }
 
 std::vector<SegmentGeometry> segment_geometry(const Mesh& mesh, const Skeleton& sk, const std::vector<int>& face_segment) {

@@ -21,8 +21,22 @@ namespace sdm {
 // index, so the result is deterministic. Normals are made outward per connected part
 // (face_orientation). Throws InputError when the skeleton has no edge, vertex_node does not match
 // the mesh, or a face has no segment in reach.
-// The per-candidate rule is mirrored by the geometry shader of render_stm (shaders/stm.geom.glsl).
-std::vector<int> assign_faces(const Mesh& mesh, const Skeleton& skeleton);
+// A second pass (issue 17) then looks again at every face that its segment, mapping it with the
+// segment's radius (segment_geometry of the first pass: what the layout's rectangle uses), folds
+// over or stretches by 2 or more: such a face goes to whichever segment at a node within two
+// skeleton edges of its nodes maps it with the least stretch, a folded map counting twice its
+// stretch (ties to the lower index). The first pass rates a candidate with the face's own distance,
+// blind to how far the face lies from the radius its segment's rectangle is made for, and looks at
+// the face's own nodes only: a few faces folded or mapped almost flat held most of the L2 stretch
+// (bunny00 14.0, FAUST 085 20.9; BENCHMARKS "Layout stretch").
+// `radii_used`, when given, receives the radii of the second pass (one per edge).
+// Both passes are mirrored by the geometry shader of render_stm (shaders/stm.geom.glsl).
+std::vector<int> assign_faces(const Mesh& mesh, const Skeleton& skeleton, std::vector<double>* radii_used = nullptr);
+
+// The same rule with the radii of the second pass given (one per skeleton edge, positive): a
+// layout's LayoutSegment::radius (assign_faces(Mesh, Layout) in layout.h), which compute_layout
+// takes from the first pass, so that any mesh is assigned as the layout's own shaders assign it.
+std::vector<int> assign_faces_with_radii(const Mesh& mesh, const Skeleton& skeleton, const std::vector<double>& radii);
 
 // face -> +1, or -1 when the face's connected part (through shared edges) is wound inside out
 // (negative signed volume): the factor that makes the face's normal outward in assign_faces.

@@ -162,7 +162,7 @@ AtlasPass draw_atlas_pass(GlContext& gl, const Layout& L, const std::vector<floa
 
 std::vector<int> checked_faces(const Mesh& mesh, const Layout& L) {
   if (L.segments.empty()) throw InputError("the layout has no segment");
-  return assign_faces(mesh, L.skeleton);  // throws when the skeleton is not this mesh's
+  return assign_faces(mesh, L);  // throws when the skeleton is not this mesh's
 }
 
 std::vector<float> coverage_weights(const std::vector<uint8_t>& rgba, std::vector<uint8_t>* covered) {
