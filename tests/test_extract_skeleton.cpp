@@ -304,25 +304,28 @@ TEST_CASE("Two small tunnels through a thick bar: one cycle each, every sample i
   CHECK(outside_samples(s, m) == 0);
 }
 
-TEST_CASE("The proxy contraction converges on real bodies and bunny00 (issue 17)", "[skeleton]") {
-  // With the cotangents clamped at 1e4 and alone, the area ratio stalled at 0.16-0.54 on these
-  // bodies and at 0.017 on bunny00 (the area grew again from the third iteration). Measured now:
-  // FAUST 3.0e-4, 3.9e-4, 3.2e-4, TOSCA gorilla 6.9e-5 and man 8.0e-5, bunny00 8.4e-6.
+TEST_CASE("The contraction converges on every closed mesh of ../shared/models (issue 17)", "[skeleton]") {
+  // With the cotangents clamped at 1e4 and alone, the area ratio stalled at 0.16-0.54 on the bodies
+  // and at 0.017 on bunny00; with vertices pinned once their one-ring had shrunk by 1e8, the FAUST
+  // bodies stopped at 3.0-3.9e-4 (the torso's sheet held by its pinned rim) and the double torus,
+  // stopped for stagnation under 1e-3, at 9.1e-4. The issue asks 1e-4; measured now: 6e-7 or less.
   const std::string models = std::string(SDM_TEST_DATA) + "/../../../shared/models";
-  const std::vector<std::pair<std::string, double>> cases = {
-      {"humans/tr_reg_007.off", 1e-3}, {"humans/tr_reg_024.off", 1e-3},     {"humans/tr_reg_085.off", 1e-3},
-      {"humans/8_gorilla_01.off", 3e-4}, {"humans/8_man_02.off", 3e-4}, {"cgal/bunny00.off", 1e-4}};
+  const std::vector<std::pair<std::string, int>> cases = {
+      {"humans/tr_reg_007.off", 0},  {"humans/tr_reg_024.off", 0},   {"humans/tr_reg_085.off", 0},
+      {"humans/8_gorilla_01.off", 0}, {"humans/8_man_02.off", 0},     {"cgal/bunny00.off", 0},
+      {"cgal/blobby.off", 0},         {"cgal/retinal.off", 0},        {"cgal/double-torus-example.off", 2},
+      {"cgal/rotor.off", 1},          {"cgal/anchor_dense.off", 4},   {"spot/spot_triangulated.obj", 0}};
   int found = 0;
-  for (const auto& [name, bound] : cases) {
+  for (const auto& [name, genus] : cases) {
     INFO(name);
     if (!std::ifstream(models + "/" + name).good()) continue;
     ++found;
     const sdm::Mesh m = sdm::load_mesh(models + "/" + name);
     sdm::SkeletonStats st;
     const sdm::Skeleton s = sdm::extract_skeleton(m, {}, nullptr, &st);
-    REQUIRE(st.area_ratio >= 0);  // contracted through the proxy
-    CHECK(st.area_ratio <= bound);
-    CHECK(s.cycles() == 0);
+    REQUIRE(st.area_ratio >= 0);  // the contraction ran (whichever candidate was kept)
+    CHECK(st.area_ratio <= 1e-4);
+    CHECK(s.cycles() == genus);
     CHECK(outside_samples(s, m) == 0);
   }
   if (found == 0) WARN("no meshes at " << models << ": skipped");
