@@ -48,16 +48,19 @@ void give_every_node_a_vertex(const Eigen::MatrixX3d& V, const SkeletonGraph& g,
 }  // namespace
 
 void make_proxy(const Eigen::MatrixX3d& V, const Eigen::MatrixX3i& F, int target_vertices, Eigen::MatrixX3d& XV,
-                Eigen::MatrixX3i& XF) {
+                Eigen::MatrixX3i& XF, const TriangleBvh* surface) {
   double area = 0;
   for (int f = 0; f < F.rows(); ++f) area += triangle_area(V.row(F(f, 0)), V.row(F(f, 1)), V.row(F(f, 2)));
   const int target = std::max(target_vertices, 4);
   const double len = equilateral_edge_length(area, target);
   Mesh m;
+  // Reserved: OpenMesh's arrays otherwise grow and move while the faces are added (build_mesh).
+  m.reserve(size_t(V.rows()), size_t(F.rows()) * 3 / 2 + 3, size_t(F.rows()));
   std::vector<Mesh::VertexHandle> h(V.rows());
   for (int i = 0; i < V.rows(); ++i) h[i] = m.add_vertex({V(i, 0), V(i, 1), V(i, 2)});
   for (int f = 0; f < F.rows(); ++f) m.add_face(h[F(f, 0)], h[F(f, 1)], h[F(f, 2)]);
-  const TriangleBvh bvh(V, F);
+  const TriangleBvh own = surface ? TriangleBvh() : TriangleBvh(V, F);
+  const TriangleBvh& bvh = surface ? *surface : own;
   isotropic_remesh(m, len, 8, [&](const Eigen::Vector3d& p) { return bvh.closest_point(p).point; });
   XV = vertex_matrix(m);
   XF = face_matrix(m);

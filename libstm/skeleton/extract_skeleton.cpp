@@ -118,7 +118,7 @@ PartSkeleton::PartSkeleton(const Part& part, const SkeletonOptions& opt, const P
   Stopwatch proxy_time;
   XV_ = part.V;
   XF_ = part.F;
-  if (use_proxy_) make_proxy(part.V, part.F, opt.proxy_max_vertices, XV_, XF_);
+  if (use_proxy_) make_proxy(part.V, part.F, opt.proxy_max_vertices, XV_, XF_, &surface_);
   st.proxy_vertices += int(XV_.rows());
   const double proxy_seconds = proxy_time.seconds();
   st.proxy_seconds += proxy_seconds;
