@@ -1,0 +1,55 @@
+#!/bin/bash
+# Skeleton extraction against CGAL's mean-curvature-flow skeletonizer (issue 16), whole process
+# against whole process: `sdm skeleton MESH -o S.json` and scripts/cgal_skeleton (read, extract with
+# CGAL's defaults, write), each the fastest of REPEAT runs, on every closed mesh of a folder.
+# CGAL is no dependency of sdm: this builds the comparison program beside the repository, in
+# ../cgal-bench-build, from Debian 12's libcgal-dev (apt install libcgal-dev).
+#
+# Usage: scripts/bench_cgal_skeleton.sh [SDM] [MESH_FOLDER] [REPEAT]
+set -euo pipefail
+here=$(cd "$(dirname "$0")" && pwd)
+sdm=${1:-$here/../build/sdm}
+models=${2:-$here/../../shared/models/cgal}
+repeat=${3:-3}
+build=$here/../../cgal-bench-build
+if [ ! -x "$build/cgal_skeleton" ]; then
+  echo "building the CGAL comparison program in $build" >&2
+  cmake -S "$here/cgal_skeleton" -B "$build" -DCMAKE_BUILD_TYPE=Release >/dev/null
+  cmake --build "$build" -j "$(nproc)" >/dev/null
+fi
+tmp=$(mktemp -d)
+trap 'rm -rf "$tmp"' EXIT
+
+# Fastest wall-clock seconds of REPEAT runs of a command (its output discarded); "-" when it fails.
+fastest() {
+  local best=""
+  for _ in $(seq "$repeat"); do
+    local t0 t1
+    t0=$(date +%s.%N)
+    "$@" >/dev/null 2>&1 || { echo "-"; return; }
+    t1=$(date +%s.%N)
+    best=$(echo "$t0 $t1 ${best:-1e9}" | awk '{d = $2 - $1; print (d < $3 ? d : $3)}')
+  done
+  echo "$best"
+}
+
+echo "| mesh | vertices | sdm skeleton (s) | CGAL MCF (s) | CGAL / sdm |"
+echo "|---|---|---|---|---|"
+logsum=0
+n=0
+for mesh in "$models"/*.off "$models"/*.obj "$models"/*.ply; do
+  [ -f "$mesh" ] || continue
+  name=$(basename "$mesh")
+  if ! "$build/cgal_skeleton" "$mesh" "$tmp/c.obj" >/dev/null 2>&1; then
+    echo "| $name | - | - | - | not closed: skipped |"
+    continue
+  fi
+  verts=$(awk 'NR == 1 && $1 == "OFF" {getline; print $1; exit} NR == 2 {print $1; exit}' "$mesh")
+  s=$(fastest "$sdm" skeleton "$mesh" -o "$tmp/s.json")
+  c=$(fastest "$build/cgal_skeleton" "$mesh" "$tmp/c.obj")
+  ratio=$(echo "$c $s" | awk '{printf "%.1f", $1 / $2}')
+  logsum=$(echo "$logsum $c $s" | awk '{print $1 + log($2 / $3)}')
+  n=$((n + 1))
+  printf '| %s | %s | %.3f | %.3f | %s |\n' "$name" "$verts" "$s" "$c" "$ratio"
+done
+echo "$logsum $n" | awk '$2 > 0 {printf "\nGeometric mean of CGAL / sdm over %d meshes: %.1f\n", $2, exp($1 / $2)}'
