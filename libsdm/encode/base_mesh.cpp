@@ -232,11 +232,16 @@ double needle_share(const Mesh& mesh) {
 }
 
 // What the base mesh is decimated from: the input and its skeleton nodes, or, when a quarter or more
-// of its faces are needles (a CAD cylinder's side: 3000 quads 3 long and 2e-3 wide), an isotropic
-// remesh of it with about four times the base mesh's vertices, each vertex on the input's surface
-// with the node of the nearest corner of its closest input face. Decimating the needles themselves
-// kept base faces the length of the part (a prism with 3000-gon caps: RMS 1.2 % at level 3, against
-// 0.007 % from the remesh).
+// of its faces are needles (a CAD cylinder's side: 3000 quads 3 long and 2e-3 wide) or it has more
+// than kRemeshSourceFrom vertices, an isotropic remesh of it with about four times the base mesh's
+// vertices, each vertex on the input's surface with the node of the nearest corner of its closest
+// input face. Decimating the needles themselves kept base faces the length of the part (a prism with
+// 3000-gon caps: RMS 1.2 % at level 3, against 0.007 % from the remesh). A large closed mesh is
+// remeshed because collapsing its own vertices one by one is the encode's cost: 449k vertices, encode
+// stage 11.0-12.6 -> 6.9-7.4 s, the map's check at level 3 RMS 0.0067 -> 0.0074 % (BENCHMARKS
+// "Large meshes and CGAL", session 14).
+constexpr int kRemeshSourceFrom = 100000;
+
 struct BaseSource {
   Mesh mesh;
   std::vector<int> node;
@@ -246,7 +251,7 @@ BaseSource base_source(const Mesh& mesh, const Skeleton& skeleton, int target_ve
   BaseSource src{mesh, skeleton.vertex_node};
   // The remesh needs a closed surface; an open mesh's needles are decimated as they are.
   const bool open = std::any_of(mesh.halfedges_begin(), mesh.halfedges_end(), [&](auto h) { return mesh.is_boundary(h); });
-  if (open || needle_share(mesh) < 0.25) return src;
+  if (open || (int(mesh.n_vertices()) <= kRemeshSourceFrom && needle_share(mesh) < 0.25)) return src;
   const Eigen::MatrixX3d V = vertex_matrix(mesh);
   const Eigen::MatrixX3i F = face_matrix(mesh);
   const double len = equilateral_edge_length(surface_area(mesh), 4.0 * target_vertices);
