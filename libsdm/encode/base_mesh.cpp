@@ -247,7 +247,7 @@ struct BaseSource {
   std::vector<int> node;
 };
 
-BaseSource base_source(const Mesh& mesh, const Skeleton& skeleton, int target_vertices) {
+BaseSource base_source(const Mesh& mesh, const Skeleton& skeleton, int target_vertices, const TriangleBvh* surface) {
   BaseSource src{mesh, skeleton.vertex_node};
   // The remesh needs a closed surface; an open mesh's needles are decimated as they are.
   const bool open = std::any_of(mesh.halfedges_begin(), mesh.halfedges_end(), [&](auto h) { return mesh.is_boundary(h); });
@@ -255,7 +255,8 @@ BaseSource base_source(const Mesh& mesh, const Skeleton& skeleton, int target_ve
   const Eigen::MatrixX3d V = vertex_matrix(mesh);
   const Eigen::MatrixX3i F = face_matrix(mesh);
   const double len = equilateral_edge_length(surface_area(mesh), 4.0 * target_vertices);
-  const TriangleBvh bvh(V, F);
+  const TriangleBvh own = surface ? TriangleBvh() : TriangleBvh(V, F);
+  const TriangleBvh& bvh = surface ? *surface : own;
   isotropic_remesh(src.mesh, len, 5, [&](const Eigen::Vector3d& p) { return bvh.closest_point(p).point; });
   src.node.assign(src.mesh.n_vertices(), 0);
   for (auto v : src.mesh.vertices()) {
@@ -337,10 +338,11 @@ void decimate_base(Mesh& m, OpenMesh::VPropHandleT<int> node, const Skeleton& sk
 
 }  // namespace
 
-BaseMesh make_base_mesh(const Mesh& input, const Layout& layout, int target_vertices, const Progress& progress) {
+BaseMesh make_base_mesh(const Mesh& input, const Layout& layout, int target_vertices, const Progress& progress,
+                        const TriangleBvh* surface) {
   const int nv = int(input.n_vertices());
   if (target_vertices <= 0) target_vertices = std::clamp(nv / 4, std::min(nv, 400), 4000);
-  const BaseSource src = base_source(input, layout.skeleton, target_vertices);
+  const BaseSource src = base_source(input, layout.skeleton, target_vertices, surface);
   // Halfedge collapses keep the surviving vertices where they were, so m's points are the source's.
   Mesh m = src.mesh;
   OpenMesh::VPropHandleT<int> node;  // skeleton node of each base vertex

@@ -54,7 +54,7 @@ EncodeScene encode_scene(const Mesh& mesh, const Layout& layout, const EncodeOpt
   sc.faces_of.resize(layout.segments.size());
   for (size_t f = 0; f < sc.face_segment.size(); ++f) sc.faces_of[sc.face_segment[f]].push_back(int(f));
   report_progress(options.progress, "building the base mesh");
-  sc.base = make_base_mesh(mesh, layout, options.base_vertices, options.progress);
+  sc.base = make_base_mesh(mesh, layout, options.base_vertices, options.progress, &sc.all);
   sc.regions = BaseRegions(sc.V, sc.F, sc.base);
   return sc;
 }
