@@ -22,6 +22,7 @@ uniform samplerBuffer u_segments;  // 6 texels per segment, see render_stm.cpp
 uniform isamplerBuffer u_nodes;    // node n's segments: entries [offset(n), offset(n + 1)), offsets first
 uniform int u_segment_count;
 uniform bool u_flat;
+uniform bool u_second_pass;  // Layout::assignment >= 2
 
 out vec3 v_position;
 out vec3 v_view_position;
@@ -217,7 +218,7 @@ void main() {
   if (e < 0)  // nodes without edges: any segment may take the face
     for (int i = 0; i < u_segment_count; ++i) consider(i, p, orient);
   for (; e >= 0; e = next_candidate(e)) consider(e, p, orient);
-  second_pass(p, orient);
+  if (u_second_pass) second_pass(p, orient);
   int s = best;
 
   // Reference angle: the centroid's, or a corner's when the centroid lies on the axis.

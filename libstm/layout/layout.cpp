@@ -123,7 +123,7 @@ std::vector<double> layout_radii(const Layout& L) {
 }
 
 std::vector<int> assign_faces(const Mesh& mesh, const Layout& L) {
-  return assign_faces_with_radii(mesh, L.skeleton, layout_radii(L));
+  return assign_faces_with_radii(mesh, L.skeleton, layout_radii(L), L.assignment >= 2);
 }
 
 Eigen::Vector2d local_to_atlas(const LayoutSegment& g, double u, double v) {
@@ -146,6 +146,7 @@ nlohmann::json layout_to_json(const Layout& L) {
   j["scale"] = L.scale;
   j["coverage"] = L.coverage;
   j["coverage_inner"] = L.coverage_inner;
+  j["assignment"] = L.assignment;
   j["skeleton"] = skeleton_to_json(L.skeleton);
   j["segments"] = nlohmann::json::array();
   for (const auto& g : L.segments) {
@@ -237,6 +238,9 @@ Layout layout_from_json(const nlohmann::json& j) {
     L.scale = j.at("scale").get<double>();
     L.coverage = j.value("coverage", 0.0);
     L.coverage_inner = j.value("coverage_inner", 0.0);
+    L.assignment = j.contains("assignment") ? json_int(j.at("assignment")) : 1;
+    if (L.assignment != 1 && L.assignment != 2)
+      throw InputError("layout assignment rule " + std::to_string(L.assignment) + " is not supported (this build knows 1 and 2)");
     L.skeleton = skeleton_from_json(j.at("skeleton"));
     for (const auto& s : j.at("segments")) {
       LayoutSegment g;

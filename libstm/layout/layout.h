@@ -40,6 +40,10 @@ struct Layout {
   double coverage = 0, coverage_inner = 0;  // pack_rectangles.h
   Skeleton skeleton;
   std::vector<LayoutSegment> segments;
+  // The face assignment its atlas was made with (assign_faces(Mesh, Layout), the shaders): 2, with
+  // assign_faces' second pass; 1, the first pass alone, for layouts written before it (JSON without
+  // "assignment"), so that an atlas rendered then is still sampled where it was rendered.
+  int assignment = 2;
 };
 
 struct LayoutOptions {
@@ -62,7 +66,8 @@ struct LayoutOptions {
 Layout compute_layout(const Mesh& mesh, const Skeleton& skeleton, const LayoutOptions& options = {});
 
 // Faces -> segments as the layout's shaders assign them: assign_faces_with_radii (segments.h) with
-// the layout's radii (layout_radii: LayoutSegment::radius, segment by segment).
+// the layout's radii (layout_radii: LayoutSegment::radius, segment by segment) and its rule
+// (Layout::assignment).
 std::vector<double> layout_radii(const Layout& layout);
 std::vector<int> assign_faces(const Mesh& mesh, const Layout& layout);
 

@@ -265,7 +265,8 @@ void second_pass(const Mesh& mesh, const Skeleton& sk, const std::vector<std::ve
   });
 }
 
-std::vector<int> assign(const Mesh& mesh, const Skeleton& sk, const std::vector<double>* given, std::vector<double>* used) {
+std::vector<int> assign(const Mesh& mesh, const Skeleton& sk, const std::vector<double>* given, std::vector<double>* used,
+                        bool second = true) {
   check_inputs(mesh, sk);
   const std::vector<std::vector<int>> node_edges = node_segments(sk);
   // The rule needs outward normals: a part wound inside out is flipped.
@@ -289,7 +290,7 @@ std::vector<int> assign(const Mesh& mesh, const Skeleton& sk, const std::vector<
   } else {
     for (const SegmentGeometry& g : segment_geometry(mesh, sk, result)) radii.push_back(g.radius);
   }
-  second_pass(mesh, sk, node_edges, orientation, radii, result);
+  if (second) second_pass(mesh, sk, node_edges, orientation, radii, result);
   if (used) *used = std::move(radii);
   return result;
 }
@@ -300,8 +301,9 @@ std::vector<int> assign_faces(const Mesh& mesh, const Skeleton& sk, std::vector<
   return assign(mesh, sk, nullptr, radii_used);
 }
 
-std::vector<int> assign_faces_with_radii(const Mesh& mesh, const Skeleton& sk, const std::vector<double>& radii) {
-  return assign(mesh, sk, &radii, nullptr);
+std::vector<int> assign_faces_with_radii(const Mesh& mesh, const Skeleton& sk, const std::vector<double>& radii,
+                                         bool second_pass) {
+  return assign(mesh, sk, &radii, nullptr, second_pass);
 }
 
 std::vector<SegmentGeometry> segment_geometry(const Mesh& mesh, const Skeleton& sk, const std::vector<int>& face_segment) {

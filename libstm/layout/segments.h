@@ -36,7 +36,9 @@ std::vector<int> assign_faces(const Mesh& mesh, const Skeleton& skeleton, std::v
 // The same rule with the radii of the second pass given (one per skeleton edge, positive): a
 // layout's LayoutSegment::radius (assign_faces(Mesh, Layout) in layout.h), which compute_layout
 // takes from the first pass, so that any mesh is assigned as the layout's own shaders assign it.
-std::vector<int> assign_faces_with_radii(const Mesh& mesh, const Skeleton& skeleton, const std::vector<double>& radii);
+// second_pass false: the first pass alone (the rule of layouts written before the second pass).
+std::vector<int> assign_faces_with_radii(const Mesh& mesh, const Skeleton& skeleton, const std::vector<double>& radii,
+                                         bool second_pass = true);
 
 // face -> +1, or -1 when the face's connected part (through shared edges) is wound inside out
 // (negative signed volume): the factor that makes the face's normal outward in assign_faces.

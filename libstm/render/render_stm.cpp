@@ -155,6 +155,7 @@ void set_stm_uniforms(GLuint prog, const Camera& cam, const Layout& L, const Ren
   glUniform1i(glGetUniformLocation(prog, "u_segment_count"), GLint(L.segments.size()));
   glUniform1f(glGetUniformLocation(prog, "u_size"), float(L.size));
   glUniform1i(glGetUniformLocation(prog, "u_flat"), opt.flat_shading ? 1 : 0);
+  glUniform1i(glGetUniformLocation(prog, "u_second_pass"), L.assignment >= 2 ? 1 : 0);
   glUniform1i(glGetUniformLocation(prog, "u_lit"), opt.unlit ? 0 : 1);
   glUniform1i(glGetUniformLocation(prog, "u_orthographic"), opt.orthographic ? 1 : 0);
   glUniform1f(glGetUniformLocation(prog, "u_ambient"), float(opt.ambient));
