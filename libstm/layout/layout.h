@@ -76,7 +76,7 @@ CapsuleFrame capsule_frame(const Layout& layout, int s);
 Eigen::Vector2d local_to_atlas(const LayoutSegment& seg, double u, double v);
 
 // JSON: {"format": "sdm-layout", "version": 1, "size", "margin", "scale", "coverage",
-// "coverage_inner", "skeleton": {...}, "segments": [{"edge", "a", "b", "axis", "e1", "e2",
+// "coverage_inner", "assignment" (Layout::assignment; absent: 1), "skeleton": {...}, "segments": [{"edge", "a", "b", "axis", "e1", "e2",
 // "radius", "cap", "length", "area", "weight", "rect": [x, y, w, h], "rotated", "d",
 // "neighbours_a", "neighbours_b"}]}. Reading throws InputError naming what is wrong: besides the
 // structure, it checks what compute_layout guarantees (atlas size within kMaxImageSide, rectangles
