@@ -354,7 +354,7 @@ BaseMesh make_base_mesh(const Mesh& input, const Layout& layout, int target_vert
   sk.vertex_node.resize(m.n_vertices());
   for (auto v : m.vertices()) sk.vertex_node[v.idx()] = m.property(node, v);
   BaseMesh base;
-  base.face_segment = assign_faces_with_radii(m, sk, layout_radii(layout), layout.assignment >= 2);
+  base.face_segment = assign_faces(m, layout, sk);
   reassign_folded_faces(m, vertex_matrix(m), layout, base.face_segment);
   base.triangles = face_matrix(m);
   base.corner_uv.resize(m.n_faces());

@@ -62,12 +62,11 @@ Layout compute_layout(const Mesh& mesh, const Skeleton& input, const LayoutOptio
   if (ne != int(input.edges.size()))
     say("cut long edges: " + std::to_string(input.edges.size()) + " skeleton edges -> " + std::to_string(ne) + " segments");
   say("assigning faces to " + std::to_string(ne) + " segments");
-  std::vector<double> radius;
-  const std::vector<int> fs = assign_faces(mesh, skeleton, &radius);
-  std::vector<SegmentGeometry> geo = segment_geometry(mesh, skeleton, fs);
   // The rectangles are made for the radii assign_faces' second pass rated with (its first pass's
   // geometry): the shaders, given the layout, then choose the segments this assignment chose.
-  for (int s = 0; s < ne; ++s) geo[s].radius = radius[s], geo[s].cap = M_PI * radius[s] / 2;
+  std::vector<double> radius;
+  const std::vector<int> fs = assign_faces(mesh, skeleton, &radius);
+  const std::vector<SegmentGeometry> geo = segment_geometry(mesh, skeleton, fs, &radius);
   say("carrying frames along the skeleton");
   const std::vector<SegmentFrame> frames = segment_frames(mesh, skeleton, fs);
 
@@ -115,16 +114,14 @@ CapsuleFrame capsule_frame(const Layout& L, int s) {
   return {L.skeleton.nodes.at(g.a), L.skeleton.nodes.at(g.b), g.e1, g.e2};
 }
 
-std::vector<double> layout_radii(const Layout& L) {
-  std::vector<double> r;
-  r.reserve(L.segments.size());
-  for (const LayoutSegment& g : L.segments) r.push_back(g.radius);
-  return r;
+std::vector<int> assign_faces(const Mesh& mesh, const Layout& L, const Skeleton& skeleton) {
+  std::vector<double> radius;
+  radius.reserve(L.segments.size());
+  for (const LayoutSegment& g : L.segments) radius.push_back(g.radius);
+  return assign_faces_with_radii(mesh, skeleton, radius, L.assignment >= 2);
 }
 
-std::vector<int> assign_faces(const Mesh& mesh, const Layout& L) {
-  return assign_faces_with_radii(mesh, L.skeleton, layout_radii(L), L.assignment >= 2);
-}
+std::vector<int> assign_faces(const Mesh& mesh, const Layout& L) { return assign_faces(mesh, L, L.skeleton); }
 
 Eigen::Vector2d local_to_atlas(const LayoutSegment& g, double u, double v) {
   return g.rotated ? Eigen::Vector2d(g.x + u, g.y + v) : Eigen::Vector2d(g.x + v, g.y + u);

@@ -66,10 +66,10 @@ struct LayoutOptions {
 Layout compute_layout(const Mesh& mesh, const Skeleton& skeleton, const LayoutOptions& options = {});
 
 // Faces -> segments as the layout's shaders assign them: assign_faces_with_radii (segments.h) with
-// the layout's radii (layout_radii: LayoutSegment::radius, segment by segment) and its rule
-// (Layout::assignment).
-std::vector<double> layout_radii(const Layout& layout);
+// the layout's radii (LayoutSegment::radius, segment by segment) and its rule (Layout::assignment).
+// `skeleton`: the layout's skeleton with another mesh's vertex map (a base mesh's), the same graph.
 std::vector<int> assign_faces(const Mesh& mesh, const Layout& layout);
+std::vector<int> assign_faces(const Mesh& mesh, const Layout& layout, const Skeleton& skeleton);
 
 // The capsule frame of segment s, and its local -> atlas texel map.
 CapsuleFrame capsule_frame(const Layout& layout, int s);

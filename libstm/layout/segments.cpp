@@ -266,7 +266,7 @@ void second_pass(const Mesh& mesh, const Skeleton& sk, const std::vector<std::ve
 }
 
 std::vector<int> assign(const Mesh& mesh, const Skeleton& sk, const std::vector<double>* given, std::vector<double>* used,
-                        bool second = true) {
+                        bool second) {
   check_inputs(mesh, sk);
   const std::vector<std::vector<int>> node_edges = node_segments(sk);
   // The rule needs outward normals: a part wound inside out is flipped.
@@ -287,7 +287,7 @@ std::vector<int> assign(const Mesh& mesh, const Skeleton& sk, const std::vector<
     for (double r : *given)
       if (!(r > 0) || !std::isfinite(r)) throw InputError("segment radii must be positive");
     radii = *given;
-  } else {
+  } else if (second || used) {
     for (const SegmentGeometry& g : segment_geometry(mesh, sk, result)) radii.push_back(g.radius);
   }
   if (second) second_pass(mesh, sk, node_edges, orientation, radii, result);
@@ -297,8 +297,8 @@ std::vector<int> assign(const Mesh& mesh, const Skeleton& sk, const std::vector<
 
 }  // namespace
 
-std::vector<int> assign_faces(const Mesh& mesh, const Skeleton& sk, std::vector<double>* radii_used) {
-  return assign(mesh, sk, nullptr, radii_used);
+std::vector<int> assign_faces(const Mesh& mesh, const Skeleton& sk, std::vector<double>* radii_used, bool second_pass) {
+  return assign(mesh, sk, nullptr, radii_used, second_pass);
 }
 
 std::vector<int> assign_faces_with_radii(const Mesh& mesh, const Skeleton& sk, const std::vector<double>& radii,
@@ -306,7 +306,8 @@ std::vector<int> assign_faces_with_radii(const Mesh& mesh, const Skeleton& sk, c
   return assign(mesh, sk, &radii, nullptr, second_pass);
 }
 
-std::vector<SegmentGeometry> segment_geometry(const Mesh& mesh, const Skeleton& sk, const std::vector<int>& face_segment) {
+std::vector<SegmentGeometry> segment_geometry(const Mesh& mesh, const Skeleton& sk, const std::vector<int>& face_segment,
+                                              const std::vector<double>* radius) {
   check_inputs(mesh, sk);
   if (face_segment.size() != mesh.n_faces()) throw InputError("face_segment does not match the mesh");
   const size_t ns = sk.edges.size();
@@ -345,6 +346,10 @@ std::vector<SegmentGeometry> segment_geometry(const Mesh& mesh, const Skeleton& 
       for (int e : node_edges[end])
         if (g[e].area > 0) sum += g[e].radius, ++cnt;
     g[s].radius = cnt ? sum / cnt : std::max(g[s].length * 0.1, 1e-12);
+  }
+  if (radius) {
+    if (radius->size() != ns) throw InputError("got " + std::to_string(radius->size()) + " segment radii for " + std::to_string(ns) + " skeleton edges");
+    for (size_t s = 0; s < ns; ++s) g[s].radius = (*radius)[s];
   }
   for (auto& x : g) x.cap = M_PI * x.radius / 2.0;
   return g;

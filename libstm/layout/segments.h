@@ -29,9 +29,11 @@ namespace sdm {
 // blind to how far the face lies from the radius its segment's rectangle is made for, and looks at
 // the face's own nodes only: a few faces folded or mapped almost flat held most of the L2 stretch
 // (bunny00 14.0, FAUST 085 20.9; BENCHMARKS "Layout stretch").
-// `radii_used`, when given, receives the radii of the second pass (one per edge).
+// `radii_used`, when given, receives the radii of the second pass (one per edge); with
+// `second_pass` false the first pass's faces come back alone (its radii need no more).
 // Both passes are mirrored by the geometry shader of render_stm (shaders/stm.geom.glsl).
-std::vector<int> assign_faces(const Mesh& mesh, const Skeleton& skeleton, std::vector<double>* radii_used = nullptr);
+std::vector<int> assign_faces(const Mesh& mesh, const Skeleton& skeleton, std::vector<double>* radii_used = nullptr,
+                              bool second_pass = true);
 
 // The same rule with the radii of the second pass given (one per skeleton edge, positive): a
 // layout's LayoutSegment::radius (assign_faces(Mesh, Layout) in layout.h), which compute_layout
@@ -53,7 +55,10 @@ struct SegmentGeometry {
 
 // Per segment geometry from the faces assigned to it. A segment with no face gets the radius of
 // its neighbours' mean (or a tenth of its length when isolated), so that it still has a rectangle.
+// `radius`, when given (one per edge: assign_faces' radii_used), replaces the measured radii and
+// sets the caps from them: the radii a layout's rectangles are made for.
 std::vector<SegmentGeometry> segment_geometry(const Mesh& mesh, const Skeleton& skeleton,
-                                              const std::vector<int>& face_segment);
+                                              const std::vector<int>& face_segment,
+                                              const std::vector<double>* radius = nullptr);
 
 }  // namespace sdm

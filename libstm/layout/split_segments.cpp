@@ -13,8 +13,9 @@ constexpr double kBend = 0.05;
 }  // namespace
 
 Skeleton split_long_segments(const Mesh& mesh, const Skeleton& sk, double max_ratio, std::vector<int>* origin) {
-  std::vector<double> radius;  // the radii the layout's rectangles are made for (assign_faces)
-  const std::vector<int> fs = assign_faces(mesh, sk, &radius);  // also checks the inputs
+  // The first pass's faces: their geometry's radii are the ones the layout's rectangles are made for
+  // (assign_faces' radii_used), without the second pass's work.
+  const std::vector<int> fs = assign_faces(mesh, sk, nullptr, false);  // also checks the inputs
   if (origin) {
     origin->resize(sk.edges.size());
     for (size_t e = 0; e < sk.edges.size(); ++e) (*origin)[e] = int(e);
@@ -24,8 +25,8 @@ Skeleton split_long_segments(const Mesh& mesh, const Skeleton& sk, double max_ra
   const int ne = int(sk.edges.size()), nn = int(sk.nodes.size());
   std::vector<int> pieces(ne, 1);
   for (int e = 0; e < ne; ++e) {
-    if (sk.edges[e][0] == sk.edges[e][1] || !(radius[e] > 0)) continue;
-    const double n = std::ceil(geo[e].length / (max_ratio * radius[e]) - 1e-9);
+    if (sk.edges[e][0] == sk.edges[e][1] || !(geo[e].radius > 0)) continue;
+    const double n = std::ceil(geo[e].length / (max_ratio * geo[e].radius) - 1e-9);
     pieces[e] = int(std::clamp(n, 1.0, 1000.0));
   }
   std::vector<std::vector<int>> node_edges(nn);

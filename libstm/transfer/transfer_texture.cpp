@@ -275,7 +275,7 @@ Layout carry_layout(const Layout& la, const Mesh& mesh_b, const Skeleton& b, con
     throw InputError("the target skeleton's graph differs from the source layout's (resample it with share_skeletons first)");
   std::vector<double> radius;  // as compute_layout: the radii assign_faces' second pass rated with
   const std::vector<int> fs = assign_faces(mesh_b, b, &radius);
-  const std::vector<SegmentGeometry> geo = segment_geometry(mesh_b, b, fs);
+  const std::vector<SegmentGeometry> geo = segment_geometry(mesh_b, b, fs, &radius);
   Layout L = la;
   L.skeleton = b;
   for (size_t s = 0; s < L.segments.size(); ++s) {
@@ -287,7 +287,7 @@ Layout carry_layout(const Layout& la, const Mesh& mesh_b, const Skeleton& b, con
     g.e1 = transport_direction(R * g.e1, axis_a, axis);
     g.axis = axis;
     g.e2 = axis.cross(g.e1);
-    g.radius = radius[s], g.cap = M_PI * radius[s] / 2, g.length = geo[s].length, g.area = geo[s].area;
+    g.radius = geo[s].radius, g.cap = geo[s].cap, g.length = geo[s].length, g.area = geo[s].area;
   }
   return L;
 }
