@@ -8,6 +8,7 @@
 #include <random>
 #include <string>
 #include <sys/wait.h>
+#include <vector>
 
 namespace test_util {
 
@@ -25,6 +26,25 @@ struct TempDir {
   }
   std::string operator/(const std::string& name) const { return (path / name).string(); }
 };
+
+// The closed meshes of ../shared/models (what issue 17 measures on), with their genus (the CGAL
+// meshes' README); only those this checkout has (the tests skip, with a warning, when none).
+struct SharedMesh {
+  std::string name, path;
+  int genus = 0;
+};
+inline std::vector<SharedMesh> closed_shared_meshes() {
+  const std::string models = std::string(SDM_TEST_DATA) + "/../../../shared/models/";
+  const std::vector<std::pair<std::string, int>> all = {
+      {"humans/tr_reg_007.off", 0},  {"humans/tr_reg_024.off", 0},   {"humans/tr_reg_085.off", 0},
+      {"humans/8_gorilla_01.off", 0}, {"humans/8_man_02.off", 0},     {"cgal/bunny00.off", 0},
+      {"cgal/blobby.off", 0},         {"cgal/retinal.off", 0},        {"cgal/double-torus-example.off", 2},
+      {"cgal/rotor.off", 1},          {"cgal/anchor_dense.off", 4},   {"spot/spot_triangulated.obj", 0}};
+  std::vector<SharedMesh> present;
+  for (const auto& [name, genus] : all)
+    if (std::ifstream(models + name).good()) present.push_back({name, models + name, genus});
+  return present;
+}
 
 struct RunResult {
   int exit_code = -1;
