@@ -215,6 +215,20 @@ void write_error_png(const sdm::Mesh& input, sdm::Mesh decoded, double diag, con
   sdm::write_png(sdm::contact_sheet(views, 2), path);
 }
 
+// The encoder's check of its own map (EncodeOptions::flat_above; refine_above twice it).
+void add_face_error_option(CLI::App* app, double& error) {
+  app->add_option("--face-error", error,
+                  "Base faces that decode (level 3) farther than this fraction of the diagonal from the input are placed on their flat "
+                  "triangle, or the base mesh is made finer there (0: no check)")
+      ->capture_default_str()
+      ->check(CLI::Range(0.0, 1.0));
+}
+
+void encode_check_options(sdm::EncodeOptions& eo, double face_error) {
+  eo.flat_above = face_error;
+  eo.refine_above = 2 * face_error;
+}
+
 void add_min_carried_option(CLI::App* app, double& floor) {
   app->add_option("--min-carried", floor,
                   "Share of the input's surface the decoded map must carry within 1 % of the diagonal; below it a warning, "
@@ -229,7 +243,7 @@ Command add_encode_command(CLI::App& parent) {
   struct Opts {
     std::string mesh, out, layout, skeleton, png, max_memory, precision = "10";  // BENCHMARKS: float's accuracy, 3.6-6x smaller at 1024
     int size = 1024;
-    double min_part = 0, min_carried = 0.9;
+    double min_part = 0, min_carried = 0.9, face_error = sdm::EncodeOptions().flat_above;
     bool fill_holes = false;
     bool json = false, strict = false;
   };
@@ -250,6 +264,7 @@ Command add_encode_command(CLI::App& parent) {
   app->add_flag("--strict", o->strict,
                 "Refuse (exit 2, nothing written) a self-intersecting input or a map that carries under --min-carried of the surface");
   add_min_carried_option(app, o->min_carried);
+  add_face_error_option(app, o->face_error);
   app->add_flag("--json", o->json, "Print one JSON object with the summary");
   return {app, [o]() {
             if (o->layout.empty()) check_atlas_memory(o->size, 10, o->max_memory);
@@ -263,6 +278,7 @@ Command add_encode_command(CLI::App& parent) {
             sdm::EncodeOptions eo;
             eo.progress = [](const std::string& s) { progress("  " + s); };
             eo.fill_unread = !o->png.empty();  // only the picture shows texels no face reads
+            encode_check_options(eo, o->face_error);
             const sdm::SdmImage im = sdm::encode_sdm(mesh, layout, eo, &st);
             const double encode_s = clock.lap();
             progress("  checking the map (decoded at level 3)");
@@ -276,7 +292,7 @@ Command add_encode_command(CLI::App& parent) {
             if (o->json) {
               print_json({{"output", o->out}, {"size", im.width}, {"segments", layout.segments.size()},
                           {"texels", st.texels}, {"own_hits", st.own_hits}, {"other_hits", st.other_hits},
-                          {"filled", st.filled}, {"base_faces", st.base_faces}, {"layout_seconds", layout_s},
+                          {"filled", st.filled}, {"base_faces", st.base_faces}, {"flat_faces", st.flat_faces}, {"layout_seconds", layout_s},
                           {"encode_seconds", encode_s}, {"check_seconds", check_s}, {"carried", carried.share},
                           {"carried_rms", carried.rms / diag}, {"self_intersections", crossings.pairs}});
             } else {
@@ -350,7 +366,7 @@ Command add_roundtrip_command(CLI::App& parent) {
   struct Opts {
     std::string mesh, out, png, precision = "10";
     int size = 1024, lod = 3, samples = 100000;
-    double max_rms = -1, min_part = 0, min_carried = 0.9;
+    double max_rms = -1, min_part = 0, min_carried = 0.9, face_error = sdm::EncodeOptions().flat_above;
     bool fill_holes = false;
     std::string max_memory;
     bool json = false, strict = false;
@@ -376,6 +392,7 @@ Command add_roundtrip_command(CLI::App& parent) {
   app->add_flag("--strict", o->strict,
                 "Refuse (exit 2) a self-intersecting input or a decoded surface that carries under --min-carried of the input");
   add_min_carried_option(app, o->min_carried);
+  add_face_error_option(app, o->face_error);
   app->add_flag("--json", o->json, "Print one JSON object with the summary");
   return {app, [o]() {
             const sdm::Stopwatch total;
@@ -388,6 +405,7 @@ Command add_roundtrip_command(CLI::App& parent) {
             sdm::EncodeOptions eo;
             eo.progress = [](const std::string& s) { progress("  " + s); };  // as encode reports it
             eo.fill_unread = false;  // the file leaves them out
+            encode_check_options(eo, o->face_error);
             const auto [im, map_bytes] = through_file(sdm::encode_sdm(mesh, layout, eo), precision);
             const double encode_s = stage.lap();
             progress("decoding");

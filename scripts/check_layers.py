@@ -21,10 +21,10 @@ ALLOWED = {
     'libstm/transfer': ['libstm/core', 'libstm/geometry', 'libstm/mesh', 'libstm/skeleton', 'libstm/layout',
                         'libstm/registration', 'libstm/render'],
     'libsdm/map': ['libstm/core', 'libstm/geometry', 'libstm/mesh', 'libstm/skeleton', 'libstm/layout'],
-    'libsdm/encode': ['libstm/core', 'libstm/geometry', 'libstm/mesh', 'libstm/skeleton', 'libstm/layout',
-                      'libsdm/map'],
     'libsdm/decode': ['libstm/core', 'libstm/geometry', 'libstm/mesh', 'libstm/skeleton', 'libstm/layout',
-                      'libsdm/map', 'libsdm/encode'],
+                      'libsdm/map'],
+    'libsdm/encode': ['libstm/core', 'libstm/geometry', 'libstm/mesh', 'libstm/skeleton', 'libstm/layout',
+                      'libsdm/map', 'libsdm/decode'],
 }
 INCLUDE = re.compile(r'^\s*#\s*include\s*"((?:libstm|libsdm)/[^/"]+)/[^"]+"')
 

@@ -1,17 +1,19 @@
 #include "libsdm/decode/decode_sdm.h"
 
-#include "libsdm/encode/base_mesh.h"
-#include "libsdm/encode/encode_sdm.h"
+#include "libsdm/map/base_mesh_record.h"
+#include "libsdm/map/texels.h"
 #include "libsdm/decode/tessellate_mesh.h"
-#include "libsdm/encode/texel_targets.h"
+#include "libsdm/map/texel_targets.h"
 #include "libstm/geometry/capsule_ray.h"
 #include "libstm/core/errors.h"
 #include "libstm/core/parallel.h"
 #include "libstm/layout/layout.h"
 #include "libstm/layout/segment_frames.h"
 
+#include <algorithm>
 #include <cmath>
 #include <memory>
+#include <stdexcept>
 
 namespace sdm {
 namespace {
@@ -172,6 +174,35 @@ double sample_own_texels(const BaseMesh& base, const LayoutSegment& seg, const T
   });
 }
 
+// Which points lie on the flat triangles of the base mesh's flat faces (empty when it has none): the
+// points of those faces and the points on their edges, whatever face the tessellation evaluates an
+// edge's points in, so that both faces along the edge have it where the flat face needs it.
+std::vector<char> flat_points(const BaseMesh& base, const Tessellation& tess) {
+  if (base.flat_faces.empty()) return {};
+  std::vector<char> face(size_t(base.triangles.rows()), 0);
+  std::vector<std::pair<int, int>> edges;
+  for (int f : base.flat_faces) {
+    face[size_t(f)] = 1;
+    for (int c = 0; c < 3; ++c) edges.push_back(std::minmax(base.triangles(f, c), base.triangles(f, (c + 1) % 3)));
+  }
+  std::sort(edges.begin(), edges.end());
+  std::vector<char> flat(tess.point_face.size(), 0);
+  for (size_t i = 0; i < flat.size(); ++i) {
+    const int f = tess.point_face[i];
+    if (face[size_t(f)]) {
+      flat[i] = 1;
+      continue;
+    }
+    // On an edge of f: the barycentric coordinate of the corner opposite it is 0.
+    for (int k = 0; k < 3; ++k)
+      if (std::abs(tess.point_bary[i][k]) < 1e-9) {
+        const std::pair<int, int> e = std::minmax(base.triangles(f, (k + 1) % 3), base.triangles(f, (k + 2) % 3));
+        if (std::binary_search(edges.begin(), edges.end(), e)) flat[i] = 1;
+      }
+  }
+  return flat;
+}
+
 }  // namespace
 
 DecodeEstimate estimate_decode(const SdmImage& image, const DecodeOptions& options) {
@@ -188,7 +219,7 @@ DecodeEstimate estimate_decode(const SdmImage& image, const DecodeOptions& optio
   return e;
 }
 
-Mesh decode_sdm(const SdmImage& image, const DecodeOptions& options, DecodeTrace* trace) {
+DecodedSurface decode_surface(const SdmImage& image, const DecodeOptions& options, const std::vector<int>& faces) {
   Layout layout = layout_from_json(image.layout);
   if (!image.layout.contains("base_mesh"))
     throw InputError("the SDM header has no base mesh: it was written by an older 'sdm encode'; encode it again");
@@ -199,9 +230,24 @@ Mesh decode_sdm(const SdmImage& image, const DecodeOptions& options, DecodeTrace
   if (options.skeleton) move_skeleton(layout, *options.skeleton);
 
   const std::vector<int> level = segment_levels(int(layout.segments.size()), options);
-  std::vector<int> rate(base.triangles.rows());
-  for (int f = 0; f < base.triangles.rows(); ++f) rate[f] = 1 << level[base.face_segment[f]];
-  const Tessellation tess = tessellate_mesh(base.triangles, rate);
+  Tessellation tess;
+  if (faces.empty()) {
+    std::vector<int> rate(base.triangles.rows());
+    for (int f = 0; f < base.triangles.rows(); ++f) rate[f] = 1 << level[base.face_segment[f]];
+    tess = tessellate_mesh(base.triangles, rate);
+  } else {
+    // The chosen faces alone, their indices mapped back to the base mesh's.
+    Eigen::MatrixX3i some(Eigen::Index(faces.size()), 3);
+    std::vector<int> rate(faces.size());
+    for (size_t k = 0; k < faces.size(); ++k) {
+      if (faces[k] < 0 || faces[k] >= base.triangles.rows()) throw std::invalid_argument("decode_surface: no such base face");
+      some.row(Eigen::Index(k)) = base.triangles.row(faces[k]);
+      rate[k] = 1 << level[base.face_segment[size_t(faces[k])]];
+    }
+    tess = tessellate_mesh(some, rate);
+    for (int& f : tess.point_face) f = faces[size_t(f)];
+    for (int& f : tess.triangle_face) f = faces[size_t(f)];
+  }
 
   std::vector<CapsuleFrame> frames;
   for (size_t s = 0; s < layout.segments.size(); ++s) frames.push_back(capsule_frame(layout, int(s)));
@@ -260,10 +306,17 @@ Mesh decode_sdm(const SdmImage& image, const DecodeOptions& options, DecodeTrace
   });
   TexelReads reads(image, layout, base, corner);
   reads.prepare(at, tess.point_face, reach);
+  const std::vector<char> flat = flat_points(base, tess);
   std::vector<Eigen::Vector3d> placed(n);
   parallel_for(int(n), 4096, [&](int i) {
     const PointRay& a = at[size_t(i)];
     const int f = tess.point_face[size_t(i)];
+    // Flat faces' points, and every base corner where the file stores its displacement (exact).
+    const bool corner = !base.corner_d.empty() && tess.point_bary[size_t(i)].maxCoeff() > 1 - 1e-9;
+    if (corner || (!flat.empty() && flat[size_t(i)])) {
+      placed[size_t(i)] = a.flat;
+      return;
+    }
     const double r = reach[f];
     const double d = sample_own_texels(base, layout.segments[a.segment], reads, size_t(i), f, a.u, a.v);
     // No texel left, or a depth of 0 (the encoder's foot clamped at the ray's origin: every ray of a
@@ -277,17 +330,30 @@ Mesh decode_sdm(const SdmImage& image, const DecodeOptions& options, DecodeTrace
     if ((p - a.flat).norm() > r) p = a.flat;
     placed[size_t(i)] = p;
   });
+  DecodedSurface out;
+  out.points = std::move(placed);
+  out.triangles = std::move(tess.triangles);
+  out.point_face = std::move(tess.point_face);
+  out.triangle_face = std::move(tess.triangle_face);
+  out.point_segment.resize(n);
+  for (size_t i = 0; i < n; ++i) out.point_segment[i] = at[i].segment;
+  return out;
+}
+
+Mesh decode_sdm(const SdmImage& image, const DecodeOptions& options, DecodeTrace* trace) {
+  DecodedSurface s = decode_surface(image, options);
+  const size_t n = s.points.size();
   Mesh out;
   // Reserved: OpenMesh's arrays otherwise grow and move while millions of faces go in.
-  out.reserve(n, size_t(tess.triangles.rows()) * 3 / 2 + 3, size_t(tess.triangles.rows()));
+  out.reserve(n, size_t(s.triangles.rows()) * 3 / 2 + 3, size_t(s.triangles.rows()));
   std::vector<Mesh::VertexHandle> vh(n);
-  if (trace) trace->vertex_segment.resize(n), trace->vertex_base_face = tess.point_face;
-  for (size_t i = 0; i < n; ++i) {
-    vh[i] = out.add_vertex(Mesh::Point(placed[i].x(), placed[i].y(), placed[i].z()));
-    if (trace) trace->vertex_segment[i] = at[i].segment;
+  for (size_t i = 0; i < n; ++i) vh[i] = out.add_vertex(Mesh::Point(s.points[i].x(), s.points[i].y(), s.points[i].z()));
+  for (int t = 0; t < s.triangles.rows(); ++t) out.add_face(vh[s.triangles(t, 0)], vh[s.triangles(t, 1)], vh[s.triangles(t, 2)]);
+  if (trace) {
+    trace->vertex_segment = std::move(s.point_segment);
+    trace->vertex_base_face = std::move(s.point_face);
+    trace->face_base_face = std::move(s.triangle_face);
   }
-  for (int t = 0; t < tess.triangles.rows(); ++t)
-    out.add_face(vh[tess.triangles(t, 0)], vh[tess.triangles(t, 1)], vh[tess.triangles(t, 2)]);
   return out;
 }
 

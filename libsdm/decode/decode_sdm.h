@@ -18,15 +18,27 @@ struct DecodeOptions {
   std::optional<Skeleton> skeleton;    // decode around these node positions (same graph) instead
 };
 
-// Where each output vertex comes from: the segment that placed it and its base face.
+// Where each output vertex comes from: the segment that placed it and its base face; and the base
+// face of each output face.
 struct DecodeTrace {
-  std::vector<int> vertex_segment, vertex_base_face;
+  std::vector<int> vertex_segment, vertex_base_face, face_base_face;
 };
 
 // Throws InputError when the header lacks a layout or base mesh, a level is out of range (0..8),
 // a segment id is unknown, or the skeleton's graph differs from the encoded one. `trace`, when
 // given, receives where each output vertex comes from.
 Mesh decode_sdm(const SdmImage& image, const DecodeOptions& options = {}, DecodeTrace* trace = nullptr);
+
+// What decode_sdm places, without building the mesh: the points and triangles of the base faces
+// `faces` (every face when empty; the points on the chosen faces' borders are placed by them), each
+// point's and triangle's base face and each point's segment. For the encoder's check of its map
+// (encode_sdm.cpp), which decodes some faces again after choosing how to place them.
+struct DecodedSurface {
+  std::vector<Eigen::Vector3d> points;
+  Eigen::MatrixX3i triangles;
+  std::vector<int> point_face, triangle_face, point_segment;
+};
+DecodedSurface decode_surface(const SdmImage& image, const DecodeOptions& options = {}, const std::vector<int>& faces = {});
 
 // What decode_sdm makes with these options, before it runs: the triangles (4^L per base face of a
 // segment at level L) and the peak memory of decoding them and writing the result, at 450 bytes a

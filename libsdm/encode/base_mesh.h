@@ -11,23 +11,14 @@
 #include "libstm/core/progress.h"
 #include "libstm/geometry/triangle_bvh.h"
 #include "libstm/layout/layout.h"
+#include "libsdm/map/base_mesh_record.h"
 
 #include <array>
+#include <memory>
 #include <nlohmann/json.hpp>
 
 namespace sdm {
 
-struct BaseMesh {
-  Eigen::MatrixX3i triangles;                           // consistently oriented, closed unless the input had holes
-  std::vector<int> face_segment;                        // segment of each face
-  std::vector<std::array<Eigen::Vector2d, 3>> corner_uv;  // (u, v) of each corner in its face's segment
-  // Displacement of each corner along its capsule ray (model units): with it the decoder places the
-  // base mesh's corners exactly instead of reading them from the map. Empty in maps of format 1-2.
-  std::vector<std::array<double, 3>> corner_d;
-  // Position of each corner in the input mesh: known to the encoder only (not stored in the file;
-  // empty after base_mesh_from_json).
-  std::vector<std::array<Eigen::Vector3d, 3>> corner_position;
-};
 
 // Decimates `mesh` (quadric error, halfedge collapses that keep topology and original vertex
 // positions) to about `target_vertices`, assigns faces to segments (segments.h) and maps each
@@ -41,13 +32,24 @@ struct BaseMesh {
 BaseMesh make_base_mesh(const Mesh& mesh, const Layout& layout, int target_vertices = 0, const Progress& progress = {},
                         const TriangleBvh* surface = nullptr);
 
-/// Whether base faces f and g (rows of `triangles`) share a corner, or are one face: the faces whose
-/// texels a point of f may read (decode_sdm) and whose input f's texels may cross (base_regions.h).
-bool faces_share_corner(const Eigen::MatrixX3i& triangles, int f, int g);
+/// What make_base_mesh decimates, kept so that the encoder can decimate it again with some of its
+/// vertices kept where the first base mesh could not carry the surface (encode_sdm.cpp): the input
+/// and its skeleton nodes, or an isotropic remesh of it for large and needle meshes.
+class BaseMeshSource {
+ public:
+  BaseMeshSource(const Mesh& mesh, const Layout& layout, int target_vertices = 0, const TriangleBvh* surface = nullptr);
+  ~BaseMeshSource();
+  BaseMeshSource(BaseMeshSource&&) noexcept;
 
-nlohmann::json base_mesh_to_json(const BaseMesh& base);
-// Throws InputError naming what is wrong (sizes, indices, segments out of range, non-finite texel
-// coordinates, degenerate faces, unused vertices, or a surface that is not manifold and consistently oriented).
-BaseMesh base_mesh_from_json(const nlohmann::json& j, int segments);
+  /// The vertices a base mesh is decimated from (rows: the source's vertex indices).
+  const Eigen::MatrixX3d& points() const;
+  /// The base mesh, with every vertex v where keep[v] != 0 (keep empty, or one entry per row of
+  /// points()) kept: the target grows by their number, so the rest is decimated as before.
+  BaseMesh decimate(const std::vector<char>& keep = {}, const Progress& progress = {}) const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
 
 }  // namespace sdm

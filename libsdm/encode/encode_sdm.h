@@ -12,6 +12,7 @@
 // point's foot on the ray. Near junctions the first crossing is often another sheet of the surface.
 #include "libstm/core/progress.h"
 #include "libsdm/map/sdm_exr.h"
+#include "libsdm/map/texels.h"
 #include "libstm/layout/layout.h"
 
 #include <algorithm>
@@ -28,6 +29,14 @@ struct EncodeOptions {
   // every reader sees them (format 3), and saves two ray casts each: `sdm encode` of a 30k-vertex
   // mesh at 1024, encode stage 2.70-2.83 -> 2.27-2.41 s, the file byte for byte the same.
   bool fill_unread = true;
+  // Base faces whose points decode (at level 3) farther than flat_above (a fraction of the
+  // bounding-box diagonal) from the input are placed on their flat triangle where it lies closer;
+  // where faces still decode farther than refine_above, the source's vertices nearest them are kept
+  // and the base mesh is decimated again, up to refine_rounds times (flat_above <= 0: the first
+  // base mesh as it is, no check).
+  double flat_above = 0.0025;
+  double refine_above = 0.005;
+  int refine_rounds = 2;
 };
 
 struct EncodeStats {
@@ -36,43 +45,10 @@ struct EncodeStats {
   long other_hits = 0;  // A = 0, D is a crossing with another segment's faces
   long filled = 0;      // A = 0, D is the foot of the base face's point (no crossing near it)
   int base_faces = 0;
+  int flat_faces = 0;   // base faces placed on their flat triangle (base_mesh.h)
 };
 
 // Texels outside every rectangle get D = 0, A = 0. The layout must have been computed for `mesh`.
 SdmImage encode_sdm(const Mesh& mesh, const Layout& layout, const EncodeOptions& options = {}, EncodeStats* stats = nullptr);
-
-// The (u, v) of the centre of a segment's texel (ix, iy are atlas texel indices inside the
-// rectangle), and the D lookup used by the decoder: bilinear between texel centres, periodic
-// around the axis, clamped along it, NaN texels (left out of a compact map) skipped; NaN when the
-// four texels are all left out. Shared so encoder, decoder and tests agree on texel centres.
-Eigen::Vector2d texel_local_uv(const LayoutSegment& seg, int ix, int iy);
-// Atlas texel (ix, iy) (origin lower left) -> index into the image's channels (rows top to bottom).
-inline size_t texel_index(const SdmImage& im, int ix, int iy) {
-  return size_t(im.height - 1 - iy) * size_t(im.width) + size_t(ix);
-}
-double sample_displacement(const SdmImage& image, const LayoutSegment& seg, double u, double v);
-
-// The same lookup over any texel source: texel(ix, iy) gives the value of atlas texel (ix, iy)
-// (origin lower left), NaN for a texel left out.
-template <class Texel>
-double sample_texels(const LayoutSegment& seg, double u, double v, const Texel& texel) {
-  // Continuous texel coordinates in the rectangle: centres at i + 0.5.
-  const double fu = u - 0.5, fv = std::clamp(v - 0.5, 0.0, double(seg.w - 1));
-  const double u0 = std::floor(fu), v0 = std::floor(fv);
-  const double au = fu - u0, av = fv - v0;
-  auto at = [&](long iu, long iv) {
-    iu = ((iu % seg.h) + seg.h) % seg.h;
-    iv = std::clamp<long>(iv, 0, seg.w - 1);
-    return seg.rotated ? texel(seg.x + int(iu), seg.y + int(iv)) : texel(seg.x + int(iv), seg.y + int(iu));
-  };
-  const long iu = long(u0), iv = long(v0);
-  // Texels a compact map leaves out are skipped and the others' weights renormalised.
-  double sum = 0, weight = 0;
-  for (int k = 0; k < 4; ++k) {
-    const double w = (k & 1 ? au : 1 - au) * (k & 2 ? av : 1 - av), d = at(iu + (k & 1), iv + (k >> 1));
-    if (!std::isnan(d) && w > 0) sum += w * d, weight += w;
-  }
-  return weight > 0 ? sum / weight : NAN;
-}
 
 }  // namespace sdm

@@ -39,6 +39,7 @@ std::string pack_base_mesh(const nlohmann::json& base) {
   }
   nlohmann::json j = {{"vertex", vertex}, {"uv", ruv}, {"corner", corner}, {"face_segment", base.at("face_segment")}};
   if (!d.empty()) j["d"] = rd;
+  if (base.contains("flat_faces")) j["flat_faces"] = base.at("flat_faces");
   const std::vector<uint8_t> cbor = nlohmann::json::to_cbor(j);
   uLongf packed = compressBound(uLong(cbor.size()));
   std::string out(8 + packed, '\0');
@@ -88,6 +89,7 @@ nlohmann::json unpack_base_mesh(const std::string& bytes) {
   }
   nlohmann::json out = {{"triangles", tris}, {"face_segment", face_segment}, {"corner_uv", cuv}};
   if (!d.empty()) out["corner_d"] = cd;
+  if (j.contains("flat_faces")) out["flat_faces"] = j.at("flat_faces");
   return out;
 }
 

@@ -245,6 +245,7 @@ void write_sdm_exr(const SdmImage& im, const std::string& path, SdmPrecision pre
   const StoredD y = stored_displacement(im, precision);
   nlohmann::json layout = im.layout;
   std::string base_mesh;
+  const int version = layout.contains("base_mesh") && layout["base_mesh"].contains("flat_faces") ? 4 : 3;
   if (layout.contains("base_mesh")) base_mesh = pack_base_mesh(layout.at("base_mesh")), layout.erase("base_mesh");
   // The input's vertex -> node map (10 KB of Spot's 19 KB layout) describes a mesh the map does not
   // hold; a decoded mesh has its own vertices.
@@ -253,7 +254,7 @@ void write_sdm_exr(const SdmImage& im, const std::string& path, SdmPrecision pre
     Imf::Header header(im.width, im.height);
     header.compression() = Imf::ZIP_COMPRESSION;  // measured against PIZ, PXR24, ZIPS, RLE: BENCHMARKS
     header.insert(kLayoutAttribute, Imf::StringAttribute(layout.dump()));
-    header.insert(kVersionAttribute, Imf::IntAttribute(kSdmFormatVersion));
+    header.insert(kVersionAttribute, Imf::IntAttribute(version));
     if (!base_mesh.empty()) header.insert(kBaseMeshAttribute, Imf::StringAttribute(base_mesh));
     if (precision.kind == SdmPrecision::quantized) {
       header.insert(kBitsAttribute, Imf::IntAttribute(precision.bits));

@@ -22,7 +22,9 @@
 
 namespace sdm {
 
-constexpr int kSdmFormatVersion = 3;
+// Format version 4 (issue 17) adds the base mesh's flat faces (base_mesh.h), which a reader of
+// version 3 would decode on their rays; a map without them is still written as version 3.
+constexpr int kSdmFormatVersion = 4;
 
 struct SdmImage {
   int width = 0, height = 0;

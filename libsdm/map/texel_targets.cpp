@@ -1,4 +1,4 @@
-#include "libsdm/encode/texel_targets.h"
+#include "libsdm/map/texel_targets.h"
 
 #include "libstm/geometry/differential_geometry.h"
 

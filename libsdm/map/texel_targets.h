@@ -9,7 +9,8 @@
 //
 // Shared by the encoder (which searches the surface near the target) and the decoder of quantised
 // maps (which adds the stored residual to the target's foot on the ray, the same prediction).
-#include "libsdm/encode/base_mesh.h"
+#include "libsdm/map/base_mesh_record.h"
+#include "libstm/layout/layout.h"
 #include "libstm/geometry/capsule_ray.h"
 #include "libstm/geometry/triangle_bvh.h"
 
