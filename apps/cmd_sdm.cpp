@@ -406,7 +406,8 @@ Command add_roundtrip_command(CLI::App& parent) {
             eo.progress = [](const std::string& s) { progress("  " + s); };  // as encode reports it
             eo.fill_unread = false;  // the file leaves them out
             encode_check_options(eo, o->face_error);
-            const auto [im, map_bytes] = through_file(sdm::encode_sdm(mesh, layout, eo), precision);
+            sdm::EncodeStats st;
+            const auto [im, map_bytes] = through_file(sdm::encode_sdm(mesh, layout, eo, &st), precision);
             const double encode_s = stage.lap();
             progress("decoding");
             sdm::DecodeOptions d;
@@ -432,7 +433,7 @@ Command add_roundtrip_command(CLI::App& parent) {
                                                {"where", worst.decoded_strays ? "decoded surface off the input" : "input not reached"}};
             if (o->json) {
               print_json({{"mesh", o->mesh}, {"size", o->size}, {"lod", o->lod}, {"segments", layout.segments.size()},
-                          {"precision", precision.name()}, {"map_bytes", map_bytes},
+                          {"precision", precision.name()}, {"map_bytes", map_bytes}, {"base_faces", st.base_faces}, {"flat_faces", st.flat_faces},
                           {"rms", rms}, {"hausdorff", hd}, {"psnr", psnr}, {"faces", out.n_faces()},
                           {"closed", top.closed()}, {"manifold", top.manifold}, {"boundary_loops", top.boundary_loops},
                           {"input_boundary_loops", input_top.boundary_loops}, {"encode_seconds", encode_s}, {"decode_seconds", decode_s},
