@@ -215,7 +215,7 @@ void write_error_png(const sdm::Mesh& input, sdm::Mesh decoded, double diag, con
   sdm::write_png(sdm::contact_sheet(views, 2), path);
 }
 
-// The encoder's check of its own map (EncodeOptions::flat_above; refine_above twice it).
+// The encoder's check of its own map (EncodeOptions::flat_above; refine_above three times it).
 void add_face_error_option(CLI::App* app, double& error) {
   app->add_option("--face-error", error,
                   "Base faces that decode (level 3) farther than this fraction of the diagonal from the input are placed on their flat "
@@ -226,7 +226,7 @@ void add_face_error_option(CLI::App* app, double& error) {
 
 void encode_check_options(sdm::EncodeOptions& eo, double face_error) {
   eo.flat_above = face_error;
-  eo.refine_above = 2 * face_error;
+  eo.refine_above = 3 * face_error;
 }
 
 void add_min_carried_option(CLI::App* app, double& floor) {

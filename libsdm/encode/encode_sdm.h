@@ -35,7 +35,7 @@ struct EncodeOptions {
   // and the base mesh is decimated again, up to refine_rounds times (flat_above <= 0: the first
   // base mesh as it is, no check).
   double flat_above = 0.0025;
-  double refine_above = 0.005;
+  double refine_above = 0.0075;
   int refine_rounds = 2;
 };
 
