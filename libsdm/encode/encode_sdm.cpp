@@ -372,6 +372,8 @@ SdmImage encode_sdm(const Mesh& mesh, const Layout& layout, const EncodeOptions&
   for (int round = 0;; ++round) {
     set_base(scene, source.decimate(keep, options.progress));
     SdmImage im = encode_texels(scene, layout, options, st);
+    st.decimations = round + 1;
+    st.kept = std::count(keep.begin(), keep.end(), char(1));
     std::vector<int> unresolved;
     double worst = 0;
     if (mc.limit > 0) {

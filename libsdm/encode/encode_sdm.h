@@ -46,6 +46,8 @@ struct EncodeStats {
   long filled = 0;      // A = 0, D is the foot of the base face's point (no crossing near it)
   int base_faces = 0;
   int flat_faces = 0;   // base faces placed on their flat triangle (base_mesh.h)
+  int decimations = 0;  // base meshes made: 1, plus one per refinement (EncodeOptions::refine_above)
+  long kept = 0;        // vertices of the input kept in the last base mesh by the refinements
 };
 
 // Texels outside every rectangle get D = 0, A = 0. The layout must have been computed for `mesh`.
