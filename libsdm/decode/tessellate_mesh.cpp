@@ -2,7 +2,9 @@
 
 #include <opensubdiv/bfr/tessellation.h>
 
-#include <map>
+#include <algorithm>
+#include <array>
+#include <utility>
 #include <stdexcept>
 
 namespace sdm {
@@ -10,21 +12,46 @@ namespace sdm {
 using OpenSubdiv::Bfr::Parameterization;
 using BfrTessellation = OpenSubdiv::Bfr::Tessellation;
 
+namespace {
+
+// The base mesh's edges, numbered: each face side's edge id, and per edge its rate (the larger of its
+// two faces', so both sides sample the edge identically). Sorted arrays instead of ordered maps:
+// a level-3 decode of 8000 base faces spent a fifth of its time in the maps' lookups.
+struct EdgeTable {
+  std::vector<int> side_edge;  // 3 per face: the edge of side c (corner c to corner c + 1)
+  std::vector<int> rate;       // per edge
+};
+
+EdgeTable edge_table(const Eigen::MatrixX3i& base, const std::vector<int>& rate) {
+  const int nf = int(base.rows());
+  std::vector<std::pair<std::pair<int, int>, int>> sides(3 * size_t(nf));
+  for (int f = 0; f < nf; ++f)
+    for (int c = 0; c < 3; ++c) sides[3 * size_t(f) + c] = {std::minmax(base(f, c), base(f, (c + 1) % 3)), 3 * f + c};
+  std::sort(sides.begin(), sides.end());
+  EdgeTable t;
+  t.side_edge.resize(sides.size());
+  for (size_t i = 0; i < sides.size(); ++i) {
+    if (i == 0 || sides[i].first != sides[i - 1].first) t.rate.push_back(1);
+    const int e = int(t.rate.size()) - 1, side = sides[i].second;
+    t.side_edge[size_t(side)] = e;
+    t.rate[size_t(e)] = std::max(t.rate[size_t(e)], rate[size_t(side / 3)]);
+  }
+  return t;
+}
+
+}  // namespace
+
 Tessellation tessellate_mesh(const Eigen::MatrixX3i& base, const std::vector<int>& rate) {
   if (int(rate.size()) != base.rows()) throw std::invalid_argument("tessellate_mesh: one rate per face is needed");
-  // Edge rate: the larger of the two faces' rates, so both sides sample the edge identically.
-  std::map<std::pair<int, int>, int> edge_rate;
-  for (int f = 0; f < base.rows(); ++f)
-    for (int c = 0; c < 3; ++c) {
-      int a = base(f, c), b = base(f, (c + 1) % 3);
-      auto key = std::minmax(a, b);
-      int& r = edge_rate[{key.first, key.second}];
-      r = std::max({r, rate[f], 1});
-    }
+  const EdgeTable edges = edge_table(base, rate);
+  // Output points of the base corners (by vertex) and of each edge's inner points (from the
+  // edge's smaller vertex), -1 until first made, so that the points keep the order of first use.
+  std::vector<int> corner_point(size_t(base.size() ? base.maxCoeff() + 1 : 0), -1);
+  std::vector<int> edge_first(edges.rate.size() + 1, 0);
+  for (size_t e = 0; e < edges.rate.size(); ++e) edge_first[e + 1] = edge_first[e] + edges.rate[e] - 1;
+  std::vector<int> edge_point(size_t(edge_first.back()), -1);
 
   Tessellation out;
-  std::map<int, int> corner_point;                          // base vertex -> output point
-  std::map<std::tuple<int, int, int>, int> edge_point;       // (min, max, index from min) -> output point
   std::vector<std::array<int, 3>> tris;
   const Parameterization tri(OpenSubdiv::Sdc::SCHEME_LOOP, 3);
   std::vector<double> coords;
@@ -38,10 +65,7 @@ Tessellation tessellate_mesh(const Eigen::MatrixX3i& base, const std::vector<int
 
   for (int f = 0; f < base.rows(); ++f) {
     int rates[4];
-    for (int c = 0; c < 3; ++c) {
-      auto key = std::minmax(base(f, c), base(f, (c + 1) % 3));
-      rates[c] = edge_rate[{key.first, key.second}];
-    }
+    for (int c = 0; c < 3; ++c) rates[c] = edges.rate[size_t(edges.side_edge[3 * size_t(f) + c])];
     rates[3] = std::max(1, rate[f]);
     BfrTessellation pattern(tri, 4, rates);
     if (!pattern.IsValid()) throw std::runtime_error("tessellate_mesh: invalid tessellation pattern");
@@ -52,18 +76,17 @@ Tessellation tessellate_mesh(const Eigen::MatrixX3i& base, const std::vector<int
     // Boundary coordinates come first: corner 0, edge 0's inner points, corner 1, edge 1, ...
     int k = 0;
     for (int c = 0; c < 3; ++c) {
-      const int vc = base(f, c);
-      auto it = corner_point.find(vc);
-      if (it == corner_point.end()) it = corner_point.emplace(vc, new_point(f, coords[2 * k], coords[2 * k + 1])).first;
-      local[k++] = it->second;
+      int& corner = corner_point[size_t(base(f, c))];
+      if (corner < 0) corner = new_point(f, coords[2 * k], coords[2 * k + 1]);
+      local[k++] = corner;
       const int a = base(f, c), b = base(f, (c + 1) % 3);
+      const int e = edges.side_edge[3 * size_t(f) + c];
       const int inner = pattern.GetNumEdgeCoords(c);
       for (int i = 0; i < inner; ++i, ++k) {
         const int from_min = a < b ? i : inner - 1 - i;
-        auto key = std::make_tuple(std::min(a, b), std::max(a, b), from_min);
-        auto e = edge_point.find(key);
-        if (e == edge_point.end()) e = edge_point.emplace(key, new_point(f, coords[2 * k], coords[2 * k + 1])).first;
-        local[k] = e->second;
+        int& p = edge_point[size_t(edge_first[size_t(e)] + from_min)];
+        if (p < 0) p = new_point(f, coords[2 * k], coords[2 * k + 1]);
+        local[k] = p;
       }
     }
     for (; k < n; ++k) local[k] = new_point(f, coords[2 * k], coords[2 * k + 1]);
