@@ -204,8 +204,8 @@ SdmImage encode_texels(const EncodeScene& scene, const Layout& layout, const Enc
   return im;
 }
 
-// The level-2 points of every base face, as decode_sdm places them and as its flat triangle holds
-// them.
+// The level the map is checked at: the decoder's default, whose points lie between those of level 2
+// (a check at level 2 missed the CAD parts' worst faces).
 constexpr int kCheckLevel = 3;
 // Rounds of flat faces chosen and the map checked again (each decodes the map once more).
 constexpr int kFlatPasses = 3;
@@ -290,12 +290,12 @@ struct MapCheck {
 };
 
 // Chooses the base faces the decoder places flat (scene.base.flat_faces, im's header) and returns
-// every face's decoded errors with them. A face beyond the limit, or with a decoded edge longer than
-// the input's longest, goes flat when its flat triangle lies within the limit or closer than its
-// decoded points (flat faces' edges are at most 7/8 of the input's longest at level 3:
-// kMaxBaseEdge); its edges' points are then flat too (decode_sdm), which can move a neighbour's
-// triangles off the surface in turn, so the faces around new flat ones are decoded again, up to
-// kFlatPasses times.
+// every face's decoded errors with them. A face decoded beyond the limit goes flat when its flat
+// triangle lies closer than its decoded points; a face whose only fault is a decoded edge longer
+// than the input's longest, when its flat triangle lies within kFlatEnough limits (flat faces' edges
+// are at most 7/8 of the input's longest at level 3: kMaxBaseEdge). A flat face's edges' points are
+// flat too (decode_sdm), which can move a neighbour's triangles off the surface in turn, so the
+// faces around new flat ones are decoded again, up to kFlatPasses times.
 FaceErrors place_flat_faces(SdmImage& im, EncodeScene& scene, const MapCheck& mc) {
   BaseMesh& base = scene.base;
   const int nf = int(base.triangles.rows());
