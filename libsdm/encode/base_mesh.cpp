@@ -346,20 +346,18 @@ struct BaseMeshSource::Impl {
   const Layout& layout;
   int target_vertices = 0;
   BaseSource src;
-  Eigen::MatrixX3d points;
 };
 
 BaseMeshSource::BaseMeshSource(const Mesh& input, const Layout& layout, int target_vertices, const TriangleBvh* surface) {
   const int nv = int(input.n_vertices());
   if (target_vertices <= 0) target_vertices = std::clamp(nv / 4, std::min(nv, 400), 4000);
-  impl_.reset(new Impl{input, layout, target_vertices, base_source(input, layout.skeleton, target_vertices, surface), {}});
-  impl_->points = vertex_matrix(impl_->src.mesh);
+  impl_.reset(new Impl{input, layout, target_vertices, base_source(input, layout.skeleton, target_vertices, surface)});
 }
 
 BaseMeshSource::~BaseMeshSource() = default;
 BaseMeshSource::BaseMeshSource(BaseMeshSource&&) noexcept = default;
 
-const Eigen::MatrixX3d& BaseMeshSource::points() const { return impl_->points; }
+Eigen::MatrixX3d BaseMeshSource::points() const { return vertex_matrix(impl_->src.mesh); }
 
 BaseMesh BaseMeshSource::decimate(const std::vector<char>& keep, const Progress& progress) const {
   const Layout& layout = impl_->layout;

@@ -13,12 +13,9 @@
 #include "libstm/layout/layout.h"
 #include "libsdm/map/base_mesh_record.h"
 
-#include <array>
 #include <memory>
-#include <nlohmann/json.hpp>
 
 namespace sdm {
-
 
 // Decimates `mesh` (quadric error, halfedge collapses that keep topology and original vertex
 // positions) to about `target_vertices`, assigns faces to segments (segments.h) and maps each
@@ -42,7 +39,7 @@ class BaseMeshSource {
   BaseMeshSource(BaseMeshSource&&) noexcept;
 
   /// The vertices a base mesh is decimated from (rows: the source's vertex indices).
-  const Eigen::MatrixX3d& points() const;
+  Eigen::MatrixX3d points() const;
   /// The base mesh, with every vertex v where keep[v] != 0 (keep empty, or one entry per row of
   /// points()) kept: the target grows by their number, so the rest is decimated as before.
   BaseMesh decimate(const std::vector<char>& keep = {}, const Progress& progress = {}) const;

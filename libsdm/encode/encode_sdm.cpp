@@ -335,13 +335,14 @@ FaceErrors place_flat_faces(SdmImage& im, EncodeScene& scene, const MapCheck& mc
 // Marks in `keep` the source's vertices nearest the faces `unresolved` and the faces around them
 // (sharing a corner); returns how many are marked in all.
 long keep_around(const std::vector<int>& unresolved, const BaseMeshSource& source, const BaseMesh& base, std::vector<char>& keep) {
-  const BaseRegions owners(source.points(), Eigen::MatrixX3i(), base);
+  const Eigen::MatrixX3d points = source.points();
+  const BaseRegions owners(points, Eigen::MatrixX3i(), base);
   const Eigen::MatrixX3i& T = base.triangles;
   std::vector<char> corner(size_t(T.maxCoeff() + 1), 0), worse(size_t(T.rows()), 0);
   for (int f : unresolved)
     for (int c = 0; c < 3; ++c) corner[size_t(T(f, c))] = 1;
   for (Eigen::Index f = 0; f < T.rows(); ++f) worse[size_t(f)] = corner[size_t(T(f, 0))] | corner[size_t(T(f, 1))] | corner[size_t(T(f, 2))];
-  keep.resize(size_t(source.points().rows()), 0);
+  keep.resize(size_t(points.rows()), 0);
   long kept = 0;
   for (size_t v = 0; v < keep.size(); ++v) kept += (keep[v] |= worse[size_t(owners.owner(int(v)))]);
   return kept;
