@@ -58,12 +58,16 @@ void main() {
   int s = v_segment;
   vec3 a = texelFetch(u_segments, 6 * s).xyz;
   vec3 b = texelFetch(u_segments, 6 * s + 1).xyz;
-  vec3 e1 = texelFetch(u_segments, 6 * s + 2).xyz;
-  vec3 e2 = texelFetch(u_segments, 6 * s + 3).xyz;
+  vec4 e1 = texelFetch(u_segments, 6 * s + 2);  // e1, extension past a in radii
+  vec4 e2 = texelFetch(u_segments, 6 * s + 3);  // e2, extension past b in radii
   vec4 rect = texelFetch(u_segments, 6 * s + 4);  // x, y, w, h
-  vec4 extra = texelFetch(u_segments, 6 * s + 5);  // d, rotated
+  vec4 extra = texelFetch(u_segments, 6 * s + 5);  // d, rotated, radius
+  // capsule_frame: the ends moved out along the axis by the extensions.
+  float len = length(b - a);
+  vec3 axis = len > 0.0 ? (b - a) / len : vec3(0.0);
+  vec3 a_end = a - e1.w * extra.z * axis, b_end = b + e2.w * extra.z * axis;
   bool rotated = extra.y > 0.5;
-  vec4 c = capsule_uv(a, b, e1, e2, rect.z, rect.w, extra.x, v_position);
+  vec4 c = capsule_uv(a_end, b_end, e1.xyz, e2.xyz, rect.z, rect.w, extra.x, v_position);
   vec2 atlas = local_to_atlas(rect, rotated, c.x, c.y);
   // The same point with phi continued from the triangle's reference angle: smooth across phi = 0.
   float dphi = c.z - v_phi_ref;

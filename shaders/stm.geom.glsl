@@ -163,9 +163,14 @@ void consider(int e, vec3 p[3], float orient) {
   if (best < 0 || better_candidate(x, best_fit)) best = e, best_fit = x;
 }
 
+// The capsule runs on past its nodes by its extensions (texels 2 and 3, .w), in radii.
 float second_pass_cost(vec3 p[3], float orient, int e, out bool folded) {
-  float s = face_stretch(p, orient, texelFetch(u_segments, 6 * e).xyz, texelFetch(u_segments, 6 * e + 1).xyz,
-                         texelFetch(u_segments, 6 * e + 5).z, folded);
+  vec3 a = texelFetch(u_segments, 6 * e).xyz, b = texelFetch(u_segments, 6 * e + 1).xyz;
+  float radius = texelFetch(u_segments, 6 * e + 5).z;
+  float len = length(b - a);
+  vec3 axis = len > 0.0 ? (b - a) / len : vec3(0.0);
+  float s = face_stretch(p, orient, a - texelFetch(u_segments, 6 * e + 2).w * radius * axis,
+                         b + texelFetch(u_segments, 6 * e + 3).w * radius * axis, radius, folded);
   return folded && s < kInf ? 2.0 * s : s;
 }
 

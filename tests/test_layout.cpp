@@ -340,7 +340,7 @@ TEST_CASE("layout: the paper's shapes and Spot with extracted skeletons cover th
     std::printf("layout %-18s edges %2zu segments %2zu coverage %.3f (inner %.3f) L2 stretch %.3f\n", name.c_str(), sk.edges.size(),
                 L.segments.size(), L.coverage, L.coverage_inner, c.stretch);
     INFO(name << ": coverage " << L.coverage << " stretch " << c.stretch);
-    CHECK(L.coverage >= std::max(0.9, paper));
+    CHECK(L.coverage >= std::max(0.95, paper));  // issue 17: 95 % on the paper's shapes
     CHECK(L.coverage <= 1.0);
     check_packing(L);
     CHECK(c.stretch >= 1.0);
@@ -404,13 +404,14 @@ std::pair<double, double> stretch_and_p99(const sdm::Mesh& m) {
 TEST_CASE("layout stretch of every closed mesh of ../shared/models is bounded (issue 17)", "[layout]") {
   // Before the assignment's second pass the L2 stretch was over 2 on bunny00 (14.0), the CAD parts
   // (6.0, 16.1) and every body (3.3-20.9): a few faces folded or mapped almost flat under their
-  // segment's rectangle. Issue 17 asks L2 <= 2 and p99 <= 4; bunny00's and anchor_dense's p99 are
-  // still over 4 (4.8, 4.2: a blob's faces that look along every axis near them), bounded at 5.
+  // segment's rectangle. Issue 17 asks L2 <= 2 and p99 <= 4; bunny00's and anchor_dense's p99 were
+  // 4.83 and 4.21 with the second pass alone (faces past a joint folded by every cap), 3.82 and 3.80
+  // with the capsules extended at such joints (segments.h, cap_extensions).
   const std::vector<test_util::SharedMesh> meshes = test_util::closed_shared_meshes();
   if (meshes.empty()) WARN("no meshes in ../shared/models: skipped");
+  int extended = 0;
   for (const auto& sm : meshes) {
     const std::string& name = sm.name;
-    const double p99_bound = name == "cgal/bunny00.off" || name == "cgal/anchor_dense.off" ? 5 : 4;
     const sdm::Mesh m = sdm::load_mesh(sm.path);
     const sdm::Layout L = sdm::compute_layout(m, sdm::extract_skeleton(m));
     const sdm::StmCoordinates c = sdm::stm_coordinates(m, L);
@@ -418,6 +419,24 @@ TEST_CASE("layout stretch of every closed mesh of ../shared/models is bounded (i
     INFO(name << ": L2 stretch " << l2 << " (reported " << c.stretch << "), p99 " << p99);
     CHECK(l2 == Approx(c.stretch).epsilon(1e-9));
     CHECK(l2 <= 2.0);
-    CHECK(p99 <= p99_bound);
+    CHECK(p99 <= 4.0);
+    for (const auto& g : L.segments) extended += g.extend_a > 0 || g.extend_b > 0;
+    // Written and read back, the layout assigns every face as it did (the shaders read the file).
+    CHECK(sdm::assign_faces(m, sdm::layout_from_json(sdm::layout_to_json(L))) == c.face_segment);
+    CHECK(L.assignment == (std::any_of(L.segments.begin(), L.segments.end(),
+                                       [](const sdm::LayoutSegment& g) { return g.extend_a > 0 || g.extend_b > 0; })
+                               ? 3
+                               : 2));
+  }
+  if (!meshes.empty()) CHECK(extended > 0);  // bunny00 needs them
+  // The paper's shapes need no extension: their layouts are those of the second pass alone.
+  for (const std::string name : {"ypsilon", "bottle", "donut", "triple-torus", "crossed-cylinders"}) {
+    const sdm::Mesh m = sdm::make_primitive(name);
+    const sdm::Layout L = sdm::compute_layout(m, sdm::extract_skeleton(m));
+    const auto [l2, p99] = stretch_and_p99(sdm::stm_coordinates(m, L).mesh);
+    INFO(name << ": L2 stretch " << l2 << ", p99 " << p99);
+    CHECK(l2 <= 2.0);
+    CHECK(p99 <= 4.0);
+    CHECK(L.assignment == 2);
   }
 }

@@ -92,15 +92,17 @@ TEST_CASE("Spot from its STM without uv matches Spot with its own uv", "[render_
   }
 }
 
-TEST_CASE("the shaders' STM coordinates match the CPU capsule mapping", "[render_stm]") {
-  sdm::GlContext gl;
-  const SpotScene& sc = spot(gl);
+namespace {
+
+// Renders `layout` on Spot and compares the shaders' STM coordinates and segments with the CPU's
+// (capsule_uv, assign_faces), pixel by pixel.
+void check_shaders_match_cpu(sdm::GlContext& gl, const sdm::Mesh& mesh, const sdm::Layout& layout, const sdm::Image& atlas) {
   sdm::RenderOptions ro;
   ro.width = ro.height = 256;
   ro.azimuth_deg = 60;
   sdm::StmRenderProbe probe;
-  sdm::render_stm(gl, sc.mesh, sc.layout, sc.atlas, ro, nullptr, &probe);
-  const std::vector<int> fs = sdm::assign_faces(sc.mesh, sc.layout);
+  sdm::render_stm(gl, mesh, layout, atlas, ro, nullptr, &probe);
+  const std::vector<int> fs = sdm::assign_faces(mesh, layout);
   int n = 0, near_pole = 0, other_segment = 0;
   double worst = 0;
   for (int i = 0; i < ro.width * ro.height; ++i) {
@@ -109,12 +111,12 @@ TEST_CASE("the shaders' STM coordinates match the CPU capsule mapping", "[render
     if (p[3] == 0) continue;
     const int s = int(c[2]), face = int(c[3]);
     REQUIRE(s >= 0);
-    REQUIRE(s < int(sc.layout.segments.size()));
+    REQUIRE(s < int(layout.segments.size()));
     REQUIRE(face >= 0);
-    REQUIRE(face < int(sc.mesh.n_faces()));
+    REQUIRE(face < int(mesh.n_faces()));
     if (fs[face] != s) ++other_segment;
-    const sdm::LayoutSegment& g = sc.layout.segments[s];
-    const sdm::CapsuleUV cpu = sdm::capsule_uv(sdm::capsule_frame(sc.layout, s), g.w, g.h, g.d, Eigen::Vector3d(p[0], p[1], p[2]));
+    const sdm::LayoutSegment& g = layout.segments[s];
+    const sdm::CapsuleUV cpu = sdm::capsule_uv(sdm::capsule_frame(layout, s), g.w, g.h, g.d, Eigen::Vector3d(p[0], p[1], p[2]));
     // Within a thousandth of the radius of the axis the angle is ill-conditioned in float.
     if (cpu.rho < 1e-3 * g.radius) {
       ++near_pole;
@@ -134,6 +136,40 @@ TEST_CASE("the shaders' STM coordinates match the CPU capsule mapping", "[render
   CHECK(near_pole <= n / 1000);
   CHECK(worst < 0.01);
   CHECK(other_segment <= n / 100);  // float ties only
+}
+
+}  // namespace
+
+TEST_CASE("the shaders' STM coordinates match the CPU capsule mapping", "[render_stm]") {
+  sdm::GlContext gl;
+  const SpotScene& sc = spot(gl);
+  check_shaders_match_cpu(gl, sc.mesh, sc.layout, sc.atlas);
+}
+
+TEST_CASE("extended capsules map and assign alike on the GPU and the CPU", "[render_stm]") {
+  // Spot needs no extension; every joint's segment ends are extended here, as layouts of
+  // bunny00-like shapes have them (assignment rule 3).
+  sdm::GlContext gl;
+  const SpotScene& sc = spot(gl);
+  nlohmann::json j = sdm::layout_to_json(sc.layout);
+  REQUIRE(j.at("assignment") == 2);
+  std::vector<int> degree(sc.layout.skeleton.nodes.size(), 0);
+  for (const auto& e : sc.layout.skeleton.edges) ++degree[e[0]], ++degree[e[1]];
+  j["assignment"] = 3;
+  for (auto& s : j["segments"])
+    s["extend"] = {degree[s["a"].get<int>()] >= 2 ? sdm::kCapExtension : 0.0, degree[s["b"].get<int>()] >= 2 ? sdm::kCapExtension : 0.0};
+  const sdm::Layout extended = sdm::layout_from_json(j);
+  REQUIRE(extended.assignment == 3);
+  // The extensions change what the second pass chooses and where the points map.
+  const std::vector<int> fs2 = sdm::assign_faces(sc.mesh, sc.layout), fs3 = sdm::assign_faces(sc.mesh, extended);
+  int moved = 0;
+  for (size_t f = 0; f < fs2.size(); ++f) moved += fs2[f] != fs3[f];
+  INFO("faces the extensions move on Spot: " << moved);
+  CHECK(moved > 0);
+  check_shaders_match_cpu(gl, sc.mesh, extended, sc.atlas);
+  // Written without the rule, the extensions are refused by name.
+  j["assignment"] = 2;
+  CHECK_THROWS_WITH(sdm::layout_from_json(j), Catch::Contains("capsule extensions"));
 }
 
 TEST_CASE("the shader chooses the segments of assign_faces on a mesh wound inside out", "[render_stm]") {

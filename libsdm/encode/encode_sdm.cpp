@@ -216,6 +216,11 @@ constexpr int kFlatPasses = 3;
 constexpr double kFlatEnough = 0.1;
 // How far beyond the limit distances are measured (decoded_errors).
 constexpr double kCheckCap = 8;
+// A decoded triangle whose distance bound through its corners exceeds the limit is measured at its
+// centroid and, when longer than 3 kCheckSpacing limits, at a barycentric grid with steps of about
+// kCheckSpacing limits along its longest side (at most kCheckGrid steps).
+constexpr double kCheckSpacing = 4;
+constexpr int kCheckGrid = 12;
 
 // Per base face, the largest distance from the input surface of its points decoded at kCheckLevel
 // and of the centroids of its decoded triangles (a CAD part's base face across a sharp edge decodes
@@ -223,8 +228,9 @@ constexpr double kCheckCap = 8;
 // point on the surface).
 // Distances are looked for within `limit` first and then within `cap` (farther ones count as cap):
 // small balls prune most of the tree, and the check is about the few points beyond the limit.
-// A triangle's centroid is measured only when its distance bound through the corners (a corner's
-// distance plus the way to it) exceeds the limit: on dense meshes few are.
+// A triangle's centroid (and, when large, a grid of its points: kCheckSpacing) is measured only when
+// its distance bound through the corners (a corner's distance plus the way to it) exceeds the
+// limit: on dense meshes few are.
 struct FaceErrors {
   std::vector<double> distance;  // per base face, the largest distance of its points from the input
   std::vector<char> long_edge;   // per base face, whether a decoded edge is longer than the input's longest
@@ -245,10 +251,25 @@ FaceErrors decoded_errors(const SdmImage& im, const TriangleBvh& input, double l
   std::vector<double> d(size_t(nv + nt));
   parallel_for(nv, 4096, [&](int i) { d[size_t(i)] = distance(P[size_t(i)]); });
   parallel_for(nt, 4096, [&](int t) {
-    const Eigen::Vector3d c = (P[size_t(T(t, 0))] + P[size_t(T(t, 1))] + P[size_t(T(t, 2))]) / 3;
+    const Eigen::Vector3d* q[3] = {&P[size_t(T(t, 0))], &P[size_t(T(t, 1))], &P[size_t(T(t, 2))]};
+    const Eigen::Vector3d c = (*q[0] + *q[1] + *q[2]) / 3;
     double bound = INFINITY;
-    for (int k = 0; k < 3; ++k) bound = std::min(bound, d[size_t(T(t, k))] + (c - P[size_t(T(t, k))]).norm());
-    d[size_t(nv + t)] = bound <= limit ? bound : distance(c);
+    for (int k = 0; k < 3; ++k) bound = std::min(bound, d[size_t(T(t, k))] + (c - *q[k]).norm());
+    if (bound <= limit) {
+      d[size_t(nv + t)] = bound;
+      return;
+    }
+    // The centroid, and on a large triangle a grid of points: a CAD part's decoded triangle across a
+    // concave edge had its corners and centroid on the surface and its middle 1.8 % of the diagonal off.
+    double longest_side = 0;
+    for (int k = 0; k < 3; ++k) longest_side = std::max(longest_side, (*q[k] - *q[(k + 1) % 3]).norm());
+    const int m = 3 * std::clamp(int(std::ceil(longest_side / (kCheckSpacing * limit) / 3)), 1, kCheckGrid / 3);
+    double worst = distance(c);
+    for (int i = 0; i <= m && m > 3; ++i)
+      for (int j = 0; i + j <= m; ++j)
+        if (i != m && j != m && i + j != 0)
+          worst = std::max(worst, distance((double(i) * *q[0] + double(j) * *q[1] + double(m - i - j) * *q[2]) / double(m)));
+    d[size_t(nv + t)] = worst;
   });
   FaceErrors err{std::vector<double>(size_t(base_faces), 0.0), std::vector<char>(size_t(base_faces), 0)};
   for (int i = 0; i < nv + nt; ++i) {

@@ -19,8 +19,9 @@ TexelTargets::TexelTargets(const Layout& layout, const BaseMesh& base, const std
       RF(Eigen::Index(k), c) = int(3 * k + c);
     }
   reference_ = TriangleBvh(R_, RF);
-  // Texel size on the reference capsule (around the axis, and along it on the cylinder).
-  texel_ = std::max(2 * M_PI * seg_.radius / seg_.h, seg_.length / std::max(1.0, seg_.w - 2 * seg_.d));
+  // Texel size on the reference capsule (around the axis, and along it on the cylinder, which runs
+  // on past the nodes where the layout extends it).
+  texel_ = std::max(2 * M_PI * seg_.radius / seg_.h, (frame_.b - frame_.a).norm() / std::max(1.0, seg_.w - 2 * seg_.d));
 }
 
 std::optional<TexelTargets::Target> TexelTargets::target(const CapsuleRay& ray) const {

@@ -65,7 +65,8 @@ Layout compute_layout(const Mesh& mesh, const Skeleton& input, const LayoutOptio
   // The rectangles are made for the radii assign_faces' second pass rated with (its first pass's
   // geometry): the shaders, given the layout, then choose the segments this assignment chose.
   std::vector<double> radius;
-  const std::vector<int> fs = assign_faces(mesh, skeleton, &radius);
+  std::vector<std::array<double, 2>> extension;
+  const std::vector<int> fs = assign_faces(mesh, skeleton, &radius, true, &extension);
   const std::vector<SegmentGeometry> geo = segment_geometry(mesh, skeleton, fs, &radius);
   say("carrying frames along the skeleton");
   const std::vector<SegmentFrame> frames = segment_frames(mesh, skeleton, fs);
@@ -83,7 +84,9 @@ Layout compute_layout(const Mesh& mesh, const Skeleton& input, const LayoutOptio
     g.axis = frames[s].axis, g.e1 = frames[s].e1, g.e2 = frames[s].e2;
     g.radius = geo[s].radius, g.cap = geo[s].cap, g.length = geo[s].length, g.area = geo[s].area;
     g.weight = opt.weights.empty() ? 1.0 : opt.weights[origin[s]];
-    sizes[s] = g.weight * Eigen::Vector2d(g.length + 2 * g.cap, 2 * M_PI * g.radius);
+    const bool same = skeleton.edges[s][0] == g.a;  // the frame may run against the edge
+    g.extend_a = extension[s][same ? 0 : 1], g.extend_b = extension[s][same ? 1 : 0];
+    sizes[s] = g.weight * Eigen::Vector2d(capsule_length(g), 2 * M_PI * g.radius);
   }
   check_no_speck(mesh, L, sizes, opt);
   say("packing " + std::to_string(ne) + " rectangles into " + std::to_string(opt.size) + "^2 texels");
@@ -100,25 +103,38 @@ Layout compute_layout(const Mesh& mesh, const Skeleton& input, const LayoutOptio
     LayoutSegment& g = L.segments[s];
     g.x = p.rects[s].x, g.y = p.rects[s].y, g.w = p.rects[s].w, g.h = p.rects[s].h, g.rotated = p.rects[s].rotated;
     // The caps keep their share of the rectangle's length (rounded to whole texels, maybe grown).
-    g.d = std::min(g.w * g.cap / (g.length + 2 * g.cap), 0.5 * g.w);
+    g.d = std::min(g.w * g.cap / capsule_length(g), 0.5 * g.w);
     for (int o : node_segments[g.a])
       if (o != s) g.neighbours_a.push_back(o);
     for (int o : node_segments[g.b])
       if (o != s) g.neighbours_b.push_back(o);
   }
+  // Layouts without extensions keep the rule older builds read.
+  const bool extended = std::any_of(L.segments.begin(), L.segments.end(),
+                                    [](const LayoutSegment& g) { return g.extend_a > 0 || g.extend_b > 0; });
+  L.assignment = extended ? 3 : 2;
   return L;
 }
 
 CapsuleFrame capsule_frame(const Layout& L, int s) {
   const LayoutSegment& g = L.segments.at(s);
-  return {L.skeleton.nodes.at(g.a), L.skeleton.nodes.at(g.b), g.e1, g.e2};
+  const Eigen::Vector3d &a = L.skeleton.nodes.at(g.a), &b = L.skeleton.nodes.at(g.b);
+  return {a - g.extend_a * g.radius * g.axis, b + g.extend_b * g.radius * g.axis, g.e1, g.e2};
 }
+
+double capsule_length(const LayoutSegment& g) { return g.length + (g.extend_a + g.extend_b) * g.radius + 2 * g.cap; }
 
 std::vector<int> assign_faces(const Mesh& mesh, const Layout& L, const Skeleton& skeleton) {
   std::vector<double> radius;
   radius.reserve(L.segments.size());
-  for (const LayoutSegment& g : L.segments) radius.push_back(g.radius);
-  return assign_faces_with_radii(mesh, skeleton, radius, L.assignment >= 2);
+  std::vector<std::array<double, 2>> extension;  // per edge, at edges[e][0] and edges[e][1]
+  for (size_t s = 0; s < L.segments.size(); ++s) {
+    const LayoutSegment& g = L.segments[s];
+    radius.push_back(g.radius);
+    const bool same = s >= skeleton.edges.size() || skeleton.edges[s][0] == g.a;
+    if (L.assignment >= 3) extension.push_back({same ? g.extend_a : g.extend_b, same ? g.extend_b : g.extend_a});
+  }
+  return assign_faces_with_radii(mesh, skeleton, radius, L.assignment >= 2, extension);
 }
 
 std::vector<int> assign_faces(const Mesh& mesh, const Layout& L) { return assign_faces(mesh, L, L.skeleton); }
@@ -162,6 +178,7 @@ nlohmann::json layout_to_json(const Layout& L) {
     s["rect"] = {g.x, g.y, g.w, g.h};
     s["rotated"] = g.rotated;
     s["d"] = g.d;
+    if (g.extend_a > 0 || g.extend_b > 0) s["extend"] = {g.extend_a, g.extend_b};
     s["neighbours_a"] = g.neighbours_a;
     s["neighbours_b"] = g.neighbours_b;
     j["segments"].push_back(s);
@@ -192,7 +209,9 @@ std::string segment_problem(const Layout& L, size_t s) {
   // The rectangle is the capsule at the layout's scale, grown by packing (measured 0.99-1.34x on
   // Spot and the capsule, 2.18x on a Spot with its head pushed into its body): a radius or length
   // tampered by 10x decoded a "closed 2-manifold" off by model units.
-  const double around = 2 * M_PI * g.radius * L.scale * g.weight, along = (g.length + 2 * g.cap) * L.scale * g.weight;
+  if (!(g.extend_a >= 0 && g.extend_a <= kMaxCapExtension) || !(g.extend_b >= 0 && g.extend_b <= kMaxCapExtension))
+    return "has capsule extensions " + number(g.extend_a) + ", " + number(g.extend_b) + " outside 0.." + number(kMaxCapExtension) + " radii";
+  const double around = 2 * M_PI * g.radius * L.scale * g.weight, along = capsule_length(g) * L.scale * g.weight;
   if (g.h < 0.5 * around - 1 || g.h > 4 * around + 1 || g.w < 0.5 * along - 1 || g.w > 4 * along + 1)
     return "has a rectangle of " + std::to_string(g.w) + "x" + std::to_string(g.h) + " texels for a capsule of " + number(along) + "x" +
            number(around) + " at the layout's scale: its radius, length or scale was altered";
@@ -236,8 +255,8 @@ Layout layout_from_json(const nlohmann::json& j) {
     L.coverage = j.value("coverage", 0.0);
     L.coverage_inner = j.value("coverage_inner", 0.0);
     L.assignment = j.contains("assignment") ? json_int(j.at("assignment")) : 1;
-    if (L.assignment != 1 && L.assignment != 2)
-      throw InputError("layout assignment rule " + std::to_string(L.assignment) + " is not supported (this build knows 1 and 2)");
+    if (L.assignment < 1 || L.assignment > 3)
+      throw InputError("layout assignment rule " + std::to_string(L.assignment) + " is not supported (this build knows 1 to 3)");
     L.skeleton = skeleton_from_json(j.at("skeleton"));
     for (const auto& s : j.at("segments")) {
       LayoutSegment g;
@@ -256,6 +275,12 @@ Layout layout_from_json(const nlohmann::json& j) {
       g.x = json_int(r.at(0)), g.y = json_int(r.at(1)), g.w = json_int(r.at(2)), g.h = json_int(r.at(3));
       g.rotated = s.at("rotated").get<bool>();
       g.d = s.at("d").get<double>();
+      if (s.contains("extend")) {
+        if (L.assignment < 3)
+          throw InputError("segment " + std::to_string(L.segments.size()) + " has capsule extensions, which assignment rule " +
+                           std::to_string(L.assignment) + " does not have");
+        g.extend_a = s["extend"].at(0).get<double>(), g.extend_b = s["extend"].at(1).get<double>();
+      }
       if (s.contains("neighbours_a")) g.neighbours_a = json_ints(s["neighbours_a"]);
       if (s.contains("neighbours_b")) g.neighbours_b = json_ints(s["neighbours_b"]);
       L.segments.push_back(g);

@@ -30,6 +30,9 @@ struct LayoutSegment {
   int x = 0, y = 0, w = 0, h = 0;      // inner rectangle: w texels along the axis, h around it
   bool rotated = false;
   double d = 0;                        // cap length in texels
+  // The capsule runs on as a cylinder past node a (b) by this many radii before its cap starts
+  // (cap_extensions, segments.h); 0 in layouts written before them.
+  double extend_a = 0, extend_b = 0;
   std::vector<int> neighbours_a, neighbours_b;  // segments sharing node a, node b
 };
 
@@ -42,7 +45,8 @@ struct Layout {
   std::vector<LayoutSegment> segments;
   // The face assignment its atlas was made with (assign_faces(Mesh, Layout), the shaders): 2, with
   // assign_faces' second pass; 1, the first pass alone, for layouts written before it (JSON without
-  // "assignment"), so that an atlas rendered then is still sampled where it was rendered.
+  // "assignment"), so that an atlas rendered then is still sampled where it was rendered; 3, the
+  // second pass with extended capsules (LayoutSegment::extend_a, extend_b), which older builds refuse.
   int assignment = 2;
 };
 
@@ -60,7 +64,7 @@ struct LayoutOptions {
 };
 
 // Long edges cut (options.split_ratio; the layout keeps the cut skeleton), then segments, face
-// assignment, frames, rectangle sizes (w = L + 2d, h = 2 pi r, times the weight)
+// assignment, frames, rectangle sizes (w = L + (extensions) r + 2d, h = 2 pi r, times the weight)
 // and packing. Throws InputError for a skeleton that does not fit the mesh, bad weights, or an
 // atlas too small for the rectangles.
 Layout compute_layout(const Mesh& mesh, const Skeleton& skeleton, const LayoutOptions& options = {});
@@ -71,9 +75,13 @@ Layout compute_layout(const Mesh& mesh, const Skeleton& skeleton, const LayoutOp
 std::vector<int> assign_faces(const Mesh& mesh, const Layout& layout);
 std::vector<int> assign_faces(const Mesh& mesh, const Layout& layout, const Skeleton& skeleton);
 
-// The capsule frame of segment s, and its local -> atlas texel map.
+// The capsule frame of segment s (its ends moved out along the axis by the extensions), and its
+// local -> atlas texel map.
 CapsuleFrame capsule_frame(const Layout& layout, int s);
 Eigen::Vector2d local_to_atlas(const LayoutSegment& seg, double u, double v);
+// The capsule's length along its axis in model units, caps and extensions included: what the
+// rectangle's w stands for.
+double capsule_length(const LayoutSegment& seg);
 
 // JSON: {"format": "sdm-layout", "version": 1, "size", "margin", "scale", "coverage",
 // "coverage_inner", "assignment" (Layout::assignment; absent: 1), "skeleton": {...}, "segments": [{"edge", "a", "b", "axis", "e1", "e2",

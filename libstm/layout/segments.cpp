@@ -219,9 +219,14 @@ std::vector<int> first_pass(const Mesh& mesh, const Skeleton& sk, const std::vec
 
 // What the second pass minimises: the stretch with the segment's radius, twice that when the map
 // folds the face (a folded face overlaps its neighbours in the atlas), infinity when it flattens it.
+// The capsule runs on past its nodes by `extension` radii (cap_extensions).
 double second_pass_cost(const Eigen::Vector3d p[3], double orient, const Skeleton& sk, int e, double radius,
-                        bool* folded) {
-  const double s = face_stretch(p, orient, sk.nodes[sk.edges[e][0]], sk.nodes[sk.edges[e][1]], radius, folded);
+                        const std::array<double, 2>& extension, bool* folded) {
+  const Eigen::Vector3d& a = sk.nodes[sk.edges[e][0]];
+  const Eigen::Vector3d& b = sk.nodes[sk.edges[e][1]];
+  const double len = (b - a).norm();
+  const Eigen::Vector3d axis = len > 0 ? Eigen::Vector3d((b - a) / len) : Eigen::Vector3d::Zero();
+  const double s = face_stretch(p, orient, a - extension[0] * radius * axis, b + extension[1] * radius * axis, radius, folded);
   return *folded ? 2 * s : s;
 }
 
@@ -237,7 +242,8 @@ bool better_second(double x, int e, double bx, int be) {
 // The second pass (see assign_faces): faces their first-pass segment maps folded or with stretch
 // >= kGoodStretch at its radius try every segment at a node within two edges of their nodes.
 void second_pass(const Mesh& mesh, const Skeleton& sk, const std::vector<std::vector<int>>& node_edges,
-                 const std::vector<int>& orientation, const std::vector<double>& radii, std::vector<int>& result) {
+                 const std::vector<int>& orientation, const std::vector<double>& radii,
+                 const std::vector<std::array<double, 2>>& extensions, std::vector<int>& result) {
   std::vector<std::vector<int>> node_nb(sk.nodes.size());
   for (const auto& e : sk.edges) node_nb[e[0]].push_back(e[1]), node_nb[e[1]].push_back(e[0]);
   parallel_for(int(mesh.n_faces()), 2048, [&](int fi) {
@@ -248,7 +254,7 @@ void second_pass(const Mesh& mesh, const Skeleton& sk, const std::vector<std::ve
     face_corners(mesh, sk, fi, p, nodes);
     const double orient = orientation[fi];
     bool folded = false;
-    double best_cost = second_pass_cost(p, orient, sk, first, radii[first], &folded);
+    double best_cost = second_pass_cost(p, orient, sk, first, radii[first], extensions[first], &folded);
     if (!folded && best_cost < kGoodStretch) return;
     for (int hop = 0; hop < 2; ++hop)
       for (size_t i = 0, n = nodes.size(); i < n; ++i)
@@ -258,15 +264,53 @@ void second_pass(const Mesh& mesh, const Skeleton& sk, const std::vector<std::ve
     int best = first;
     for (int n : nodes)
       for (int e : node_edges[n]) {
-        const double c = second_pass_cost(p, orient, sk, e, radii[e], &folded);
+        const double c = second_pass_cost(p, orient, sk, e, radii[e], extensions[e], &folded);
         if (better_second(c, e, best_cost, best)) best = e, best_cost = c;
       }
     result[fi] = best;
   });
 }
 
+// The joints (nodes of degree 2 or more) past which a face of `face_segment` lies folded over by its
+// segment's cap with a stretch of kGoodStretch or more: every segment end there gets kCapExtension
+// (see assign_faces). Per edge, at edges[e][0] and edges[e][1], in radii.
+std::vector<std::array<double, 2>> cap_extensions(const Mesh& mesh, const Skeleton& sk, const std::vector<int>& face_segment,
+                                                  const std::vector<double>& radii, const std::vector<int>& orientation) {
+  const std::array<double, 2> none{0.0, 0.0};
+  std::vector<char> folded_past(mesh.n_faces() * 2, 0);  // per face: folded past its edge's node 0, node 1
+  parallel_for(int(mesh.n_faces()), 2048, [&](int fi) {
+    Eigen::Vector3d p[3];
+    thread_local std::vector<int> nodes;
+    nodes.clear();
+    face_corners(mesh, sk, fi, p, nodes);
+    const int e = face_segment[fi];
+    bool folded = false;
+    const double cost = second_pass_cost(p, orientation[fi], sk, e, radii[e], none, &folded);
+    if (!folded || !(cost >= 2 * kGoodStretch)) return;  // a folded map costs twice its stretch
+    const Eigen::Vector3d& a = sk.nodes[sk.edges[e][0]];
+    const Eigen::Vector3d ab = sk.nodes[sk.edges[e][1]] - a;
+    const double t = (p[0] + p[1] + p[2] - 3 * a).dot(ab) / (3 * std::max(ab.squaredNorm(), 1e-300));
+    if (t < 0) folded_past[2 * fi] = 1;
+    if (t > 1) folded_past[2 * fi + 1] = 1;
+  });
+  std::vector<char> extend(sk.nodes.size(), 0);
+  for (int fi = 0; fi < int(mesh.n_faces()); ++fi)
+    for (int k = 0; k < 2; ++k)
+      if (folded_past[2 * fi + k]) extend[sk.edges[face_segment[fi]][k]] = 1;
+  std::vector<int> degree(sk.nodes.size(), 0);
+  for (const auto& e : sk.edges) ++degree[e[0]], ++degree[e[1]];
+  std::vector<std::array<double, 2>> ext(sk.edges.size(), none);
+  for (size_t e = 0; e < sk.edges.size(); ++e)
+    for (int k = 0; k < 2; ++k) {
+      const int n = sk.edges[e][k];
+      if (extend[n] && degree[n] >= 2) ext[e][k] = kCapExtension;
+    }
+  return ext;
+}
+
 std::vector<int> assign(const Mesh& mesh, const Skeleton& sk, const std::vector<double>* given, std::vector<double>* used,
-                        bool second) {
+                        bool second, const std::vector<std::array<double, 2>>& extensions,
+                        std::vector<std::array<double, 2>>* extensions_used) {
   check_inputs(mesh, sk);
   const std::vector<std::vector<int>> node_edges = node_segments(sk);
   // The rule needs outward normals: a part wound inside out is flipped.
@@ -290,21 +334,39 @@ std::vector<int> assign(const Mesh& mesh, const Skeleton& sk, const std::vector<
   } else if (second || used) {
     for (const SegmentGeometry& g : segment_geometry(mesh, sk, result)) radii.push_back(g.radius);
   }
-  if (second) second_pass(mesh, sk, node_edges, orientation, radii, result);
+  if (second && given) {
+    if (!extensions.empty() && extensions.size() != sk.edges.size())
+      throw InputError("got " + std::to_string(extensions.size()) + " capsule extensions for " + std::to_string(sk.edges.size()) + " skeleton edges");
+    const std::vector<std::array<double, 2>> none(extensions.empty() ? sk.edges.size() : 0, {0.0, 0.0});
+    second_pass(mesh, sk, node_edges, orientation, radii, extensions.empty() ? none : extensions, result);
+  } else if (second) {
+    // Plain capsules first; where faces past a joint stay folded or stretched, extended ones.
+    std::vector<std::array<double, 2>> ext(sk.edges.size(), {0.0, 0.0});
+    std::vector<int> plain = result;
+    second_pass(mesh, sk, node_edges, orientation, radii, ext, plain);
+    ext = cap_extensions(mesh, sk, plain, radii, orientation);
+    if (std::all_of(ext.begin(), ext.end(), [](const auto& x) { return x[0] == 0 && x[1] == 0; }))
+      result = std::move(plain);
+    else
+      second_pass(mesh, sk, node_edges, orientation, radii, ext, result);
+    if (extensions_used) *extensions_used = std::move(ext);
+  }
   if (used) *used = std::move(radii);
   return result;
 }
 
 }  // namespace
 
-std::vector<int> assign_faces(const Mesh& mesh, const Skeleton& sk, std::vector<double>* radii_used, bool second_pass) {
-  return assign(mesh, sk, nullptr, radii_used, second_pass);
+std::vector<int> assign_faces(const Mesh& mesh, const Skeleton& sk, std::vector<double>* radii_used, bool second_pass,
+                              std::vector<std::array<double, 2>>* extensions_used) {
+  return assign(mesh, sk, nullptr, radii_used, second_pass, {}, extensions_used);
 }
 
 std::vector<int> assign_faces_with_radii(const Mesh& mesh, const Skeleton& sk, const std::vector<double>& radii,
-                                         bool second_pass) {
-  return assign(mesh, sk, &radii, nullptr, second_pass);
+                                         bool second_pass, const std::vector<std::array<double, 2>>& extensions) {
+  return assign(mesh, sk, &radii, nullptr, second_pass, extensions, nullptr);
 }
+
 
 std::vector<SegmentGeometry> segment_geometry(const Mesh& mesh, const Skeleton& sk, const std::vector<int>& face_segment,
                                               const std::vector<double>* radius) {

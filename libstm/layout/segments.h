@@ -5,6 +5,7 @@
 #include "libstm/mesh/mesh.h"
 #include "libstm/skeleton/skeleton.h"
 
+#include <array>
 #include <vector>
 
 namespace sdm {
@@ -29,18 +30,38 @@ namespace sdm {
 // blind to how far the face lies from the radius its segment's rectangle is made for, and looks at
 // the face's own nodes only: a few faces folded or mapped almost flat held most of the L2 stretch
 // (bunny00 14.0, FAUST 085 20.9; BENCHMARKS "Layout stretch").
+// Where the second pass still leaves a face past a joint (a node of degree 2 or more) folded over
+// by its segment's cap with a stretch of 2 or more, every segment end at that joint is *extended*:
+// its capsule runs on as a cylinder for kCapExtension radii before the cap starts, and the second
+// pass runs again with those capsules (issue 17). The paper's cap is a hemisphere about the node;
+// at a bend or where a fat part narrows, the faces around a joint lie beyond both segments' ends and
+// face the node, so every cap folds them (bunny00: 62 % of the faces in the top 1 % of stretch), and
+// a cylinder that runs on maps them the right way round. An extension lengthens the rectangle, so
+// only joints with such faces get one (DESIGN 6: all joints cost 22-26 % of the texels per unit
+// length on the paper's shapes, which need none).
+// `extensions_used`, when given, receives the extensions (per edge, in radii at edges[e][0] and
+// edges[e][1]; all 0 when no joint needed one).
 // `radii_used`, when given, receives the radii of the second pass (one per edge); with
 // `second_pass` false the first pass's faces come back alone (its radii need no more).
 // Both passes are mirrored by the geometry shader of render_stm (shaders/stm.geom.glsl).
 std::vector<int> assign_faces(const Mesh& mesh, const Skeleton& skeleton, std::vector<double>* radii_used = nullptr,
-                              bool second_pass = true);
+                              bool second_pass = true, std::vector<std::array<double, 2>>* extensions_used = nullptr);
 
 // The same rule with the radii of the second pass given (one per skeleton edge, positive): a
 // layout's LayoutSegment::radius (assign_faces(Mesh, Layout) in layout.h), which compute_layout
 // takes from the first pass, so that any mesh is assigned as the layout's own shaders assign it.
 // second_pass false: the first pass alone (the rule of layouts written before the second pass).
+// `extensions` (one per edge, in radii at edges[e][0] and edges[e][1]; empty: none, the rule of
+// layouts written before them) are the capsules' extensions the second pass maps with.
 std::vector<int> assign_faces_with_radii(const Mesh& mesh, const Skeleton& skeleton, const std::vector<double>& radii,
-                                         bool second_pass = true);
+                                         bool second_pass = true,
+                                         const std::vector<std::array<double, 2>>& extensions = {});
+
+// The extension an extended end gets, in radii: 1, 1.25, 1.5 and 2 measured (bunny00's 99th
+// percentile of stretch 4.21, 4.02, 3.78, 3.54 with every joint extended; 1.5 the shortest under 4
+// with a margin); and the largest a layout may hold (check_layout).
+constexpr double kCapExtension = 1.5;
+constexpr double kMaxCapExtension = 4;
 
 // face -> +1, or -1 when the face's connected part (through shared edges) is wound inside out
 // (negative signed volume): the factor that makes the face's normal outward in assign_faces.

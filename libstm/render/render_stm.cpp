@@ -72,15 +72,16 @@ StmVertices stm_vertices(const Mesh& mesh, const Layout& L, const Eigen::Vector3
 }
 
 // Segments: 6 RGBA32F texels each: (a, node a), (b, node b) (a and b relative to the framing centre
-// o), e1, e2, rect, (d, rotated, radius). Node indices are exact in float up to 2^24.
+// o), (e1, extension past a), (e2, extension past b), rect, (d, rotated, radius). Node indices are
+// exact in float up to 2^24.
 std::vector<float> segment_texels(const Layout& L, const Eigen::Vector3d& o) {
   std::vector<float> seg;
   for (size_t s = 0; s < L.segments.size(); ++s) {
     const LayoutSegment& g = L.segments[s];
     const Eigen::Vector3d a = L.skeleton.nodes[g.a] - o, b = L.skeleton.nodes[g.b] - o;
     seg.insert(seg.end(), {float(a.x()), float(a.y()), float(a.z()), float(g.a), float(b.x()), float(b.y()), float(b.z()),
-                           float(g.b), float(g.e1.x()), float(g.e1.y()), float(g.e1.z()), 0.f, float(g.e2.x()),
-                           float(g.e2.y()), float(g.e2.z()), 0.f, float(g.x), float(g.y), float(g.w), float(g.h),
+                           float(g.b), float(g.e1.x()), float(g.e1.y()), float(g.e1.z()), float(g.extend_a), float(g.e2.x()),
+                           float(g.e2.y()), float(g.e2.z()), float(g.extend_b), float(g.x), float(g.y), float(g.w), float(g.h),
                            float(g.d), g.rotated ? 1.f : 0.f, float(g.radius), 0.f});
   }
   return seg;
