@@ -85,8 +85,8 @@ double capsule_length(const LayoutSegment& seg);
 
 // JSON: {"format": "sdm-layout", "version": 1, "size", "margin", "scale", "coverage",
 // "coverage_inner", "assignment" (Layout::assignment; absent: 1), "skeleton": {...}, "segments": [{"edge", "a", "b", "axis", "e1", "e2",
-// "radius", "cap", "length", "area", "weight", "rect": [x, y, w, h], "rotated", "d",
-// "neighbours_a", "neighbours_b"}]}. Reading throws InputError naming what is wrong: besides the
+// "radius", "cap", "length", "area", "weight", "rect": [x, y, w, h], "rotated", "d", "extend"
+// ([at a, at b] in radii; only with assignment 3, absent: none), "neighbours_a", "neighbours_b"}]}. Reading throws InputError naming what is wrong: besides the
 // structure, it checks what compute_layout guarantees (atlas size within kMaxImageSide, rectangles
 // inside the atlas in 64-bit arithmetic, orthonormal frames, positive radii and weights, the
 // skeleton's checks of check_skeleton_geometry), so a crafted file cannot index out of bounds.
