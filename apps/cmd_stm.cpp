@@ -11,8 +11,25 @@
 #include <filesystem>
 #include <iomanip>
 #include <memory>
+#include <sstream>
 
 namespace sdm::cli {
+
+namespace {
+
+// "  capsule runs on past a by 1.5 r" and the like, for the segments whose caps would fold faces at
+// a joint (segments.h, cap_extensions); empty for the others.
+std::string extension_note(const sdm::LayoutSegment& g) {
+  if (g.extend_a <= 0 && g.extend_b <= 0) return "";
+  std::ostringstream s;
+  s << "  capsule runs on past";
+  if (g.extend_a > 0) s << " a by " << std::setprecision(2) << std::defaultfloat << g.extend_a << " r";
+  if (g.extend_a > 0 && g.extend_b > 0) s << " and";
+  if (g.extend_b > 0) s << " b by " << std::setprecision(2) << std::defaultfloat << g.extend_b << " r";
+  return s.str();
+}
+
+}  // namespace
 
 Command add_stm_command(CLI::App& parent) {
   struct Opts {
@@ -68,7 +85,8 @@ Command add_stm_command(CLI::App& parent) {
               j["rectangles"] = nlohmann::json::array();
               for (const auto& g : layout.segments)
                 j["rectangles"].push_back({{"segment", g.edge}, {"a", g.a}, {"b", g.b}, {"length", g.length}, {"radius", g.radius},
-                                           {"rect", {g.x, g.y, g.w, g.h}}, {"rotated", g.rotated}});
+                                           {"rect", {g.x, g.y, g.w, g.h}}, {"rotated", g.rotated},
+                                           {"extend", {g.extend_a, g.extend_b}}});
               print_json(j);
             } else {
               std::cout << o->mesh << "\n  segments        " << layout.segments.size() << "\n";
@@ -76,7 +94,7 @@ Command add_stm_command(CLI::App& parent) {
               for (const auto& g : layout.segments)
                 std::cout << "    " << std::setw(3) << g.edge << "  nodes " << g.a << " -> " << g.b << "  L " << g.length << "  r "
                           << g.radius << "  rect " << g.w << "x" << g.h << " at (" << g.x << ", " << g.y << ")"
-                          << (g.rotated ? " rotated" : "") << "\n";
+                          << (g.rotated ? " rotated" : "") << extension_note(g) << "\n";
               std::cout << "  atlas           " << layout.size << "^2 texels, margin " << layout.margin << "\n";
               std::cout << "  coverage        " << layout.coverage << " (inner " << layout.coverage_inner << ")\n";
               std::cout << "  L2 stretch      " << c.stretch << "\n";

@@ -259,6 +259,11 @@ TEST_CASE("layout: sdm stm writes the layout, the uv mesh and the atlas picture"
   CHECK(j["stretch"].get<double>() < 1.6);
   const auto L = sdm::read_layout_json((dir / "torus.layout.json").string());
   CHECK(L.segments.size() == j["segments"].get<size_t>());
+  // Each rectangle says how far its capsule runs on past its nodes (a smooth ring: nowhere).
+  for (size_t s = 0; s < L.segments.size(); ++s) {
+    CHECK(j["rectangles"][s]["extend"][0].get<double>() == L.segments[s].extend_a);
+    CHECK(j["rectangles"][s]["extend"][1].get<double>() == L.segments[s].extend_b);
+  }
   const auto uv = sdm::load_mesh((dir / "torus_uv.obj").string());
   CHECK(uv.n_faces() == s.mesh.n_faces());
   CHECK(fs::file_size(dir / "atlas.png") > 100);
