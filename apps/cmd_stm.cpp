@@ -18,7 +18,7 @@ namespace sdm::cli {
 namespace {
 
 // "  capsule runs on past a by 1.5 r" and the like, for the segments whose caps would fold faces at
-// a joint (segments.h, cap_extensions); empty for the others.
+// a joint (assign_faces, segments.h); empty for the others.
 std::string extension_note(const sdm::LayoutSegment& g) {
   if (g.extend_a <= 0 && g.extend_b <= 0) return "";
   std::ostringstream s;

@@ -411,7 +411,7 @@ TEST_CASE("layout stretch of every closed mesh of ../shared/models is bounded (i
   // (6.0, 16.1) and every body (3.3-20.9): a few faces folded or mapped almost flat under their
   // segment's rectangle. Issue 17 asks L2 <= 2 and p99 <= 4; bunny00's and anchor_dense's p99 were
   // 4.83 and 4.21 with the second pass alone (faces past a joint folded by every cap), 3.82 and 3.80
-  // with the capsules extended at such joints (segments.h, cap_extensions).
+  // with the capsules extended at such joints (assign_faces, segments.h).
   const std::vector<test_util::SharedMesh> meshes = test_util::closed_shared_meshes();
   if (meshes.empty()) WARN("no meshes in ../shared/models: skipped");
   int extended = 0;

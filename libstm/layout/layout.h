@@ -31,7 +31,8 @@ struct LayoutSegment {
   bool rotated = false;
   double d = 0;                        // cap length in texels
   // The capsule runs on as a cylinder past node a (b) by this many radii before its cap starts
-  // (cap_extensions, segments.h); 0 in layouts written before them.
+  // (where the second pass leaves faces past a joint folded: assign_faces, segments.h); 0 in
+  // layouts written before them.
   double extend_a = 0, extend_b = 0;
   std::vector<int> neighbours_a, neighbours_b;  // segments sharing node a, node b
 };

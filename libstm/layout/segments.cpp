@@ -340,7 +340,7 @@ std::vector<int> assign(const Mesh& mesh, const Skeleton& sk, const std::vector<
     const std::vector<std::array<double, 2>> none(extensions.empty() ? sk.edges.size() : 0, {0.0, 0.0});
     second_pass(mesh, sk, node_edges, orientation, radii, extensions.empty() ? none : extensions, result);
   } else if (second) {
-    // Plain capsules first; where faces past a joint stay folded or stretched, extended ones.
+    // Plain capsules first; where faces past a joint stay folded, extended ones.
     std::vector<std::array<double, 2>> ext(sk.edges.size(), {0.0, 0.0});
     std::vector<int> plain = result;
     second_pass(mesh, sk, node_edges, orientation, radii, ext, plain);
