@@ -239,13 +239,26 @@ bool better_second(double x, int e, double bx, int be) {
   return x < bx;
 }
 
+// Which end of segment e face p lies past (by its centroid): 1 past edges[e][0], 2 past edges[e][1],
+// 0 over the segment.
+char end_past(const Eigen::Vector3d p[3], const Skeleton& sk, int e) {
+  const Eigen::Vector3d& a = sk.nodes[sk.edges[e][0]];
+  const Eigen::Vector3d ab = sk.nodes[sk.edges[e][1]] - a;
+  const double t = (p[0] + p[1] + p[2] - 3 * a).dot(ab) / (3 * std::max(ab.squaredNorm(), 1e-300));
+  return t < 0 ? 1 : t > 1 ? 2 : 0;
+}
+
 // The second pass (see assign_faces): faces their first-pass segment maps folded or with stretch
 // >= kGoodStretch at its radius try every segment at a node within two edges of their nodes.
+// `folded_past`, when given, receives per face the end (end_past) of its final segment that it lies
+// past when that segment still maps it folded with a stretch of kGoodStretch or more, else 0.
 void second_pass(const Mesh& mesh, const Skeleton& sk, const std::vector<std::vector<int>>& node_edges,
                  const std::vector<int>& orientation, const std::vector<double>& radii,
-                 const std::vector<std::array<double, 2>>& extensions, std::vector<int>& result) {
+                 const std::vector<std::array<double, 2>>& extensions, std::vector<int>& result,
+                 std::vector<char>* folded_past = nullptr) {
   std::vector<std::vector<int>> node_nb(sk.nodes.size());
   for (const auto& e : sk.edges) node_nb[e[0]].push_back(e[1]), node_nb[e[1]].push_back(e[0]);
+  if (folded_past) folded_past->assign(mesh.n_faces(), 0);
   parallel_for(int(mesh.n_faces()), 2048, [&](int fi) {
     const int first = result[fi];
     Eigen::Vector3d p[3];
@@ -256,6 +269,7 @@ void second_pass(const Mesh& mesh, const Skeleton& sk, const std::vector<std::ve
     bool folded = false;
     double best_cost = second_pass_cost(p, orient, sk, first, radii[first], extensions[first], &folded);
     if (!folded && best_cost < kGoodStretch) return;
+    bool best_folded = folded;
     for (int hop = 0; hop < 2; ++hop)
       for (size_t i = 0, n = nodes.size(); i < n; ++i)
         for (int m : node_nb[nodes[i]]) nodes.push_back(m);
@@ -265,41 +279,24 @@ void second_pass(const Mesh& mesh, const Skeleton& sk, const std::vector<std::ve
     for (int n : nodes)
       for (int e : node_edges[n]) {
         const double c = second_pass_cost(p, orient, sk, e, radii[e], extensions[e], &folded);
-        if (better_second(c, e, best_cost, best)) best = e, best_cost = c;
+        if (better_second(c, e, best_cost, best)) best = e, best_cost = c, best_folded = folded;
       }
     result[fi] = best;
+    // A folded map costs twice its stretch.
+    if (folded_past && best_folded && best_cost >= 2 * kGoodStretch) (*folded_past)[size_t(fi)] = end_past(p, sk, best);
   });
 }
 
-// The joints (nodes of degree 2 or more) past which a face of `face_segment` lies folded over by its
-// segment's cap with a stretch of kGoodStretch or more: every segment end there gets kCapExtension
-// (see assign_faces). Per edge, at edges[e][0] and edges[e][1], in radii.
-std::vector<std::array<double, 2>> cap_extensions(const Mesh& mesh, const Skeleton& sk, const std::vector<int>& face_segment,
-                                                  const std::vector<double>& radii, const std::vector<int>& orientation) {
-  const std::array<double, 2> none{0.0, 0.0};
-  std::vector<char> folded_past(mesh.n_faces() * 2, 0);  // per face: folded past its edge's node 0, node 1
-  parallel_for(int(mesh.n_faces()), 2048, [&](int fi) {
-    Eigen::Vector3d p[3];
-    thread_local std::vector<int> nodes;
-    nodes.clear();
-    face_corners(mesh, sk, fi, p, nodes);
-    const int e = face_segment[fi];
-    bool folded = false;
-    const double cost = second_pass_cost(p, orientation[fi], sk, e, radii[e], none, &folded);
-    if (!folded || !(cost >= 2 * kGoodStretch)) return;  // a folded map costs twice its stretch
-    const Eigen::Vector3d& a = sk.nodes[sk.edges[e][0]];
-    const Eigen::Vector3d ab = sk.nodes[sk.edges[e][1]] - a;
-    const double t = (p[0] + p[1] + p[2] - 3 * a).dot(ab) / (3 * std::max(ab.squaredNorm(), 1e-300));
-    if (t < 0) folded_past[2 * fi] = 1;
-    if (t > 1) folded_past[2 * fi + 1] = 1;
-  });
+// The joints (nodes of degree 2 or more) past which a face lies folded over by its segment's cap
+// with a stretch of kGoodStretch or more (second_pass's folded_past): every segment end there gets
+// kCapExtension (see assign_faces). Per edge, at edges[e][0] and edges[e][1], in radii.
+std::vector<std::array<double, 2>> cap_extensions(const Skeleton& sk, const std::vector<int>& face_segment,
+                                                  const std::vector<char>& folded_past) {
   std::vector<char> extend(sk.nodes.size(), 0);
-  for (int fi = 0; fi < int(mesh.n_faces()); ++fi)
-    for (int k = 0; k < 2; ++k)
-      if (folded_past[2 * fi + k]) extend[sk.edges[face_segment[fi]][k]] = 1;
-  std::vector<int> degree(sk.nodes.size(), 0);
-  for (const auto& e : sk.edges) ++degree[e[0]], ++degree[e[1]];
-  std::vector<std::array<double, 2>> ext(sk.edges.size(), none);
+  for (size_t f = 0; f < folded_past.size(); ++f)
+    if (folded_past[f]) extend[sk.edges[face_segment[f]][folded_past[f] - 1]] = 1;
+  const std::vector<int> degree = sk.degrees();
+  std::vector<std::array<double, 2>> ext(sk.edges.size(), {0.0, 0.0});
   for (size_t e = 0; e < sk.edges.size(); ++e)
     for (int k = 0; k < 2; ++k) {
       const int n = sk.edges[e][k];
@@ -343,8 +340,9 @@ std::vector<int> assign(const Mesh& mesh, const Skeleton& sk, const std::vector<
     // Plain capsules first; where faces past a joint stay folded, extended ones.
     std::vector<std::array<double, 2>> ext(sk.edges.size(), {0.0, 0.0});
     std::vector<int> plain = result;
-    second_pass(mesh, sk, node_edges, orientation, radii, ext, plain);
-    ext = cap_extensions(mesh, sk, plain, radii, orientation);
+    std::vector<char> folded_past;
+    second_pass(mesh, sk, node_edges, orientation, radii, ext, plain, &folded_past);
+    ext = cap_extensions(sk, plain, folded_past);
     if (std::all_of(ext.begin(), ext.end(), [](const auto& x) { return x[0] == 0 && x[1] == 0; }))
       result = std::move(plain);
     else
@@ -366,7 +364,6 @@ std::vector<int> assign_faces_with_radii(const Mesh& mesh, const Skeleton& sk, c
                                          bool second_pass, const std::vector<std::array<double, 2>>& extensions) {
   return assign(mesh, sk, &radii, nullptr, second_pass, extensions, nullptr);
 }
-
 
 std::vector<SegmentGeometry> segment_geometry(const Mesh& mesh, const Skeleton& sk, const std::vector<int>& face_segment,
                                               const std::vector<double>* radius) {
