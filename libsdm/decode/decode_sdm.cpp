@@ -9,6 +9,7 @@
 #include "libstm/core/parallel.h"
 #include "libstm/layout/layout.h"
 #include "libstm/layout/segment_frames.h"
+#include "libstm/mesh/add_faces.h"
 
 #include <algorithm>
 #include <cmath>
@@ -344,11 +345,11 @@ Mesh decode_sdm(const SdmImage& image, const DecodeOptions& options, DecodeTrace
   DecodedSurface s = decode_surface(image, options);
   const size_t n = s.points.size();
   Mesh out;
-  // Reserved: OpenMesh's arrays otherwise grow and move while millions of faces go in.
   out.reserve(n, size_t(s.triangles.rows()) * 3 / 2 + 3, size_t(s.triangles.rows()));
-  std::vector<Mesh::VertexHandle> vh(n);
-  for (size_t i = 0; i < n; ++i) vh[i] = out.add_vertex(Mesh::Point(s.points[i].x(), s.points[i].y(), s.points[i].z()));
-  for (int t = 0; t < s.triangles.rows(); ++t) out.add_face(vh[s.triangles(t, 0)], vh[s.triangles(t, 1)], vh[s.triangles(t, 2)]);
+  for (size_t i = 0; i < n; ++i) out.add_vertex(Mesh::Point(s.points[i].x(), s.points[i].y(), s.points[i].z()));
+  std::vector<std::array<int, 3>> corners(size_t(s.triangles.rows()));
+  for (int t = 0; t < s.triangles.rows(); ++t) corners[size_t(t)] = {s.triangles(t, 0), s.triangles(t, 1), s.triangles(t, 2)};
+  add_faces_or_each(out, corners);  // add_face's connectivity, built faster (add_faces.h)
   if (trace) {
     trace->vertex_segment = std::move(s.point_segment);
     trace->vertex_base_face = std::move(s.point_face);

@@ -2,6 +2,7 @@
 
 #include "libstm/geometry/differential_geometry.h"
 #include "libstm/geometry/triangle_bvh.h"
+#include "libstm/mesh/add_faces.h"
 #include "libstm/mesh/isotropic_remesh.h"
 #include "libstm/mesh/mesh.h"
 
@@ -54,11 +55,11 @@ void make_proxy(const Eigen::MatrixX3d& V, const Eigen::MatrixX3i& F, int target
   const int target = std::max(target_vertices, 4);
   const double len = equilateral_edge_length(area, target);
   Mesh m;
-  // Reserved: OpenMesh's arrays otherwise grow and move while the faces are added (build_mesh).
   m.reserve(size_t(V.rows()), size_t(F.rows()) * 3 / 2 + 3, size_t(F.rows()));
-  std::vector<Mesh::VertexHandle> h(V.rows());
-  for (int i = 0; i < V.rows(); ++i) h[i] = m.add_vertex({V(i, 0), V(i, 1), V(i, 2)});
-  for (int f = 0; f < F.rows(); ++f) m.add_face(h[F(f, 0)], h[F(f, 1)], h[F(f, 2)]);
+  for (int i = 0; i < V.rows(); ++i) m.add_vertex({V(i, 0), V(i, 1), V(i, 2)});
+  std::vector<std::array<int, 3>> corners(size_t(F.rows()));
+  for (int f = 0; f < F.rows(); ++f) corners[size_t(f)] = {F(f, 0), F(f, 1), F(f, 2)};
+  add_faces_or_each(m, corners);  // add_face's connectivity, built faster (add_faces.h)
   const TriangleBvh own = surface ? TriangleBvh() : TriangleBvh(V, F);
   const TriangleBvh& bvh = surface ? *surface : own;
   isotropic_remesh(m, len, 8, [&](const Eigen::Vector3d& p) { return bvh.closest_point(p).point; });
