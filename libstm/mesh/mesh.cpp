@@ -5,6 +5,7 @@
 #include "libstm/mesh/add_faces.h"
 #include "libstm/mesh/check_mesh_file.h"
 #include "libstm/mesh/gltf_io.h"
+#include "libstm/mesh/read_binary_ply.h"
 #include "libstm/mesh/read_plain_text.h"
 #include "libstm/mesh/triangulate_polygon.h"
 #include "libstm/mesh/validate_mesh.h"
@@ -269,9 +270,20 @@ void add_polygons(const std::vector<std::vector<int>>& polygons, const std::vect
 
 // The plain OBJ or OFF the fast readers take (read_plain_text.h), or false for OpenMesh's path.
 bool read_plain(const std::string& path, const std::string& ext, MeshSoup& soup) {
-  if (ext != ".obj" && ext != ".off") return false;
+  if (ext != ".obj" && ext != ".off" && ext != ".ply") return false;
   std::ifstream in(path, std::ios::binary);
-  std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  std::error_code ec;
+  std::string text(size_t(fs::file_size(path, ec)), '\0');
+  if (ec || !in.read(text.data(), std::streamsize(text.size()))) return false;
+  if (ext == ".ply") {
+    BinaryPly ply;
+    if (!read_binary_ply(text, ply)) return false;
+    soup.points = std::move(ply.points);
+    soup.colors = std::move(ply.colors);
+    if (ply.polygons.empty()) soup.triangles = std::move(ply.triangles);
+    else add_polygons(ply.polygons, {}, soup);
+    return true;
+  }
   std::vector<std::vector<int>> polygons;
   if (!(ext == ".obj" ? read_plain_obj(text, soup.points, polygons) : read_plain_off(text, soup.points, polygons))) return false;
   add_polygons(polygons, {}, soup);
