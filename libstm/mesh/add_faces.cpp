@@ -10,9 +10,9 @@ namespace {
 
 // Per face side 3 f + c, the side of another face running the other way along the same edge, or
 // -1 on a boundary. False when an edge has more than two sides or two in the same direction.
-bool opposite_sides(const std::vector<std::array<int, 3>>& triangles, size_t vertices, std::vector<int>& opposite) {
-  const EdgeTable t = edge_table(triangles, vertices);
-  opposite.assign(3 * triangles.size(), -1);
+bool opposite_sides(const EdgeTable& t, size_t faces, std::vector<int>& opposite) {
+  if (t.halfedge.size() != 3 * faces) return false;
+  opposite.assign(3 * faces, -1);
   for (size_t e = 0; e < t.edges(); ++e) {
     const size_t i = t.group[e];
     if (t.uses(e) == 1) continue;
@@ -166,14 +166,14 @@ void fill_mesh(Mesh& mesh, const Links& l) {
 
 }  // namespace
 
-bool add_faces(Mesh& mesh, const std::vector<std::array<int, 3>>& triangles) {
+bool add_faces(Mesh& mesh, const std::vector<std::array<int, 3>>& triangles, const EdgeTable* table) {
   if (mesh.n_edges() != 0 || mesh.n_faces() != 0) return false;
   const size_t nv = mesh.n_vertices();
   for (const auto& t : triangles)
     for (size_t c = 0; c < 3; ++c)
       if (t[c] < 0 || size_t(t[c]) >= nv || t[c] == t[(c + 1) % 3]) return false;
   std::vector<int> opposite;
-  if (!opposite_sides(triangles, nv, opposite)) return false;
+  if (!opposite_sides(table ? *table : edge_table(triangles, nv), triangles.size(), opposite)) return false;
   Links links(nv, triangles.size());
   for (size_t f = 0; f < triangles.size(); ++f)
     if (!links.add_face(int(f), triangles[f], opposite)) return false;

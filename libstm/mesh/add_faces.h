@@ -13,6 +13,7 @@
 // halfedge to a boundary one) run on flat arrays, and OpenMesh's arrays are filled once at the end.
 // tests/test_mesh.cpp compares every array with add_face's on every shared mesh, open and closed,
 // and on shuffled face orders that make add_face relink patches.
+#include "libstm/mesh/edge_table.h"
 #include "libstm/mesh/mesh.h"
 
 #include <array>
@@ -25,7 +26,9 @@ namespace sdm {
 /// add_face would refuse one of the faces (a complex vertex or edge, a failed patch relinking)
 /// or an edge has more than two sides or two sides in one direction; the caller then adds the
 /// faces one by one through add_face, which says which face fails.
-bool add_faces(Mesh& mesh, const std::vector<std::array<int, 3>>& triangles);
+/// `table`, when given, is the edge table of the same faces (edge_table.h; its vertex numbering
+/// may differ, as build_mesh's drops unused points), saving building it again.
+bool add_faces(Mesh& mesh, const std::vector<std::array<int, 3>>& triangles, const EdgeTable* table = nullptr);
 
 /// add_faces, else add_face for every face in order (faces add_face refuses are left out, as
 /// add_face leaves them out). Returns the number of faces left out.

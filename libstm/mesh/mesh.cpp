@@ -358,7 +358,7 @@ std::vector<char> used_points(const MeshSoup& soup) {
 
 }  // namespace
 
-Mesh build_mesh(const MeshSoup& soup) {
+Mesh build_mesh(const MeshSoup& soup, const EdgeTable* table) {
   Mesh mesh;
   const std::vector<char> used = used_points(soup);
   // The faces go in through add_faces: the connectivity add_face would build one face at a time,
@@ -373,7 +373,7 @@ Mesh build_mesh(const MeshSoup& soup) {
   std::vector<std::array<int, 3>> corners(soup.triangles.size());
   for (size_t f = 0; f < soup.triangles.size(); ++f)
     for (size_t c = 0; c < 3; ++c) corners[f][c] = index[size_t(soup.triangles[f][c])];
-  if (!add_faces(mesh, corners))
+  if (!add_faces(mesh, corners, table))
     for (size_t f = 0; f < corners.size(); ++f) {
       const auto& t = corners[f];
       if (!mesh.add_face(Mesh::VertexHandle(t[0]), Mesh::VertexHandle(t[1]), Mesh::VertexHandle(t[2])).is_valid())
@@ -410,9 +410,10 @@ MeshSoup mesh_to_soup(const Mesh& mesh) {
 
 Mesh load_mesh(const std::string& path, std::string* texture, std::vector<Eigen::Vector3f>* colors, Image* texture_image) {
   MeshSoup soup = read_mesh_soup(path);
-  MeshReport report = validate_mesh(soup);
+  EdgeTable table;
+  MeshReport report = validate_mesh(soup, &table);
   if (!report.usable()) throw InputError(report.refusal(path));
-  orient_outward(soup, report);
+  if (orient_outward(soup, report) > 0) table = EdgeTable();  // its sides' directions changed
   if (texture) *texture = soup.texture;
   if (texture_image) *texture_image = std::move(soup.texture_image);
   if (colors) {
@@ -421,7 +422,7 @@ Mesh load_mesh(const std::string& path, std::string* texture, std::vector<Eigen:
     for (size_t i = 0; i < soup.colors.size(); ++i)
       if (used[i]) colors->push_back(soup.colors[i]);
   }
-  return build_mesh(soup);
+  return build_mesh(soup, table.edges() ? &table : nullptr);
 }
 
 Mesh mesh_from_arrays(const Eigen::MatrixX3d& V, const Eigen::MatrixX3i& F, const Eigen::MatrixX2d& uv, const std::string& what) {

@@ -41,9 +41,12 @@ struct MeshSoup {
 // Throws InputError when the file is missing, empty, unreadable or of an unknown format.
 MeshSoup read_mesh_soup(const std::string& path);
 
+struct EdgeTable;
+
 // Builds the halfedge mesh from a soup that passed validation (see validate_mesh.h).
-// Texture coordinates, when present, are stored per halfedge.
-Mesh build_mesh(const MeshSoup& soup);
+// Texture coordinates, when present, are stored per halfedge. `table`, when given, is the soup's
+// edge table as validate_mesh made it (the soup unchanged since), saving building it again.
+Mesh build_mesh(const MeshSoup& soup, const EdgeTable* table = nullptr);
 
 // The triangle list of a built mesh, e.g. to validate a mesh the pipeline produced.
 MeshSoup mesh_to_soup(const Mesh& mesh);

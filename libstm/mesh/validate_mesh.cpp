@@ -347,6 +347,7 @@ void check_volumes(const MeshSoup& soup, const std::vector<char>& face_ok, const
   for (size_t f = 0; f < face_part.size(); ++f)
     if (!face_ok[f]) face_part[f] = -1;
   const std::vector<double> volume = part_volumes(soup, face_part, r.parts, boundary_halfedges(t));
+  if (std::find(face_part.begin(), face_part.end(), -1) == face_part.end()) r.part_volume = volume;  // orient_outward's too
   std::vector<Eigen::Vector3d> lo(r.parts, Eigen::Vector3d::Constant(INFINITY)), hi(r.parts, Eigen::Vector3d::Constant(-INFINITY));
   for (size_t f = 0; f < soup.triangles.size(); ++f)
     if (face_part[f] >= 0)
@@ -377,7 +378,7 @@ void take_findings(MeshReport& r, MeshReport& from) {
 
 }  // namespace
 
-MeshReport validate_mesh(const MeshSoup& soup) {
+MeshReport validate_mesh(const MeshSoup& soup, EdgeTable* table_out) {
   MeshReport r;
   r.vertices = long(soup.points.size());
   r.faces = long(soup.triangles.size());
@@ -420,17 +421,24 @@ MeshReport validate_mesh(const MeshSoup& soup) {
   if (soup.polygons_triangulated)
     add(r, "polygons triangulated on read (ear clipping)", soup.polygons_triangulated, "faces with more than three corners", false,
         "nothing to fix; triangulate in the modelling tool for control over the diagonals");
+  if (table_out) {
+    *table_out = EdgeTable();
+    if (std::find(face_ok.begin(), face_ok.end(), char(0)) == face_ok.end()) *table_out = std::move(table);
+  }
   return r;
 }
 
-void orient_outward(MeshSoup& soup, MeshReport& report) {
-  std::vector<std::array<int, 3>> rim;
-  if (report.boundary_loops > 0) {
-    std::vector<char> in_part(soup.triangles.size(), 0);
-    for (size_t f = 0; f < in_part.size(); ++f) in_part[f] = report.face_part[f] >= 0;
-    rim = boundary_halfedges(edge_table(soup, in_part));
+long orient_outward(MeshSoup& soup, MeshReport& report) {
+  std::vector<double> volume = report.part_volume;  // measured by validation when every face is in a part
+  if (volume.size() != size_t(report.parts)) {
+    std::vector<std::array<int, 3>> rim;
+    if (report.boundary_loops > 0) {
+      std::vector<char> in_part(soup.triangles.size(), 0);
+      for (size_t f = 0; f < in_part.size(); ++f) in_part[f] = report.face_part[f] >= 0;
+      rim = boundary_halfedges(edge_table(soup, in_part));
+    }
+    volume = part_volumes(soup, report.face_part, report.parts, rim);
   }
-  const std::vector<double> volume = part_volumes(soup, report.face_part, report.parts, rim);
   long flipped = 0;
   int example = -1;
   for (size_t f = 0; f < soup.triangles.size(); ++f) {
@@ -443,6 +451,8 @@ void orient_outward(MeshSoup& soup, MeshReport& report) {
   if (flipped)
     report.findings.push_back({"faces flipped to point outwards", flipped, "part " + std::to_string(example) + " was inside out",
                                false, "nothing to fix; the input's normals pointed inwards"});
+  for (double& v : report.part_volume) v = std::abs(v);
+  return flipped;
 }
 
 }  // namespace sdm

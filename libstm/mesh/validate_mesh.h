@@ -2,6 +2,7 @@
 // Validation shared by every command: what is wrong with an input mesh, how often, one example
 // of each problem, and whether the pipeline can take it. Works on the raw soup, before topology
 // is built, so that problems the halfedge structure cannot even represent are counted too.
+#include "libstm/mesh/edge_table.h"
 #include "libstm/mesh/mesh.h"
 
 #include <nlohmann/json.hpp>
@@ -28,6 +29,7 @@ struct MeshReport {
   int boundary_loops = 0;
   Eigen::Vector3d bbox_min = Eigen::Vector3d::Zero(), bbox_max = Eigen::Vector3d::Zero();
   std::vector<int> face_part;          // part of each triangle
+  std::vector<double> part_volume;     // signed, holes capped; empty when some face is in no part
   std::vector<Finding> findings;
 
   bool usable() const;                          // no fatal finding
@@ -38,10 +40,13 @@ struct MeshReport {
 // Counts: NaN/Inf coordinates, invalid faces (repeated or out-of-range vertex), duplicated faces,
 // boundary edges and loops, non-manifold edges and vertices, inconsistent orientation, degenerate
 // (zero-area) faces, isolated vertices; connected parts and genus per part.
-MeshReport validate_mesh(const MeshSoup& soup);
+/// `table`, when given, receives the soup's edge table (edge_table.h) when every face has valid
+/// corners (else it is left empty), for build_mesh to link the halfedges from.
+MeshReport validate_mesh(const MeshSoup& soup, EdgeTable* table = nullptr);
 
 // Flips every closed part whose signed volume is negative, so that all normals point outwards.
-// Adds an informational finding when it does. Requires a usable report of the same soup.
-void orient_outward(MeshSoup& soup, MeshReport& report);
+// Adds an informational finding when it does. Requires a usable report of the same soup. Returns
+// the number of faces flipped.
+long orient_outward(MeshSoup& soup, MeshReport& report);
 
 }  // namespace sdm
