@@ -3,6 +3,7 @@
 #include "libstm/mesh/isotropic_remesh.h"
 #include "libstm/mesh/mesh.h"
 #include "libstm/mesh/mesh_geometry.h"
+#include "libstm/mesh/spatial_order.h"
 #include "libstm/geometry/triangle_bvh.h"
 
 #include <cmath>
@@ -56,6 +57,7 @@ Command add_remesh_command(CLI::App& parent) {
             mesh.release_halfedge_texcoords2D();
             sdm::isotropic_remesh(mesh, edge, o->iterations,
                                   [&](const Eigen::Vector3d& p) { return bvh.closest_point(p).point; });
+            mesh = sdm::spatially_ordered(mesh);  // neighbours near in the file: every later pass reads faster
             sdm::write_mesh(mesh, o->out);
             std::cout << o->out << ": " << mesh.n_vertices() << " vertices, " << mesh.n_faces() << " faces (input "
                       << input.n_vertices() << "), edge length " << edge << ", smallest angle "

@@ -8,6 +8,7 @@
 #include "libstm/transfer/transfer_texture.h"
 #include "libstm/skeleton/extract_skeleton.h"
 #include "libstm/render/gl_context.h"
+#include "libstm/mesh/spatial_order.h"
 #include "libstm/mesh/isotropic_remesh.h"
 #include "libstm/mesh/primitives.h"
 #include "libstm/render/render_atlas.h"
@@ -76,7 +77,7 @@ sdm::Image bake_texture(sdm::GlContext& gl, sdm::Mesh& mesh, const sdm::Skeleton
 }
 
 // What `sdm remesh --factor F` makes: the equilateral edge for the mesh's area and vertex count
-// times F, 8 iterations, vertices projected onto the input.
+// times F, 8 iterations, vertices projected onto the input, renumbered in spatial order.
 sdm::Mesh remeshed_like_cli(const sdm::Mesh& mesh, double factor) {
   double area = 0;
   for (auto f : mesh.faces()) area += mesh.calc_face_area(f);
@@ -85,7 +86,7 @@ sdm::Mesh remeshed_like_cli(const sdm::Mesh& mesh, double factor) {
   sdm::Mesh copy = mesh;
   copy.release_halfedge_texcoords2D();
   sdm::isotropic_remesh(copy, edge, 8, [&](const Eigen::Vector3d& p) { return bvh.closest_point(p).point; });
-  return copy;
+  return sdm::spatially_ordered(copy);
 }
 
 std::string views_text(const std::vector<double>& p) {
