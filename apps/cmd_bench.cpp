@@ -567,8 +567,8 @@ Command add_bench_command(CLI::App& parent) {
   auto* app = parent.add_subcommand(
       "bench", "Time every stage on the paper's five test shapes (beside its Table I and Table II), the SDM\n"
                "encoder and decoder (1024 map; levels 3 and 5), and a large real mesh. Fastest of --repeat runs.\n"
-               "With --solvers: the contraction with each sparse Cholesky (supernodal, Eigen, CHOLMOD where\n"
-               "built) on the five shapes, Spot and bunny00's contraction proxy, and how far their results differ.");
+               "With --solvers: the contraction with each sparse Cholesky (supernodal, Eigen, and CHOLMOD in a build\n"
+               "configured with -DSDM_WITH_CHOLMOD=ON) on the five shapes, Spot and bunny00's contraction proxy, and how far their results differ.");
   app->add_option("--bunny", o->bunny, "Large mesh for the skeleton timing (skipped with a note when missing)")->capture_default_str();
   app->add_option("--spot", o->spot, "Spot mesh for --solvers (skipped with a note when missing)")->capture_default_str();
   app->add_option("--repeat", o->repeat, "Runs per measurement; the fastest is kept")->capture_default_str()->check(CLI::Range(1, 20));
