@@ -11,8 +11,11 @@
 // tr_reg_085 (remeshed) and the TOSCA models: the geodesic extremities (farthest-point sampling
 // from the vertex nearest the centroid) for hands and feet, left and right told from the side of
 // the body their upper arm or thigh lies on, the facing direction read from renders; the TOSCA
-// heads at their frontmost vertex near the symmetry plane (the man crawls face down, so his is the
-// crown; the gorilla's is its snout, whose head sits low between its shoulders).
+// heads at the top of the head on the symmetry plane (the crown: both lie along z, head up).
+// A part is the surface within 1.6 band radii of its landmark (along edges), except the gorilla's
+// head: its muzzle juts forward and down from the crown, its front 0.16-0.19 of the diagonal away
+// along the surface though 0.09-0.13 in space (session 17: the 62 vertices of the man's head band
+// that fell outside 0.16 lay there, on the face's symmetry plane), so its head part reaches 0.19.
 #include "test_util.h"
 #include "faust_pairs.h"
 
@@ -29,12 +32,13 @@ namespace {
 struct Body {
   const char* file;
   std::array<int, 5> landmark;  // head, left hand, right hand, left foot, right foot
+  double head_part = 0.16;      // the head part's reach from the crown along the surface (fraction of the diagonal)
 };
 
 const Body kBodies[] = {{"tr_reg_007.off", {411, 2445, 5905, 3216, 6617}},
                         {"tr_reg_024.off", {411, 2445, 5905, 3216, 6617}},
                         {"tr_reg_085.off", {138, 1840, 4345, 2350, 4826}},
-                        {"8_gorilla_01.off", {889, 3401, 2374, 4976, 4179}},
+                        {"8_gorilla_01.off", {889, 3401, 2374, 4976, 4179}, 0.19},
                         {"8_man_02.off", {2982, 962, 228, 4617, 513}}};
 const char* kPart[5] = {"head", "left hand", "right hand", "left foot", "right foot"};
 const double kRadius[5] = {0.10, 0.07, 0.07, 0.07, 0.07};  // band radii, fractions of the diagonal
@@ -82,9 +86,10 @@ Bands transfer_bands(const Body& src, const Body& tgt) {
   for (int k = 0; k < 5; ++k) {
     const std::vector<double> g = geodesic(b0, tgt.landmark[k]);
     double band = 0, on = 0, core = 0, core_band = 0;
+    const double reach = k == 0 ? tgt.head_part : 1.6 * kRadius[k];
     for (size_t v = 0; v < got.size(); ++v) {
       const bool in_band = (got[v] - kColour[k]).cwiseAbs().maxCoeff() < 0.25f;
-      band += in_band * area[v], on += (in_band && g[v] < 1.6 * kRadius[k]) * area[v];
+      band += in_band * area[v], on += (in_band && g[v] < reach) * area[v];
       if (g[v] < 0.5 * kRadius[k]) core += area[v], core_band += in_band * area[v];
     }
     r.on_part[k] = band > 0 ? on / band : 0, r.core[k] = core > 0 ? core_band / core : 0;
@@ -143,9 +148,13 @@ TEST_CASE("sdm transfer: head, hands and feet land on head, hands and feet, TOSC
   check_bands(kBodies[3], kBodies[4]);
 }
 
+TEST_CASE("sdm transfer: head, hands and feet land on head, hands and feet, TOSCA man onto gorilla", "[transfer_bands]") {
+  check_bands(kBodies[4], kBodies[3]);
+}
+
 // The other directions, measured (hidden: run with [bands_measure]); see docs/BENCHMARKS.md.
 TEST_CASE("band transfer on the other pairs, measured", "[.][bands_measure]") {
-  for (auto [s, t] : {std::pair<int, int>{2, 0}, {4, 3}, {1, 2}, {2, 1}}) {
+  for (auto [s, t] : {std::pair<int, int>{2, 0}, {1, 2}, {2, 1}}) {
     if (!faust::have(kBodies[s].file) || !faust::have(kBodies[t].file)) continue;
     const Bands r = transfer_bands(kBodies[s], kBodies[t]);
     std::fprintf(stderr, "%s -> %s: exit %d\n%s", kBodies[s].file, kBodies[t].file, r.exit_code,
