@@ -74,6 +74,9 @@ TEST_CASE("spatially_ordered keeps the surface and brings neighbours together", 
   INFO("median corner spread " << before << " -> " << after << " of " << ordered.n_vertices() << " vertices");
   CHECK(before > 0.2 * double(ordered.n_vertices()));
   CHECK(after < 0.02 * double(ordered.n_vertices()));
+  CHECK(scattered_numbering(scattered));
+  CHECK_FALSE(scattered_numbering(ordered));
+  CHECK_FALSE(scattered_numbering(bottle));  // as make_primitive numbers it
   // Faces follow their vertices: consecutive faces share or neighbour their smallest corner.
   long jumps = 0, previous = -1;
   for (auto f : ordered.faces()) {

@@ -7,6 +7,7 @@
 #include "libstm/layout/segments.h"
 #include "libstm/geometry/triangle_bvh.h"
 #include "libstm/mesh/isotropic_remesh.h"
+#include "libstm/mesh/spatial_order.h"
 #include "libstm/mesh/mesh_geometry.h"
 
 #include <OpenMesh/Tools/Decimater/DecimaterT.hh>
@@ -257,6 +258,7 @@ BaseSource base_source(const Mesh& mesh, const Skeleton& skeleton, int target_ve
   const double len = equilateral_edge_length(surface_area(mesh), 4.0 * target_vertices);
   const TriangleBvh own = surface ? TriangleBvh() : TriangleBvh(V, F);
   const TriangleBvh& bvh = surface ? *surface : own;
+  if (int(mesh.n_vertices()) > kRenumberCopiesFrom && scattered_numbering(src.mesh)) src.mesh = spatially_ordered(src.mesh);
   isotropic_remesh(src.mesh, len, 5, [&](const Eigen::Vector3d& p) { return bvh.closest_point(p).point; });
   src.node.assign(src.mesh.n_vertices(), 0);
   for (auto v : src.mesh.vertices()) {

@@ -5,6 +5,7 @@
 #include "libstm/mesh/add_faces.h"
 #include "libstm/mesh/isotropic_remesh.h"
 #include "libstm/mesh/mesh.h"
+#include "libstm/mesh/spatial_order.h"
 
 #include <algorithm>
 #include <cmath>
@@ -60,6 +61,7 @@ void make_proxy(const Eigen::MatrixX3d& V, const Eigen::MatrixX3i& F, int target
   std::vector<std::array<int, 3>> corners(size_t(F.rows()));
   for (int f = 0; f < F.rows(); ++f) corners[size_t(f)] = {F(f, 0), F(f, 1), F(f, 2)};
   add_faces_or_each(m, corners);  // add_face's connectivity, built faster (add_faces.h)
+  if (V.rows() > kRenumberCopiesFrom && scattered_numbering(m)) m = spatially_ordered(m);  // spatial_order.h
   const TriangleBvh own = surface ? TriangleBvh() : TriangleBvh(V, F);
   const TriangleBvh& bvh = surface ? *surface : own;
   isotropic_remesh(m, len, 8, [&](const Eigen::Vector3d& p) { return bvh.closest_point(p).point; });
