@@ -24,17 +24,17 @@ bool opposite_sides(const EdgeTable& t, size_t faces, std::vector<int>& opposite
 }
 
 // The halfedge structure add_face builds, on flat arrays: halfedges 2e and 2e + 1 are edge e's,
-// the first running from edge_from[e] to edge_to[e]; -1 stands for an invalid handle.
+// the first running from edge[e][0] to edge[e][1]; -1 stands for an invalid handle.
 struct Links {
   struct Halfedge {
     int next = -1, prev = -1, face = -1;
   };
   std::vector<std::array<int, 2>> edge;  // per edge: from, to of its first halfedge
   std::vector<Halfedge> he;              // per halfedge
-  std::vector<int> vertex_out;        // per vertex
-  std::vector<int> open_out;          // per vertex: its outgoing halfedges without a face
-  std::vector<int> face_first;        // per face
-  std::vector<int> side;              // per face side 3 f + c: its halfedge
+  std::vector<int> vertex_out;           // per vertex: its outgoing halfedge
+  std::vector<int> open_out;             // per vertex: its outgoing halfedges without a face
+  std::vector<int> face_first;           // per face: its halfedge
+  std::vector<int> side;                 // per face side 3 f + c: its halfedge
   std::vector<std::pair<int, int>> next_cache;
 
   Links(size_t vertices, size_t faces) : vertex_out(vertices, -1), open_out(vertices, 0), face_first(faces, -1), side(3 * faces, -1) {
