@@ -3,7 +3,7 @@
 
 #include <algorithm>
 #include <cstdint>
-#include <numeric>
+#include <cmath>
 
 namespace sdm {
 
@@ -31,44 +31,47 @@ uint64_t morton(const Eigen::Vector3d& p, const Eigen::Vector3d& lo, double size
 }
 
 // Vertex i of the renumbering: the i-th along the Morton curve (ties by the old number).
-std::vector<int> morton_order(const Mesh& mesh) {
-  Eigen::Vector3d lo, hi;
-  bounding_box(mesh, lo, hi);
-  const double size = (hi - lo).maxCoeff();
-  std::vector<std::pair<uint64_t, int>> code(mesh.n_vertices());
-  for (auto v : mesh.vertices()) code[size_t(v.idx())] = {morton(point(mesh, v), lo, size), v.idx()};
+std::vector<int> morton_order(const std::vector<Eigen::Vector3d>& points) {
+  Eigen::Vector3d lo = Eigen::Vector3d::Constant(INFINITY), hi = Eigen::Vector3d::Constant(-INFINITY);
+  for (const auto& p : points) lo = lo.cwiseMin(p), hi = hi.cwiseMax(p);
+  const double size = points.empty() ? 0.0 : (hi - lo).maxCoeff();
+  std::vector<std::pair<uint64_t, int>> code(points.size());
+  for (size_t v = 0; v < points.size(); ++v) code[v] = {morton(points[v], lo, size), int(v)};
   std::sort(code.begin(), code.end());
   std::vector<int> index(code.size());
   for (size_t i = 0; i < code.size(); ++i) index[size_t(code[i].second)] = int(i);
   return index;
 }
 
+// Whether the median of a sample's corner spreads exceeds 5 % of the vertices.
+bool wide(std::vector<int>& spread, size_t vertices) {
+  if (spread.empty()) return false;
+  std::nth_element(spread.begin(), spread.begin() + long(spread.size() / 2), spread.end());
+  return double(spread[spread.size() / 2]) > 0.05 * double(vertices);
+}
+
 }  // namespace
 
-Mesh spatially_ordered(const Mesh& mesh) {
-  const std::vector<int> index = morton_order(mesh);
-  const size_t nv = mesh.n_vertices(), nf = mesh.n_faces();
-  MeshSoup soup;
-  soup.points.resize(nv);
-  for (auto v : mesh.vertices()) soup.points[size_t(index[size_t(v.idx())])] = point(mesh, v);
-  const bool uv = mesh.has_halfedge_texcoords2D();
-  std::vector<std::array<int, 3>> faces(nf);
-  std::vector<std::array<Eigen::Vector2d, 3>> corner_uv(uv ? nf : 0);
+MeshSoup spatially_ordered(const MeshSoup& soup) {
+  const std::vector<int> index = morton_order(soup.points);
+  const size_t nv = soup.points.size(), nf = soup.triangles.size();
+  const bool uv = soup.uv.size() == 3 * nf && nf > 0;
+  MeshSoup out;
+  out.points.resize(nv);
+  for (size_t v = 0; v < nv; ++v) out.points[size_t(index[v])] = soup.points[v];
+  if (soup.colors.size() == nv) {
+    out.colors.resize(nv);
+    for (size_t v = 0; v < nv; ++v) out.colors[size_t(index[v])] = soup.colors[v];
+  }
   // Faces by their smallest new corner (a counting sort), then by the other two (ties keep the old
   // order): the order of sorting the sorted corner triples, in linear time.
-  std::vector<std::array<int, 3>> key(nf);
+  std::vector<std::array<int, 3>> faces(nf), key(nf);
   std::vector<size_t> start(nv + 1, 0);
-  for (auto f : mesh.faces()) {
-    const size_t i = size_t(f.idx());
-    int c = 0;
-    for (auto h : mesh.fh_range(f)) {
-      faces[i][size_t(c)] = index[size_t(h.to().idx())];
-      if (uv) corner_uv[i][size_t(c)] = Eigen::Vector2d(mesh.texcoord2D(h)[0], mesh.texcoord2D(h)[1]);
-      ++c;
-    }
-    key[i] = faces[i];
-    std::sort(key[i].begin(), key[i].end());
-    ++start[size_t(key[i][0]) + 1];
+  for (size_t f = 0; f < nf; ++f) {
+    for (size_t c = 0; c < 3; ++c) faces[f][c] = index[size_t(soup.triangles[f][c])];
+    key[f] = faces[f];
+    std::sort(key[f].begin(), key[f].end());
+    ++start[size_t(key[f][0]) + 1];
   }
   for (size_t v = 0; v < nv; ++v) start[v + 1] += start[v];
   std::vector<size_t> order(nf);
@@ -77,26 +80,40 @@ Mesh spatially_ordered(const Mesh& mesh) {
   for (size_t v = 0; v < nv; ++v)
     std::stable_sort(order.begin() + long(start[v]), order.begin() + long(start[v + 1]),
                      [&](size_t a, size_t b) { return key[a] < key[b]; });
-  soup.triangles.reserve(nf);
+  out.triangles.reserve(nf);
   for (size_t f : order) {
-    soup.triangles.push_back(faces[f]);
+    out.triangles.push_back(faces[f]);
     if (uv)
-      for (const auto& t : corner_uv[f]) soup.uv.push_back(t);
+      for (size_t c = 0; c < 3; ++c) out.uv.push_back(soup.uv[3 * f + c]);
   }
-  return build_mesh(soup);
+  return out;
+}
+
+Mesh spatially_ordered(const Mesh& mesh) {
+  MeshSoup soup = mesh_to_soup(mesh);
+  if (mesh.has_halfedge_texcoords2D())
+    for (auto f : mesh.faces())
+      for (auto h : mesh.fh_range(f)) soup.uv.emplace_back(mesh.texcoord2D(h)[0], mesh.texcoord2D(h)[1]);
+  return build_mesh(spatially_ordered(soup));
+}
+
+bool scattered_numbering(const std::vector<std::array<int, 3>>& triangles, size_t vertices) {
+  std::vector<int> spread;
+  for (size_t f = 0, step = std::max<size_t>(1, triangles.size() / 10000); f < triangles.size(); f += step) {
+    const auto& t = triangles[f];
+    spread.push_back(std::max({t[0], t[1], t[2]}) - std::min({t[0], t[1], t[2]}));
+  }
+  return wide(spread, vertices);
 }
 
 bool scattered_numbering(const Mesh& mesh) {
-  const size_t nf = mesh.n_faces(), step = std::max<size_t>(1, nf / 10000);
   std::vector<int> spread;
-  for (size_t f = 0; f < nf; f += step) {
+  for (size_t f = 0, step = std::max<size_t>(1, mesh.n_faces() / 10000); f < mesh.n_faces(); f += step) {
     int lo = INT32_MAX, hi = -1;
     for (auto v : mesh.fv_range(Mesh::FaceHandle(int(f)))) lo = std::min(lo, v.idx()), hi = std::max(hi, v.idx());
     spread.push_back(hi - lo);
   }
-  if (spread.empty()) return false;
-  std::nth_element(spread.begin(), spread.begin() + long(spread.size() / 2), spread.end());
-  return double(spread[spread.size() / 2]) > 0.05 * double(mesh.n_vertices());
+  return wide(spread, mesh.n_vertices());
 }
 
 }  // namespace sdm

@@ -16,10 +16,14 @@ namespace sdm {
 /// keep their order), faces sorted by their smallest, middle and largest new corner numbers.
 Mesh spatially_ordered(const Mesh& mesh);
 
+/// The same on a soup (points, their colours, triangles, per-corner uv), before any mesh is built.
+MeshSoup spatially_ordered(const MeshSoup& soup);
+
 /// Whether the mesh's numbering is scattered: over (up to) 10,000 faces spread through the list,
 /// the median distance between a face's smallest and largest corner numbers exceeds 5 % of the
 /// vertices (a random numbering gives about 40 %; `sdm remesh` output and FAUST's under 1 %).
 bool scattered_numbering(const Mesh& mesh);
+bool scattered_numbering(const std::vector<std::array<int, 3>>& triangles, size_t vertices);
 
 /// Above this many vertices, the stages that remesh a copy of their input (the skeleton's
 /// contraction proxy, the encoder's base source) renumber the copy first when scattered_numbering

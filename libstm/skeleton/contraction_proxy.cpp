@@ -55,13 +55,19 @@ void make_proxy(const Eigen::MatrixX3d& V, const Eigen::MatrixX3i& F, int target
   for (int f = 0; f < F.rows(); ++f) area += triangle_area(V.row(F(f, 0)), V.row(F(f, 1)), V.row(F(f, 2)));
   const int target = std::max(target_vertices, 4);
   const double len = equilateral_edge_length(area, target);
-  Mesh m;
-  m.reserve(size_t(V.rows()), size_t(F.rows()) * 3 / 2 + 3, size_t(F.rows()));
-  for (int i = 0; i < V.rows(); ++i) m.add_vertex({V(i, 0), V(i, 1), V(i, 2)});
   std::vector<std::array<int, 3>> corners(size_t(F.rows()));
   for (int f = 0; f < F.rows(); ++f) corners[size_t(f)] = {F(f, 0), F(f, 1), F(f, 2)};
-  add_faces_or_each(m, corners);  // add_face's connectivity, built faster (add_faces.h)
-  if (V.rows() > kRenumberCopiesFrom && scattered_numbering(m)) m = spatially_ordered(m);  // spatial_order.h
+  Mesh m;
+  if (V.rows() > kRenumberCopiesFrom && scattered_numbering(corners, size_t(V.rows()))) {
+    MeshSoup soup;  // remeshed in spatial order (spatial_order.h)
+    for (int i = 0; i < V.rows(); ++i) soup.points.push_back(V.row(i).transpose());
+    soup.triangles = std::move(corners);
+    m = build_mesh(spatially_ordered(soup));
+  } else {
+    m.reserve(size_t(V.rows()), size_t(F.rows()) * 3 / 2 + 3, size_t(F.rows()));
+    for (int i = 0; i < V.rows(); ++i) m.add_vertex({V(i, 0), V(i, 1), V(i, 2)});
+    add_faces_or_each(m, corners);  // add_face's connectivity, built faster (add_faces.h)
+  }
   const TriangleBvh own = surface ? TriangleBvh() : TriangleBvh(V, F);
   const TriangleBvh& bvh = surface ? *surface : own;
   isotropic_remesh(m, len, 8, [&](const Eigen::Vector3d& p) { return bvh.closest_point(p).point; });
