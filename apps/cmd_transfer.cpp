@@ -15,6 +15,7 @@
 #include <cmath>
 #include <filesystem>
 #include <memory>
+#include <optional>
 #include <sstream>
 
 namespace sdm::cli {
@@ -30,8 +31,8 @@ struct TransferArgs {
 };
 
 // The skeleton read from json_path (it must map mesh's vertices), or else extracted with the
-// transfer's options; `what` names the model in messages.
-sdm::Skeleton skeleton_for(const sdm::Mesh& mesh, const std::string& json_path, const std::string& what) {
+// transfer's options (its statistics into *stats); `what` names the model in messages.
+sdm::Skeleton skeleton_for(const sdm::Mesh& mesh, const std::string& json_path, const std::string& what, sdm::SkeletonStats* stats) {
   if (!json_path.empty()) {
     sdm::Skeleton s = sdm::read_skeleton_json(json_path);
     if (s.vertex_node.size() != mesh.n_vertices())
@@ -40,7 +41,7 @@ sdm::Skeleton skeleton_for(const sdm::Mesh& mesh, const std::string& json_path, 
     return s;
   }
   progress("extracting the " + what + " skeleton");
-  return sdm::extract_skeleton(mesh, sdm::transfer_skeleton_options(), progress);
+  return sdm::extract_skeleton(mesh, sdm::transfer_skeleton_options(), progress, stats);
 }
 
 // path with its extension replaced by suffix (OUT.obj -> OUT_atlas.png).
@@ -104,6 +105,7 @@ struct TransferInputs {
   std::string texture_path;                   // empty when the texture is painted from the source's colours
   std::vector<Eigen::Vector3f> source_colors;  // per source vertex, when its file has vertex colours
   sdm::Skeleton skeleton_a, skeleton_b;
+  sdm::SkeletonStats stats_a, stats_b;  // of the extractions (empty for a skeleton given as a file)
 };
 
 // Throws InputError for a missing --source or --target, or an output, --correspondence or
@@ -144,8 +146,8 @@ TransferInputs read_inputs(const TransferArgs& o) {
     in.texture_path.clear();
   }
   in.target = sdm::load_mesh(o.target);
-  in.skeleton_a = skeleton_for(in.source, o.source_skeleton, "source");
-  in.skeleton_b = skeleton_for(in.target, o.target_skeleton, "target");
+  in.skeleton_a = skeleton_for(in.source, o.source_skeleton, "source", &in.stats_a);
+  in.skeleton_b = skeleton_for(in.target, o.target_skeleton, "target", &in.stats_b);
   return in;
 }
 
@@ -276,6 +278,8 @@ void print_transfer_json(const TransferArgs& o, const TransferInputs& in, const 
               {"slid_source_branches", r.skeletons.slid_a},
               {"slid_target_branches", r.skeletons.slid_b},
               {"branch_length_disagreement", r.skeletons.length_disagreement},
+              // node numbers of a model registered with its other extraction candidate refer to that candidate
+              {"other_skeleton_candidate", {{"source", r.other_source_candidate}, {"target", r.other_target_candidate}}},
               {"extremity_distortion", r.distortion},
               {"candidate_twist", r.candidate_twist},
               {"candidate_distortion", r.candidate_distortion},
@@ -322,6 +326,10 @@ void print_transfer_text(const TransferArgs& o, const TransferInputs& in, const 
   if (r.registered) {
     std::cout << "  the target is another body with the same branching: the source registered onto it along its skeleton, "
               << 100 * r.fit_rms << " % of the diagonal (RMS), 99th percentile " << 100 * r.fit_p99 << " %\n";
+    if (r.other_source_candidate || r.other_target_candidate)
+      std::cout << "    with the other extraction candidate of the "
+                << (r.other_source_candidate && r.other_target_candidate ? "source and the target" : r.other_source_candidate ? "source" : "target")
+                << " (the kept ones' branchings differ; node numbers below are that candidate's)\n";
     for (const auto& b : r.branch_fit)
       std::cout << "    branch " << b.source_from << "-" << b.source_to << ": RMS " << 100 * b.rms << " %, 99th percentile " << 100 * b.p99 << " %\n";
   }
@@ -346,6 +354,12 @@ int run_texture_transfer(const TransferArgs& o) {
   // when the target turns out to be the source's shape (transfer_texture).
   to.carry_same_shape = o.target_skeleton.empty();
   to.force = o.force;
+  // An extracted skeleton may give way to its extraction's other candidate when the branchings
+  // differ (TransferOptions::other_candidate); a skeleton given as a file is used as given.
+  to.other_candidate = [&](bool target) -> std::optional<sdm::Skeleton> {
+    if (!(target ? o.target_skeleton : o.source_skeleton).empty()) return std::nullopt;
+    return sdm::other_transfer_candidate(target ? in.target : in.source, target ? in.stats_b : in.stats_a, progress);
+  };
   const sdm::TextureTransfer r = sdm::transfer_texture(gl, in.source, in.texture, in.skeleton_a, in.target, in.skeleton_b, to);
   if ((!o.correspondence.empty() || !o.vertex_colors.empty()) && r.correspondence.empty())
     throw sdm::InputError(std::string(o.correspondence.empty() ? "--vertex-colors" : "--correspondence") +

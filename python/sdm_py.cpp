@@ -160,8 +160,9 @@ py::dict transfer(const RowMatrix3d& Vs, const RowMatrix3i& Fs, const RowMatrix3
   if (bool(uv) != bool(texture)) throw sdm::InputError("give uv and texture together, or neither (the correspondence alone)");
   sdm::Mesh source = mesh_of(Vs, Fs, corner_uv(uv), "(source_V, source_F)");
   const sdm::Mesh target = mesh_of(Vt, Ft, {}, "(target_V, target_F)");
-  const sdm::Skeleton a = sdm::extract_skeleton(source, sdm::transfer_skeleton_options());
-  const sdm::Skeleton b = sdm::extract_skeleton(target, sdm::transfer_skeleton_options());
+  sdm::SkeletonStats stats_a, stats_b;
+  const sdm::Skeleton a = sdm::extract_skeleton(source, sdm::transfer_skeleton_options(), nullptr, &stats_a);
+  const sdm::Skeleton b = sdm::extract_skeleton(target, sdm::transfer_skeleton_options(), nullptr, &stats_b);
   sdm::Image image;
   if (texture) {
     const auto& t = *texture;
@@ -178,6 +179,9 @@ py::dict transfer(const RowMatrix3d& Vs, const RowMatrix3i& Fs, const RowMatrix3
   sdm::TransferOptions o;
   o.size = size;
   o.force = force;
+  o.other_candidate = [&](bool is_target) -> std::optional<sdm::Skeleton> {
+    return sdm::other_transfer_candidate(is_target ? target : source, is_target ? stats_b : stats_a);
+  };
   const sdm::TextureTransfer r = sdm::transfer_texture(gl(), source, image, a, target, b, o);
   py::dict d;
   Eigen::VectorXi face(r.correspondence.size());

@@ -7,7 +7,9 @@
 #include "libstm/layout/segments.h"
 
 #include "libstm/core/parallel.h"
+#include "libstm/skeleton/common_branching.h"
 
+#include <algorithm>
 #include <cmath>
 #include <memory>
 #include <optional>
@@ -25,6 +27,13 @@ SkeletonOptions transfer_skeleton_options() {
   // cycle, which the validity ranks keep.
   o.medial_handicap = 0;
   return o;
+}
+
+Skeleton other_transfer_candidate(const Mesh& mesh, const SkeletonStats& stats, const Progress& progress) {
+  SkeletonOptions o = transfer_skeleton_options();
+  const bool all_medial = !stats.kept.empty() && std::all_of(stats.kept.begin(), stats.kept.end(), [](const std::string& k) { return k == "medial"; });
+  o.method = all_medial ? SkeletonMethod::contraction : SkeletonMethod::medial;
+  return extract_skeleton(mesh, o, progress);
 }
 
 namespace {
@@ -267,6 +276,43 @@ TargetSkeleton recognise_or_register(const Mesh& source, const Skeleton& skeleto
   return tb;
 }
 
+// The refusal's way out (TransferOptions::other_candidate): the pairs of given and other
+// extraction candidates, the model with fewer ends changed first, the first whose branchings agree
+// registered as another body. Empty when none agrees or registers.
+std::optional<BodyRegistration> register_other_candidates(const Mesh& source, const Skeleton& skeleton_a, const Mesh& target,
+                                                          const Skeleton& skeleton_b, const TransferOptions& opt, TextureTransfer& r) {
+  std::optional<Skeleton> other[2];
+  bool asked[2] = {false, false};
+  auto candidate = [&](bool is_target) -> const Skeleton* {
+    if (!asked[is_target]) {
+      asked[is_target] = true;
+      report_progress(opt.progress, std::string("the skeletons' branchings differ: extracting the ") + (is_target ? "target" : "source") +
+                                        "'s other candidate");
+      other[is_target] = opt.other_candidate(is_target);
+    }
+    return other[is_target] ? &*other[is_target] : nullptr;
+  };
+  const bool source_first = skeleton_a.end_nodes() < skeleton_b.end_nodes();
+  const std::pair<bool, bool> pairs[3] = {{source_first, !source_first}, {!source_first, source_first}, {true, true}};
+  BodyOptions bo;
+  bo.split_ratio = opt.split_ratio, bo.candidates = opt.candidates, bo.progress = opt.progress;
+  for (const auto& [other_a, other_b] : pairs) {
+    const Skeleton* a = other_a ? candidate(false) : &skeleton_a;
+    const Skeleton* b = other_b ? candidate(true) : &skeleton_b;
+    if (!a || !b) continue;
+    try {
+      common_branching(*a, *b);
+      BodyRegistration reg = register_bodies(source, *a, target, *b, {}, bo);
+      r.other_source_candidate = other_a, r.other_target_candidate = other_b;
+      report_progress(opt.progress, std::string("registered with the other candidate of the ") +
+                                        (other_a && other_b ? "source and the target" : other_a ? "source" : "target"));
+      return reg;
+    } catch (const InputError&) {
+    }
+  }
+  return std::nullopt;
+}
+
 }  // namespace
 
 Layout carry_layout(const Layout& la, const Mesh& mesh_b, const Skeleton& b, const Eigen::Matrix3d& rotation,
@@ -299,6 +345,9 @@ TextureTransfer transfer_texture(GlContext& gl, const Mesh& source, const Image&
   std::vector<std::pair<int, int>> fixed = opt.fixed;
   std::optional<BodyRegistration> body;
   TargetSkeleton tb = recognise_or_register(source, skeleton_a, target, skeleton_b, opt, r, fixed, body);
+  if (!r.carried && !r.fitted && !body && opt.other_candidate && opt.fixed.empty() && opt.register_bodies && opt.carry_same_shape &&
+      euler_characteristic(source) == euler_characteristic(target))
+    body = register_other_candidates(source, skeleton_a, target, skeleton_b, opt, r);
   // Neither the source's shape nor the source bent along its own skeleton: another body.
   if (!r.carried && !r.fitted && body) {
     take_registered(std::move(*body), opt, r, tb);

@@ -18,6 +18,7 @@
 #include "libstm/skeleton/skeleton.h"
 
 #include <functional>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -29,6 +30,11 @@ namespace sdm {
 // shape get their junctions in the same place (ypsilon onto its remesh: 21-25 dB -> 31-33 dB), and
 // the medial-pole candidate preferred whenever it is valid (DESIGN 6).
 SkeletonOptions transfer_skeleton_options();
+
+/// The other extraction candidate of `mesh` for a transfer: transfer_skeleton_options() with the
+/// method that extract_skeleton (with those options; `stats` are its statistics) did not keep: the
+/// contraction where every part kept the medial poles, else the medial poles. DESIGN 6.
+Skeleton other_transfer_candidate(const Mesh& mesh, const SkeletonStats& stats, const Progress& progress = nullptr);
 
 // The target's layout: layout_a's atlas (size, margin, scale, every rectangle x, y, w, h, rotated,
 // d, neighbours, segment ends a -> b) around b's skeleton (the same graph as layout_a.skeleton), with
@@ -72,6 +78,16 @@ struct TransferOptions {
   // texture lands on other parts (FAUST 007 -> 085, whose extracted skeleton lacks the head: 25.9;
   // right matches 1.2-2.0).
   double registered_disagreement = 3.0;
+  // When the given skeletons' branchings differ beyond small branches, so that the target (neither
+  // the source's shape nor the source bent) would be refused, each model's other extraction
+  // candidate is tried: other_candidate(false) for the source, other_candidate(true) for the
+  // target (std::nullopt: none, e.g. a skeleton the user gave). The pairs (a, b'), (a', b), (a', b')
+  // are tried, first the model with fewer ends changed, and the first whose branchings agree
+  // (common_branching) is registered as another body. An extraction keeps one of two candidates,
+  // and either can miss a major branch when the coordinates change in their last bits (FAUST
+  // tr_reg_085 scaled by 1 + 1e-7: no head end from the medial poles, one from the contraction).
+  // Not tried with `fixed` pairs (they name nodes of the given skeletons).
+  std::function<std::optional<Skeleton>(bool target)> other_candidate;
   bool force = false;
   Progress progress;
 };
@@ -88,6 +104,9 @@ struct TextureTransfer {
   double fit_rms = INFINITY, fit_p99 = INFINITY;  // the source's skeleton bent onto the target (when tried)
   bool fitted = false;        // the target's skeleton is the source's, bent onto it
   bool registered = false;    // another body: the source registered onto it (fit_rms, fit_p99 its figures)
+  // Registered with a model's other extraction candidate (TransferOptions::other_candidate): the
+  // node numbers of `skeletons` then refer to that candidate.
+  bool other_source_candidate = false, other_target_candidate = false;
   std::vector<double> candidate_rms;  // per candidate match, the short registration's RMS (registered)
   std::vector<double> candidate_twist, candidate_distortion;  // and BodyRegistration's other measures
   double distortion = 0;              // registered: BodyRegistration::distortion

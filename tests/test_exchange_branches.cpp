@@ -1,0 +1,95 @@
+// exchanged_branches: a pair of limbs split between two close junctions, the other way round in
+// another skeleton, can only be matched crossed; the exchanged variant lets the matcher pair them
+// the right way, and nothing else about the skeleton changes.
+#include "libstm/skeleton/exchange_branches.h"
+#include "libstm/skeleton/match_skeletons.h"
+
+#include <catch2/catch.hpp>
+
+#include <algorithm>
+#include <cmath>
+
+namespace {
+
+// A stick figure: pelvis junction at the origin with two legs of length 1, a spine of 0.4 up to a
+// lower shoulder junction, a chain of `inner` up to an upper shoulder junction with the head (0.3,
+// straight up); one arm (0.85) at each shoulder junction, the left one (-x) at the upper junction
+// when `left_high`, else the right one. Chains in pieces of at most 0.1; ten vertices per node.
+struct Figure {
+  sdm::Skeleton s;
+  int left_tip = -1, right_tip = -1, head_tip = -1;
+};
+
+Figure figure(double inner, bool left_high) {
+  Figure f;
+  sdm::Skeleton& s = f.s;
+  s.nodes.push_back(Eigen::Vector3d::Zero());
+  auto chain = [&](int from, const Eigen::Vector3d& to) {
+    const Eigen::Vector3d p0 = s.nodes[size_t(from)];
+    const int pieces = std::max(1, int(std::ceil((to - p0).norm() / 0.1)));
+    int prev = from;
+    for (int i = 1; i <= pieces; ++i) {
+      s.nodes.push_back(p0 + (to - p0) * double(i) / pieces);
+      s.edges.push_back({prev, int(s.nodes.size()) - 1});
+      prev = int(s.nodes.size()) - 1;
+    }
+    return prev;
+  };
+  chain(0, {-0.2, -1, 0});
+  chain(0, {0.2, -1, 0});
+  const int low = chain(0, {0, 0.4, 0});
+  const int high = chain(low, {0, 0.4 + inner, 0});
+  f.head_tip = chain(high, {0, 0.7 + inner, 0});
+  f.left_tip = chain(left_high ? high : low, s.nodes[size_t(left_high ? high : low)] + Eigen::Vector3d(-0.85, 0, 0));
+  f.right_tip = chain(left_high ? low : high, s.nodes[size_t(left_high ? low : high)] + Eigen::Vector3d(0.85, 0, 0));
+  for (size_t i = 0; i < s.nodes.size(); ++i) s.vertex_node.insert(s.vertex_node.end(), 10, int(i));
+  return f;
+}
+
+// Whether some candidate match takes a's left hand to b's left hand.
+bool some_match_pairs_left_hands(const sdm::Skeleton& a, const Figure& fa, const Figure& fb) {
+  for (const sdm::SkeletonMatch& m : sdm::match_candidates(a, fb.s, {}, 16)) {
+    const auto ka = std::find(m.a.keys.begin(), m.a.keys.end(), fa.left_tip) - m.a.keys.begin();
+    if (ka < int(m.a.keys.size()) && m.b.keys[size_t(m.key_a_to_b[size_t(ka)])] == fb.left_tip) return true;
+  }
+  return false;
+}
+
+}  // namespace
+
+TEST_CASE("exchanged_branches swaps a pair of limbs between close junctions and nothing else", "[exchange_branches]") {
+  const Figure a = figure(0.05, true);  // 0.05 of a total length of 4.45: 1.1 %
+  const std::vector<sdm::Skeleton> v = sdm::exchanged_branches(a.s);
+  // The arms only: the head (0.3 against 0.85) is no match for an arm, the spine (9 %) too long.
+  REQUIRE(v.size() == 1);
+  CHECK(v[0].nodes == a.s.nodes);
+  CHECK(v[0].vertex_node == a.s.vertex_node);
+  CHECK(v[0].degrees() == a.s.degrees());
+  CHECK(v[0].edges.size() == a.s.edges.size());
+  CHECK(v[0].edges != a.s.edges);
+  CHECK(v[0].components() == 1);
+  CHECK(v[0].cycles() == 0);
+  // Exactly two edges differ: the arms' first edges, now at the other junction.
+  int changed = 0;
+  for (size_t e = 0; e < v[0].edges.size(); ++e) changed += v[0].edges[e] != a.s.edges[e];
+  CHECK(changed == 2);
+}
+
+TEST_CASE("a pair split the other way round is matched crossed unless exchanged", "[exchange_branches]") {
+  const Figure a = figure(0.05, true), b = figure(0.05, false);
+  CHECK(!some_match_pairs_left_hands(a.s, a, b));  // the split decides: left on right
+  const std::vector<sdm::Skeleton> v = sdm::exchanged_branches(a.s);
+  REQUIRE(v.size() == 1);
+  CHECK(some_match_pairs_left_hands(v[0], a, b));
+}
+
+TEST_CASE("exchanged_branches leaves far junctions and unequal limbs alone", "[exchange_branches]") {
+  CHECK(sdm::exchanged_branches(figure(0.4, true).s).empty());        // 0.4 of 4.8: 8 %, a spine
+  CHECK(sdm::exchanged_branches(figure(0.05, true).s, 0.005).empty());  // under a tighter limit
+  CHECK(sdm::exchanged_branches(figure(0.05, true).s, 0.04, 1.0 + 1e-9).size() == 1);  // equal arms
+  sdm::Skeleton star;  // one junction: nothing to exchange between
+  star.nodes = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+  star.edges = {{0, 1}, {0, 2}, {0, 3}};
+  star.vertex_node = {0, 1, 2, 3};
+  CHECK(sdm::exchanged_branches(star).empty());
+}
