@@ -185,6 +185,9 @@ std::string write_variant(const sdm::Mesh& b, int k, const test_util::TempDir& d
   }
   const std::string file = dir / (std::string("target.") + (k == 1 ? "obj" : k == 0 ? "ply" : "off"));
   sdm::write_mesh(m, file);
+  if (const char* dump = std::getenv("SDM_TEST_DUMP"))  // the target too, to run sdm transfer on by hand
+    std::filesystem::copy_file(file, std::string(dump) + "/variant_" + std::to_string(k) + "_" + std::filesystem::path(file).filename().string(),
+                               std::filesystem::copy_options::overwrite_existing);
   return file;
 }
 

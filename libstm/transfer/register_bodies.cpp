@@ -23,7 +23,7 @@ constexpr double kDistortionTie = 0.05;
 // between split junctions (exchanged_branches) turns them as little (1-4 % more or less) but fits
 // 3-15 % worse. Measured on 14 FAUST cases with known answers (DESIGN 6): twist alone right in 8,
 // RMS alone in 13, this rule in 14.
-constexpr double kTwistTie = 1.10;
+constexpr double kTwistTie = 1.07;
 // Candidate matches examined for the distortion of their ends' distances, per one registered.
 constexpr int kCandidateFactor = 4;
 
