@@ -279,6 +279,7 @@ void print_transfer_json(const TransferArgs& o, const TransferInputs& in, const 
               {"slid_target_branches", r.skeletons.slid_b},
               {"branch_length_disagreement", r.skeletons.length_disagreement},
               // node numbers of a model registered with its other extraction candidate refer to that candidate
+              {"ambiguous_match", r.ambiguity.empty() ? nlohmann::json() : nlohmann::json(r.ambiguity)},
               {"other_skeleton_candidate", {{"source", r.other_source_candidate}, {"target", r.other_target_candidate}}},
               {"extremity_distortion", r.distortion},
               {"candidate_twist", r.candidate_twist},
@@ -366,6 +367,8 @@ int run_texture_transfer(const TransferArgs& o) {
                           ": the target was matched by its skeleton alone (its skeleton was given with --target-skeleton, or its "
                           "genus differs from the source's), so no point correspondence was computed. Fix: leave out "
                           "--target-skeleton so that the source is registered onto the target");
+  if (!r.ambiguity.empty())
+    progress("warning: left and right (or front and back) may be swapped (--force was given): " + r.ambiguity);
   if (r.registered && !(r.fit_rms <= to.registered_rms && r.fit_p99 <= to.registered_p99))
     progress("warning: the source fits the target poorly (--force was given): the texture may be misplaced");
   for (const auto& b : r.branch_fit)

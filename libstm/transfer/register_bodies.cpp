@@ -6,6 +6,7 @@
 #include "libstm/registration/fit_skeleton.h"
 
 #include <algorithm>
+#include <sstream>
 #include <cmath>
 #include <map>
 #include <string>
@@ -17,15 +18,67 @@ namespace {
 // Candidates whose extremity distortion is within this of the least are told apart by their twist
 // and fit (left and right swapped keep the distances between the extremities).
 constexpr double kDistortionTie = 0.05;
-// Among those, the ones whose twist is within this factor of the least: the closest fit (short
-// registration's RMS) wins. A mirrored match (left and right swapped with front and back) fits as
-// closely or closer but turns parts 20-35 % more against their neighbours; a pair of limbs crossed
+// Among those, the ones whose twist is within this factor of the least compete on fit (the short
+// registration's RMS, with kFitMargin). A mirrored match (left and right swapped with front and
+// back) can fit closer but turns parts 20-35 % more against their neighbours; a pair of limbs crossed
 // between split junctions (exchanged_branches) turns them as little (1-4 % more or less) but fits
-// 3-15 % worse. Measured on 14 FAUST cases with known answers (DESIGN 6): twist alone right in 8,
-// RMS alone in 13, this rule in 14.
+// 3-15 % worse. Measured on FAUST and TOSCA cases with known answers (DESIGN 6): twist alone right
+// in 8 of 14, RMS alone in 13; a wrong candidate 9.6 % above the least twist fit closer.
 constexpr double kTwistTie = 1.07;
+// The least-twist candidate gives way only to one that fits at least this much closer (RMS): a
+// mirror and the right match can tie on both (007 -> 085 with both models moved by 1e-7: 0.3 % apart
+// in twist, the mirror 1.3 % closer), while the crossings kTwistTie is for fit 2.9-15 % worse.
+constexpr double kFitMargin = 0.02;
+// Two candidates closer than both of these (relative twist, relative RMS) cannot be told apart: a
+// mirror and the right match of 007 -> 085 with both models moved by 1e-7 tied at 0.25-0.4 % of twist
+// and 1.3-1.6 % of fit, once each way; right choices have been 1.8 % or more apart in twist or 2.9 %
+// in fit from every candidate that maps the ends otherwise.
+constexpr double kTieTwist = 0.01, kTieFit = 0.02;
 // Candidate matches examined for the distortion of their ends' distances, per one registered.
 constexpr int kCandidateFactor = 4;
+
+// The candidate register_bodies keeps: among those within kDistortionTie of the least distortion,
+// the least twist, unless one within kTwistTie of that twist fits kFitMargin closer (the closest such).
+int choose_candidate(const std::vector<double>& distortion, const std::vector<double>& twist, const std::vector<double>& rms) {
+  const double least = *std::min_element(distortion.begin(), distortion.end());
+  auto tied = [&](size_t i) { return distortion[i] <= least + kDistortionTie; };
+  size_t untwisted = distortion.size();
+  for (size_t i = 0; i < distortion.size(); ++i)
+    if (tied(i) && (untwisted == distortion.size() || twist[i] < twist[untwisted])) untwisted = i;
+  if (untwisted == distortion.size()) return 0;  // no finite measure at all
+  size_t best = untwisted;
+  for (size_t i = 0; i < distortion.size(); ++i)
+    if (tied(i) && twist[i] <= kTwistTie * twist[untwisted] && rms[i] < rms[best]) best = i;
+  return int(rms[best] <= (1 - kFitMargin) * rms[untwisted] ? best : untwisted);
+}
+
+// Source end -> target end (given numbering) of a candidate match.
+std::vector<std::pair<int, int>> end_pairs(const SharedSkeletons& c) {
+  const SkeletonMatch m = match_in_given_numbering(c);
+  std::vector<std::pair<int, int>> out;
+  for (size_t k = 0; k < m.a.keys.size(); ++k)
+    if (m.a.key_degree[k] == 1) out.push_back({m.a.keys[k], m.b.keys[size_t(m.key_a_to_b[k])]});
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
+// BodyRegistration::ambiguity for the chosen candidate: empty, or which other one ties with it.
+std::string ambiguity(const std::vector<SharedSkeletons>& cands, const BodyRegistration& r) {
+  const size_t c = size_t(r.chosen);
+  for (size_t i = 0; i < cands.size(); ++i) {
+    if (i == c) continue;
+    const bool tie = std::abs(r.candidate_twist[i] - r.candidate_twist[c]) <= kTieTwist * r.candidate_twist[c] &&
+                     std::abs(r.candidate_rms[i] - r.candidate_rms[c]) <= kTieFit * r.candidate_rms[c];
+    if (!tie || end_pairs(cands[i]) == end_pairs(cands[c])) continue;
+    std::ostringstream s;
+    s.precision(3);
+    s << "candidate matches " << c + 1 << " and " << i + 1 << " send the source's ends to different target ends, yet fit within "
+      << 100 * std::abs(r.candidate_rms[i] / r.candidate_rms[c] - 1) << " % of each other and turn parts within "
+      << 100 * std::abs(r.candidate_twist[i] / r.candidate_twist[c] - 1) << " %";
+    return s.str();
+  }
+  return "";
+}
 
 // Per branch of the shared match (chain of its reduced source skeleton), how far the placed source's
 // vertices on it lie from the target: RMS and 99th percentile, fractions of the target's diagonal.
@@ -172,17 +225,9 @@ BodyRegistration register_bodies(const Mesh& source, const Skeleton& skeleton_a,
                                       " degrees against their neighbours, extremities' distances changed by " +
                                       std::to_string(100 * r.candidate_distortion.back()) + " %");
   }
-  const double least = *std::min_element(r.candidate_distortion.begin(), r.candidate_distortion.end());
-  double least_twist = INFINITY;
-  for (size_t i = 0; i < cands.size(); ++i)
-    if (r.candidate_distortion[i] <= least + kDistortionTie) least_twist = std::min(least_twist, r.candidate_twist[i]);
-  size_t best = cands.size();
-  for (size_t i = 0; i < cands.size(); ++i)
-    if (r.candidate_distortion[i] <= least + kDistortionTie && r.candidate_twist[i] <= kTwistTie * least_twist &&
-        (best == cands.size() || r.candidate_rms[i] < r.candidate_rms[best]))
-      best = i;
-  if (best == cands.size()) best = 0;  // no finite measure at all
-  r.chosen = int(best);
+  r.chosen = choose_candidate(r.candidate_distortion, r.candidate_twist, r.candidate_rms);
+  r.ambiguity = ambiguity(cands, r);
+  const size_t best = size_t(r.chosen);
   r.skeletons = std::move(cands[best]);
   // The chosen match's nodes start the non-rigid fit (fit_skeleton from the guesses). The full
   // articulated registration before it (30 steps, then fit_skeleton from its pose and from the

@@ -16,6 +16,7 @@
 
 #include <Eigen/Dense>
 #include <cmath>
+#include <string>
 #include <utility>
 #include <vector>
 
@@ -49,6 +50,11 @@ struct BodyRegistration {
   std::vector<double> candidate_distortion;
   double distortion = 0;  // the same for the chosen registration
   int chosen = 0;                       // the candidate chosen
+  // Set when another candidate that sends the source's ends to other target ends (left and right,
+  // or front and back, the other way) ties with the chosen one on both measures (twist and fit
+  // within kTieTwist and kTieFit of register_bodies.cpp): which one is right is then a guess. Names
+  // both (1-based) and their figures.
+  std::string ambiguity;
   std::vector<BranchFit> branch_fit;  // per chain of the chosen match
 };
 

@@ -232,6 +232,11 @@ void take_registered(BodyRegistration reg, const TransferOptions& opt, TextureTr
                      std::to_string(r.skeletons.length_disagreement) + " times longer, relative to its skeleton, than its match (up to " +
                      std::to_string(opt.registered_disagreement) + " is taken), so the texture would land on other parts. An extraction "
                      "may have missed a branch (check both with 'sdm skeleton'); pin branches with --match, or pass --force to write it anyway");
+  r.ambiguity = std::move(reg.ambiguity);
+  if (!r.ambiguity.empty() && !opt.force)
+    throw InputError("left and right (or front and back) cannot be told apart: " + r.ambiguity +
+                     ", so the texture may land mirrored. Pin the limbs with --match SOURCE_NODE=TARGET_NODE (ends of the "
+                     "skeletons 'sdm skeleton' writes), or pass --force to take the chosen match anyway");
   if (poor && !opt.force)
     throw InputError("the source does not fit the target: registered along its skeleton it lies " + std::to_string(100 * r.fit_rms) +
                      " % of the diagonal from it (RMS; up to " + std::to_string(100 * opt.registered_rms) + " % is taken), 99th percentile " +

@@ -107,6 +107,9 @@ struct TextureTransfer {
   // Registered with a model's other extraction candidate (TransferOptions::other_candidate): the
   // node numbers of `skeletons` then refer to that candidate.
   bool other_source_candidate = false, other_target_candidate = false;
+  // Registered although another candidate match tied with the chosen one (BodyRegistration::ambiguity,
+  // only with `force`): left and right may be swapped.
+  std::string ambiguity;
   std::vector<double> candidate_rms;  // per candidate match, the short registration's RMS (registered)
   std::vector<double> candidate_twist, candidate_distortion;  // and BodyRegistration's other measures
   double distortion = 0;              // registered: BodyRegistration::distortion
