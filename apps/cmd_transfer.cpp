@@ -420,7 +420,7 @@ void declare_options(CLI::App* app, TransferArgs& o) {
                   "Also write the target with a colour per vertex (.ply, uchar red/green/blue): the source's vertex colours,\n"
                   "or its texture, at the source point each target vertex corresponds to (needs a correspondence, as above)");
   add_max_memory_option(app, o.max_memory);
-  app->add_flag("--force", o.force, "Write the result even when the registered source fits the target poorly");
+  app->add_flag("--force", o.force, "Write the result even when the registered source fits the target poorly, its branches disagree in length, or left and right are a tie");
   app->add_flag("--json", o.json, "Print one JSON object instead of text");
 }
 
