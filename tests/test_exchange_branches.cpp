@@ -11,16 +11,17 @@
 
 namespace {
 
-// A stick figure: pelvis junction at the origin with two legs of length 1, a spine of 0.4 up to a
-// lower shoulder junction, a chain of `inner` up to an upper shoulder junction with the head (0.3,
-// straight up); one arm (0.85) at each shoulder junction, the left one (-x) at the upper junction
-// when `left_high`, else the right one. Chains in pieces of at most 0.1; ten vertices per node.
+// A stick figure: a pelvis junction at the origin with two legs of length 1 (or, with `hips`, a tail
+// of 0.5 and two pelvis junctions 0.05 apart, the left leg at the lower one when `left_low`), a spine of 0.4 up
+// to a lower shoulder junction, a chain of `inner` up to an upper shoulder junction with the head
+// (0.3, straight up); one arm (0.85) at each shoulder junction, the left one (-x) at the upper
+// junction when `left_high`, else the right one. Chains in pieces of at most 0.1; ten vertices per node.
 struct Figure {
   sdm::Skeleton s;
-  int left_tip = -1, right_tip = -1, head_tip = -1;
+  int left_tip = -1, right_tip = -1, head_tip = -1, left_foot = -1, right_foot = -1;
 };
 
-Figure figure(double inner, bool left_high) {
+Figure figure(double inner, bool left_high, bool hips = false, bool left_low = true) {
   Figure f;
   sdm::Skeleton& s = f.s;
   s.nodes.push_back(Eigen::Vector3d::Zero());
@@ -35,22 +36,29 @@ Figure figure(double inner, bool left_high) {
     }
     return prev;
   };
-  chain(0, {-0.2, -1, 0});
-  chain(0, {0.2, -1, 0});
-  const int low = chain(0, {0, 0.4, 0});
-  const int high = chain(low, {0, 0.4 + inner, 0});
-  f.head_tip = chain(high, {0, 0.7 + inner, 0});
+  const int pelvis_high = hips ? chain(0, {0, 0.05, 0}) : 0;
+  const double base = hips ? 0.05 : 0.0;
+  if (hips) chain(0, {0, -0.3, -0.4});  // a tail, so that the lower pelvis node is a junction too
+  f.left_foot = chain(hips && !left_low ? pelvis_high : 0, {-0.2, -1, 0});
+  f.right_foot = chain(hips && left_low ? pelvis_high : 0, {0.2, -1, 0});
+  const int low = chain(pelvis_high, {0, 0.4 + base, 0});
+  const int high = chain(low, {0, 0.4 + base + inner, 0});
+  f.head_tip = chain(high, {0, 0.7 + base + inner, 0});
   f.left_tip = chain(left_high ? high : low, s.nodes[size_t(left_high ? high : low)] + Eigen::Vector3d(-0.85, 0, 0));
   f.right_tip = chain(left_high ? low : high, s.nodes[size_t(left_high ? low : high)] + Eigen::Vector3d(0.85, 0, 0));
   for (size_t i = 0; i < s.nodes.size(); ++i) s.vertex_node.insert(s.vertex_node.end(), 10, int(i));
   return f;
 }
 
-// Whether some candidate match takes a's left hand to b's left hand.
-bool some_match_pairs_left_hands(const sdm::Skeleton& a, const Figure& fa, const Figure& fb) {
+// Whether some candidate match of a onto fb takes a's left hand to b's left hand and, with `feet`,
+// a's left foot to b's left foot.
+bool some_match_keeps_left(const sdm::Skeleton& a, const Figure& fa, const Figure& fb, bool feet = false) {
   for (const sdm::SkeletonMatch& m : sdm::match_candidates(a, fb.s, {}, 16)) {
-    const auto ka = std::find(m.a.keys.begin(), m.a.keys.end(), fa.left_tip) - m.a.keys.begin();
-    if (ka < int(m.a.keys.size()) && m.b.keys[size_t(m.key_a_to_b[size_t(ka)])] == fb.left_tip) return true;
+    auto image = [&](int tip) {
+      const auto k = std::find(m.a.keys.begin(), m.a.keys.end(), tip) - m.a.keys.begin();
+      return k < int(m.a.keys.size()) ? m.b.keys[size_t(m.key_a_to_b[size_t(k)])] : -1;
+    };
+    if (image(fa.left_tip) == fb.left_tip && (!feet || image(fa.left_foot) == fb.left_foot)) return true;
   }
   return false;
 }
@@ -77,10 +85,10 @@ TEST_CASE("exchanged_branches swaps a pair of limbs between close junctions and 
 
 TEST_CASE("a pair split the other way round is matched crossed unless exchanged", "[exchange_branches]") {
   const Figure a = figure(0.05, true), b = figure(0.05, false);
-  CHECK(!some_match_pairs_left_hands(a.s, a, b));  // the split decides: left on right
+  CHECK(!some_match_keeps_left(a.s, a, b));  // the split decides: left on right
   const std::vector<sdm::Skeleton> v = sdm::exchanged_branches(a.s);
   REQUIRE(v.size() == 1);
-  CHECK(some_match_pairs_left_hands(v[0], a, b));
+  CHECK(some_match_keeps_left(v[0], a, b));
 }
 
 TEST_CASE("exchanged_branches leaves far junctions and unequal limbs alone", "[exchange_branches]") {
@@ -92,4 +100,17 @@ TEST_CASE("exchanged_branches leaves far junctions and unequal limbs alone", "[e
   star.edges = {{0, 1}, {0, 2}, {0, 3}};
   star.vertex_node = {0, 1, 2, 3};
   CHECK(sdm::exchanged_branches(star).empty());
+}
+
+TEST_CASE("both shoulders and hips split the other way round need both exchanged", "[exchange_branches]") {
+  const Figure a = figure(0.05, true, true, true), b = figure(0.05, false, true, false);
+  CHECK(!some_match_keeps_left(a.s, a, b, true));
+  const std::vector<sdm::Skeleton> v = sdm::exchanged_branches(a.s);
+  REQUIRE(v.size() == 3);  // the arms, the legs, both
+  int keep_both = 0;
+  for (const sdm::Skeleton& x : v) {
+    CHECK(x.degrees() == a.s.degrees());
+    keep_both += some_match_keeps_left(x, a, b, true);
+  }
+  CHECK(keep_both == 1);
 }

@@ -38,7 +38,11 @@ void reattach(Skeleton& s, int a, int b, int c) {
 }  // namespace
 
 std::vector<Skeleton> exchanged_branches(const Skeleton& s, double max_inner, double max_ratio) {
-  std::vector<Skeleton> out;
+  // Every single exchange: junctions j < k, the first nodes a (of j's branch) and b (of k's).
+  struct Exchange {
+    int j, a, k, b;
+  };
+  std::vector<Exchange> single;
   const std::vector<std::vector<int>> adj = s.adjacency();
   double total = 0;
   for (const auto& e : s.edges) total += (s.nodes[size_t(e[0])] - s.nodes[size_t(e[1])]).norm();
@@ -56,14 +60,28 @@ std::vector<Skeleton> exchanged_branches(const Skeleton& s, double max_inner, do
           const Chain eb = walk(s, adj, k, b);
           if (eb.last == j || adj[size_t(eb.last)].size() != 1 || ea.last == eb.last) continue;
           const double longer = std::max(ea.length, eb.length), shorter = std::min(ea.length, eb.length);
-          if (!(longer <= max_ratio * shorter)) continue;
-          Skeleton v = s;
-          reattach(v, j, a, k);
-          reattach(v, k, b, j);
-          out.push_back(std::move(v));
+          if (longer <= max_ratio * shorter) single.push_back({j, a, k, b});
         }
       }
     }
+  }
+  // Every set of exchanges on distinct junction pairs (both shoulders and both hips of one body can
+  // be split the other way round at once), at most 2^6 - 1 of them.
+  std::vector<Skeleton> out;
+  const size_t n = std::min<size_t>(single.size(), 6);
+  for (unsigned mask = 1; mask < (1u << n); ++mask) {
+    Skeleton v = s;
+    std::vector<std::pair<int, int>> pairs;
+    bool clash = false;
+    for (size_t x = 0; x < n && !clash; ++x) {
+      if (!(mask >> x & 1u)) continue;
+      const Exchange& e = single[x];
+      clash = std::find(pairs.begin(), pairs.end(), std::make_pair(e.j, e.k)) != pairs.end();
+      pairs.push_back({e.j, e.k});
+      reattach(v, e.j, e.a, e.k);
+      reattach(v, e.k, e.b, e.j);
+    }
+    if (!clash) out.push_back(std::move(v));
   }
   return out;
 }

@@ -13,10 +13,11 @@
 
 namespace sdm {
 
-/// Variants of `s`, one per exchange: two junctions (degree >= 3) joined by a chain of at most
-/// `max_inner` times the skeleton's total edge length, with an end branch at each whose lengths
-/// differ by at most the factor `max_ratio`: the two branches' first edges swap junctions. Nodes,
-/// vertex_node and every degree stay as they are. Empty when no pair qualifies. Deterministic.
+/// Variants of `s`, one per set of exchanges on distinct junction pairs. An exchange: two junctions
+/// (degree >= 3) joined by a chain of at most `max_inner` times the skeleton's total edge length,
+/// with an end branch at each whose lengths differ by at most the factor `max_ratio`; the two
+/// branches' first edges swap junctions. Nodes, vertex_node and every degree stay as they are.
+/// Empty when no pair qualifies; at most 63 variants (the first six exchanges). Deterministic.
 std::vector<Skeleton> exchanged_branches(const Skeleton& s, double max_inner = 0.04, double max_ratio = 1.5);
 
 }  // namespace sdm
