@@ -114,3 +114,16 @@ TEST_CASE("both shoulders and hips split the other way round need both exchanged
   }
   CHECK(keep_both == 1);
 }
+
+TEST_CASE("exchanges that share a junction are not combined", "[exchange_branches]") {
+  // A spine of three junctions 0.05 apart (a palm), a finger of 0.5 at each, the spine's ends 1 long.
+  sdm::Skeleton s;
+  s.nodes = {{0, 0, 0}, {0, 0.05, 0}, {0, 0.1, 0}, {0, -1, 0}, {0, 1.1, 0}, {0.5, 0, 0}, {0.5, 0.05, 0}, {0.5, 0.1, 0}};
+  s.edges = {{0, 1}, {1, 2}, {0, 3}, {2, 4}, {0, 5}, {1, 6}, {2, 7}};
+  for (int i = 0; i < 8; ++i) s.vertex_node.push_back(i);
+  const std::vector<sdm::Skeleton> v = sdm::exchanged_branches(s, 0.04, 2.5);
+  // Singles: 0-1 (finger 5 with 6; spine end 3 is 1 long against 0.5, within 2.5 too: 3 with 6), and
+  // 1-2 (6 with 7, 6 with 4); none combined, since each pair shares junction 1.
+  CHECK(v.size() == 4);
+  for (const sdm::Skeleton& x : v) CHECK(x.degrees() == s.degrees());
+}

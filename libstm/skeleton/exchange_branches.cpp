@@ -65,19 +65,20 @@ std::vector<Skeleton> exchanged_branches(const Skeleton& s, double max_inner, do
       }
     }
   }
-  // Every set of exchanges on distinct junction pairs (both shoulders and both hips of one body can
-  // be split the other way round at once), at most 2^6 - 1 of them.
+  // Every set of exchanges on disjoint junction pairs (both shoulders and both hips of one body can
+  // be split the other way round at once), at most 2^6 - 1 of them. Exchanges sharing a junction
+  // would move one branch twice.
   std::vector<Skeleton> out;
   const size_t n = std::min<size_t>(single.size(), 6);
   for (unsigned mask = 1; mask < (1u << n); ++mask) {
     Skeleton v = s;
-    std::vector<std::pair<int, int>> pairs;
+    std::vector<int> used;
     bool clash = false;
     for (size_t x = 0; x < n && !clash; ++x) {
       if (!(mask >> x & 1u)) continue;
       const Exchange& e = single[x];
-      clash = std::find(pairs.begin(), pairs.end(), std::make_pair(e.j, e.k)) != pairs.end();
-      pairs.push_back({e.j, e.k});
+      clash = std::find(used.begin(), used.end(), e.j) != used.end() || std::find(used.begin(), used.end(), e.k) != used.end();
+      used.push_back(e.j), used.push_back(e.k);
       reattach(v, e.j, e.a, e.k);
       reattach(v, e.k, e.b, e.j);
     }

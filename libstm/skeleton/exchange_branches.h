@@ -13,7 +13,7 @@
 
 namespace sdm {
 
-/// Variants of `s`, one per set of exchanges on distinct junction pairs. An exchange: two junctions
+/// Variants of `s`, one per set of exchanges on disjoint junction pairs. An exchange: two junctions
 /// (degree >= 3) joined by a chain of at most `max_inner` times the skeleton's total edge length,
 /// with an end branch at each whose lengths differ by at most the factor `max_ratio`; the two
 /// branches' first edges swap junctions. Nodes, vertex_node and every degree stay as they are.
