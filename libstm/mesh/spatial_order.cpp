@@ -43,13 +43,6 @@ std::vector<int> morton_order(const std::vector<Eigen::Vector3d>& points) {
   return index;
 }
 
-// Whether the median of a sample's corner spreads exceeds 5 % of the vertices.
-bool wide(std::vector<int>& spread, size_t vertices) {
-  if (spread.empty()) return false;
-  std::nth_element(spread.begin(), spread.begin() + long(spread.size() / 2), spread.end());
-  return double(spread[spread.size() / 2]) > 0.05 * double(vertices);
-}
-
 }  // namespace
 
 MeshSoup spatially_ordered(const MeshSoup& soup) {
@@ -103,17 +96,21 @@ bool scattered_numbering(const std::vector<std::array<int, 3>>& triangles, size_
     const auto& t = triangles[f];
     spread.push_back(std::max({t[0], t[1], t[2]}) - std::min({t[0], t[1], t[2]}));
   }
-  return wide(spread, vertices);
+  if (spread.empty()) return false;
+  std::nth_element(spread.begin(), spread.begin() + long(spread.size() / 2), spread.end());
+  return double(spread[spread.size() / 2]) > 0.05 * double(vertices);
 }
 
 bool scattered_numbering(const Mesh& mesh) {
-  std::vector<int> spread;
+  // The same faces as the list version samples (fewer than 20,000 here, so it takes every one).
+  std::vector<std::array<int, 3>> sample;
   for (size_t f = 0, step = std::max<size_t>(1, mesh.n_faces() / 10000); f < mesh.n_faces(); f += step) {
-    int lo = INT32_MAX, hi = -1;
-    for (auto v : mesh.fv_range(Mesh::FaceHandle(int(f)))) lo = std::min(lo, v.idx()), hi = std::max(hi, v.idx());
-    spread.push_back(hi - lo);
+    std::array<int, 3> t{};
+    int c = 0;
+    for (auto v : mesh.fv_range(Mesh::FaceHandle(int(f)))) t[size_t(c++)] = v.idx();
+    sample.push_back(t);
   }
-  return wide(spread, mesh.n_vertices());
+  return scattered_numbering(sample, mesh.n_vertices());
 }
 
 }  // namespace sdm

@@ -7,15 +7,15 @@ namespace sdm {
 
 namespace {
 
-// A chain leaving a junction: its first node after the junction, the node where it stops (the
-// first of degree other than 2), and its length.
+// A chain leaving a junction: the node where it stops (the first of degree other than 2) and its
+// length.
 struct Chain {
-  int first = -1, last = -1;
+  int last = -1;
   double length = 0;
 };
 
 Chain walk(const Skeleton& s, const std::vector<std::vector<int>>& adj, int junction, int first) {
-  Chain c{first, first, (s.nodes[size_t(first)] - s.nodes[size_t(junction)]).norm()};
+  Chain c{first, (s.nodes[size_t(first)] - s.nodes[size_t(junction)]).norm()};
   int prev = junction;
   while (adj[size_t(c.last)].size() == 2) {
     const int next = adj[size_t(c.last)][0] == prev ? adj[size_t(c.last)][1] : adj[size_t(c.last)][0];

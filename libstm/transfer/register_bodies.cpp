@@ -65,11 +65,12 @@ std::vector<std::pair<int, int>> end_pairs(const SharedSkeletons& c) {
 // BodyRegistration::ambiguity for the chosen candidate: empty, or which other one ties with it.
 std::string ambiguity(const std::vector<SharedSkeletons>& cands, const BodyRegistration& r) {
   const size_t c = size_t(r.chosen);
+  const std::vector<std::pair<int, int>> chosen_ends = end_pairs(cands[c]);
   for (size_t i = 0; i < cands.size(); ++i) {
     if (i == c) continue;
     const bool tie = std::abs(r.candidate_twist[i] - r.candidate_twist[c]) <= kTieTwist * r.candidate_twist[c] &&
                      std::abs(r.candidate_rms[i] - r.candidate_rms[c]) <= kTieFit * r.candidate_rms[c];
-    if (!tie || end_pairs(cands[i]) == end_pairs(cands[c])) continue;
+    if (!tie || end_pairs(cands[i]) == chosen_ends) continue;
     std::ostringstream s;
     s.precision(3);
     s << "candidate matches " << c + 1 << " and " << i + 1 << " send the source's ends to different target ends, yet fit within "

@@ -7,7 +7,6 @@
 #include "libstm/layout/segments.h"
 
 #include "libstm/core/parallel.h"
-#include "libstm/skeleton/common_branching.h"
 
 #include <algorithm>
 #include <cmath>
@@ -245,42 +244,6 @@ void take_registered(BodyRegistration reg, const TransferOptions& opt, TextureTr
                      "with --match, or pass --force to write it anyway");
 }
 
-// The target recognised (carried or bent: recognise_target) and, on a second thread beside it, the
-// source registered onto it as another body (register_bodies), kept in `body` for when the target
-// is neither (left empty when the branchings differ: the skeletons' match then explains the refusal).
-// Both only when the caller leaves the target's
-// skeleton to the transfer (carry_same_shape) and the genera agree; the registration also needs
-// register_bodies. `fixed` receives every key node as its own counterpart when carried or bent.
-TargetSkeleton recognise_or_register(const Mesh& source, const Skeleton& skeleton_a, const Mesh& target, const Skeleton& skeleton_b,
-                                     const TransferOptions& opt, TextureTransfer& r, std::vector<std::pair<int, int>>& fixed,
-                                     std::optional<BodyRegistration>& body) {
-  TargetSkeleton tb{skeleton_b, {}, {}};
-  if (!opt.carry_same_shape || euler_characteristic(source) != euler_characteristic(target)) return tb;
-  TransferOptions o = opt;
-  o.progress = serialised(opt.progress);
-  std::unique_ptr<BackgroundTask> task;
-  if (opt.register_bodies) {
-    BodyOptions bo;
-    bo.split_ratio = opt.split_ratio, bo.candidates = opt.candidates, bo.progress = o.progress;
-    task = std::make_unique<BackgroundTask>([&, bo] { body = register_bodies(source, skeleton_a, target, skeleton_b, opt.fixed, bo); });
-  }
-  if (opt.fixed.empty()) tb = recognise_target(source, skeleton_a, target, skeleton_b, o, r);
-  if (task) {
-    try {
-      task->wait();
-    } catch (const InputError&) {
-      body.reset();
-    }
-  }
-  if (r.carried || r.fitted) {
-    // One graph on both sides: every junction and end is its own counterpart.
-    const std::vector<int> deg = skeleton_a.degrees();
-    for (size_t x = 0; x < deg.size(); ++x)
-      if (deg[x] != 2) fixed.emplace_back(int(x), int(x));
-  }
-  return tb;
-}
-
 // The refusal's way out (TransferOptions::other_candidate): the pairs of given and other
 // extraction candidates, the model with fewer ends changed first, the first whose branchings agree
 // registered as another body. Empty when none agrees or registers.
@@ -305,8 +268,7 @@ std::optional<BodyRegistration> register_other_candidates(const Mesh& source, co
     const Skeleton* a = other_a ? candidate(false) : &skeleton_a;
     const Skeleton* b = other_b ? candidate(true) : &skeleton_b;
     if (!a || !b) continue;
-    try {
-      common_branching(*a, *b);
+    try {  // register_bodies throws InputError where the branchings still differ (common_branching)
       BodyRegistration reg = register_bodies(source, *a, target, *b, {}, bo);
       r.other_source_candidate = other_a, r.other_target_candidate = other_b;
       report_progress(opt.progress, std::string("registered with the other candidate of the ") +
@@ -316,6 +278,45 @@ std::optional<BodyRegistration> register_other_candidates(const Mesh& source, co
     }
   }
   return std::nullopt;
+}
+
+// The target recognised (carried or bent: recognise_target) and, on a second thread beside it, the
+// source registered onto it as another body (register_bodies), kept in `body` for when the target
+// is neither (left empty when the branchings differ, after each model's other extraction candidate
+// was tried: the skeletons' match then explains the refusal).
+// Both only when the caller leaves the target's
+// skeleton to the transfer (carry_same_shape) and the genera agree; the registration also needs
+// register_bodies. `fixed` receives every key node as its own counterpart when carried or bent.
+TargetSkeleton recognise_or_register(const Mesh& source, const Skeleton& skeleton_a, const Mesh& target, const Skeleton& skeleton_b,
+                                     const TransferOptions& opt, TextureTransfer& r, std::vector<std::pair<int, int>>& fixed,
+                                     std::optional<BodyRegistration>& body) {
+  TargetSkeleton tb{skeleton_b, {}, {}};
+  if (!opt.carry_same_shape || euler_characteristic(source) != euler_characteristic(target)) return tb;
+  TransferOptions o = opt;
+  o.progress = serialised(opt.progress);
+  std::unique_ptr<BackgroundTask> task;
+  if (opt.register_bodies) {
+    BodyOptions bo;
+    bo.split_ratio = opt.split_ratio, bo.candidates = opt.candidates, bo.progress = o.progress;
+    task = std::make_unique<BackgroundTask>([&, bo] { body = register_bodies(source, skeleton_a, target, skeleton_b, opt.fixed, bo); });
+  }
+  if (opt.fixed.empty()) tb = recognise_target(source, skeleton_a, target, skeleton_b, o, r);
+  if (task) {
+    try {
+      task->wait();
+    } catch (const InputError&) {
+      body.reset();
+    }
+    if (!body && !r.carried && !r.fitted && opt.other_candidate && opt.fixed.empty())
+      body = register_other_candidates(source, skeleton_a, target, skeleton_b, opt, r);
+  }
+  if (r.carried || r.fitted) {
+    // One graph on both sides: every junction and end is its own counterpart.
+    const std::vector<int> deg = skeleton_a.degrees();
+    for (size_t x = 0; x < deg.size(); ++x)
+      if (deg[x] != 2) fixed.emplace_back(int(x), int(x));
+  }
+  return tb;
 }
 
 }  // namespace
@@ -350,9 +351,6 @@ TextureTransfer transfer_texture(GlContext& gl, const Mesh& source, const Image&
   std::vector<std::pair<int, int>> fixed = opt.fixed;
   std::optional<BodyRegistration> body;
   TargetSkeleton tb = recognise_or_register(source, skeleton_a, target, skeleton_b, opt, r, fixed, body);
-  if (!r.carried && !r.fitted && !body && opt.other_candidate && opt.fixed.empty() && opt.register_bodies && opt.carry_same_shape &&
-      euler_characteristic(source) == euler_characteristic(target))
-    body = register_other_candidates(source, skeleton_a, target, skeleton_b, opt, r);
   // Neither the source's shape nor the source bent along its own skeleton: another body.
   if (!r.carried && !r.fitted && body) {
     take_registered(std::move(*body), opt, r, tb);
