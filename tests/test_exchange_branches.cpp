@@ -8,6 +8,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
 
 namespace {
 
@@ -126,4 +128,34 @@ TEST_CASE("exchanges that share a junction are not combined", "[exchange_branche
   // 1-2 (6 with 7, 6 with 4); none combined, since each pair shares junction 1.
   CHECK(v.size() == 4);
   for (const sdm::Skeleton& x : v) CHECK(x.degrees() == s.degrees());
+}
+
+// The transfer's skeleton of every shared mesh (and of the open CAD part), its exchange variants
+// counted and checked (hidden: run with [exchange_measure]; DESIGN 6). SDM_TEST_DUMP=DIR keeps
+// the skeletons there.
+#include "test_util.h"
+#include "libstm/mesh/mesh.h"
+#include "libstm/skeleton/extract_skeleton.h"
+#include "libstm/transfer/transfer_texture.h"
+TEST_CASE("exchanged_branches on the shared meshes' transfer skeletons, measured", "[.][exchange_measure]") {
+  std::vector<test_util::SharedMesh> meshes = test_util::closed_shared_meshes();
+  const std::string shark = std::string(SDM_TEST_DATA) + "/../../../shared/models/cgal/mech-holes-shark.off";
+  if (std::ifstream(shark).good()) meshes.push_back({"cgal/mech-holes-shark.off", shark, -1});
+  for (const auto& m : meshes) {
+    const sdm::Skeleton s = sdm::extract_skeleton(sdm::load_mesh(m.path), sdm::transfer_skeleton_options());
+    const std::vector<sdm::Skeleton> v = sdm::exchanged_branches(s);
+    if (const char* dump = std::getenv("SDM_TEST_DUMP")) sdm::write_skeleton_json(s, std::string(dump) + "/" + std::filesystem::path(m.path).stem().string() + ".json");
+    std::fprintf(stderr, "%-32s %3zu nodes, %2d ends, %2d junctions: %zu variants\n", m.name.c_str(), s.nodes.size(), s.end_nodes(),
+                 s.branch_nodes(), v.size());
+    for (const sdm::Skeleton& x : v) {
+      for (size_t e = 0; e < x.edges.size(); ++e)
+        if (x.edges[e] != s.edges[e])
+          std::fprintf(stderr, "  edge %d-%d -> %d-%d\n", s.edges[e][0], s.edges[e][1], x.edges[e][0], x.edges[e][1]);
+      CHECK(x.degrees() == s.degrees());
+      CHECK(x.nodes == s.nodes);
+      CHECK(x.vertex_node == s.vertex_node);
+      CHECK(x.components() == s.components());
+      CHECK(x.cycles() == s.cycles());
+    }
+  }
 }

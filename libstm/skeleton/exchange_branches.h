@@ -18,6 +18,6 @@ namespace sdm {
 /// with an end branch at each whose lengths differ by at most the factor `max_ratio`; the two
 /// branches' first edges swap junctions. Nodes, vertex_node and every degree stay as they are.
 /// Empty when no pair qualifies; at most 63 variants (the first six exchanges). Deterministic.
-std::vector<Skeleton> exchanged_branches(const Skeleton& s, double max_inner = 0.04, double max_ratio = 1.5);
+std::vector<Skeleton> exchanged_branches(const Skeleton& s, double max_inner = 0.04, double max_ratio = 1.25);
 
 }  // namespace sdm
