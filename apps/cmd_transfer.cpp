@@ -284,6 +284,8 @@ void print_transfer_json(const TransferArgs& o, const TransferInputs& in, const 
               {"extremity_distortion", r.distortion},
               {"candidate_twist", r.candidate_twist},
               {"candidate_distortion", r.candidate_distortion},
+              {"candidate_attachment", r.candidate_attachment},
+              {"attachment_misfit", r.attachment},
               {"target_skeleton", r.carried      ? "carried"
                                   : r.fitted     ? "bent"
                                   : r.registered ? "registered"
@@ -369,6 +371,9 @@ int run_texture_transfer(const TransferArgs& o) {
                           "--target-skeleton so that the source is registered onto the target");
   if (!r.ambiguity.empty())
     progress("warning: left and right (or front and back) may be swapped (--force was given): " + r.ambiguity);
+  if (r.registered && r.attachment > to.registered_attachment)
+    progress("warning: the skeletons' branches meet the core at other places on the two models (--force was given): limbs may "
+             "land on other limbs");
   if (r.registered && !(r.fit_rms <= to.registered_rms && r.fit_p99 <= to.registered_p99))
     progress("warning: the source fits the target poorly (--force was given): the texture may be misplaced");
   for (const auto& b : r.branch_fit)
@@ -420,7 +425,7 @@ void declare_options(CLI::App* app, TransferArgs& o) {
                   "Also write the target with a colour per vertex (.ply, uchar red/green/blue): the source's vertex colours,\n"
                   "or its texture, at the source point each target vertex corresponds to (needs a correspondence, as above)");
   add_max_memory_option(app, o.max_memory);
-  app->add_flag("--force", o.force, "Write the result even when the registered source fits the target poorly, its branches disagree in length, or left and right are a tie");
+  app->add_flag("--force", o.force, "Write the result even when the registered source fits the target poorly, its branches disagree in length or meet the core at other places, or left and right are a tie");
   app->add_flag("--json", o.json, "Print one JSON object instead of text");
 }
 

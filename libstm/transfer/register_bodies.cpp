@@ -29,6 +29,10 @@ constexpr double kTwistTie = 1.07;
 // mirror and the right match can tie on both (007 -> 085 with both models moved by 1e-7: 0.3 % apart
 // in twist, the mirror 1.3 % closer), while the crossings kTwistTie is for fit 2.9-15 % worse.
 constexpr double kFitMargin = 0.02;
+// ... and only to one whose branches meet the core no more than this factor further apart than its
+// own (attachment_misfit): FAUST 024 -> TOSCA man, a candidate with the hands crossed fit 5.6 %
+// closer at 2 % more twist, its attachments 1.63 times as far apart (session 19, DESIGN 6).
+constexpr double kAttachmentGuard = 1.3;
 // Two candidates closer than both of these (relative twist, relative RMS) cannot be told apart: a
 // mirror and the right match of 007 -> 085 with both models moved by 1e-7 tied at 0.25-0.4 % of twist
 // and 1.3-1.6 % of fit, once each way; right choices have been 1.8 % or more apart in twist or 2.9 %
@@ -38,8 +42,11 @@ constexpr double kTieTwist = 0.01, kTieFit = 0.02;
 constexpr int kCandidateFactor = 4;
 
 // The candidate register_bodies keeps: among those within kDistortionTie of the least distortion,
-// the least twist, unless one within kTwistTie of that twist fits kFitMargin closer (the closest such).
-int choose_candidate(const std::vector<double>& distortion, const std::vector<double>& twist, const std::vector<double>& rms) {
+// the least twist, unless one within kTwistTie of that twist and kAttachmentGuard of its attachment
+// misfit fits kFitMargin closer (the closest such).
+int choose_candidate(const BodyRegistration& r) {
+  const std::vector<double>&distortion = r.candidate_distortion, &twist = r.candidate_twist, &rms = r.candidate_rms,
+                               &attachment = r.candidate_attachment;
   const double least = *std::min_element(distortion.begin(), distortion.end());
   auto tied = [&](size_t i) { return distortion[i] <= least + kDistortionTie; };
   size_t untwisted = distortion.size();
@@ -48,7 +55,8 @@ int choose_candidate(const std::vector<double>& distortion, const std::vector<do
   if (untwisted == distortion.size()) return 0;  // no finite measure at all
   size_t best = untwisted;
   for (size_t i = 0; i < distortion.size(); ++i)
-    if (tied(i) && twist[i] <= kTwistTie * twist[untwisted] && rms[i] < rms[best]) best = i;
+    if (tied(i) && twist[i] <= kTwistTie * twist[untwisted] && attachment[i] <= kAttachmentGuard * attachment[untwisted] && rms[i] < rms[best])
+      best = i;
   return int(rms[best] <= (1 - kFitMargin) * rms[untwisted] ? best : untwisted);
 }
 
@@ -179,6 +187,57 @@ std::vector<int> images_of(const std::vector<int>& tips, const std::vector<Eigen
   return image;
 }
 
+// Where each end branch of a shared match meets the core (the junctions and the chains between
+// them: a torso) on a mesh: the mean of the vertices on either side of the mesh edges between a
+// vertex of the core and one of the branch (NaN when they do not touch). Pose hardly moves it (a
+// shoulder, a hip, the neck), and it lies on the branch's own side of the core.
+std::vector<Eigen::Vector3d> attachments(const Mesh& mesh, const std::vector<int>& vertex_node, const std::vector<int>& chain_of,
+                                         size_t chains) {
+  std::vector<Eigen::Vector3d> sum(chains, Eigen::Vector3d::Zero());
+  std::vector<double> count(chains, 0);
+  for (auto e : mesh.edges()) {
+    const auto h = mesh.halfedge_handle(e, 0);
+    const auto u = mesh.from_vertex_handle(h), v = mesh.to_vertex_handle(h);
+    const int a = chain_of[vertex_node[u.idx()]], b = chain_of[vertex_node[v.idx()]];
+    const int branch = a == -2 && b >= 0 ? b : b == -2 && a >= 0 ? a : -1;
+    if (branch >= 0) sum[branch] += point(mesh, u) + point(mesh, v), count[branch] += 2;
+  }
+  std::vector<Eigen::Vector3d> out;
+  for (size_t c = 0; c < chains; ++c) out.push_back(count[c] > 0 ? Eigen::Vector3d(sum[c] / count[c]) : Eigen::Vector3d::Constant(NAN));
+  return out;
+}
+
+// How far a match's end branches meet the core at other places on the two models: the RMS distance,
+// over the target's diagonal, between the target's attachments (and core nodes) and the source's
+// under the similarity that best lays the latter onto the former. A match that crosses one pair of
+// limbs and keeps the others (hands swapped, feet not) cannot lay them together; one that swaps
+// every pair (a mirror) can, as the attachments lie near a plane, so this does not tell mirrors
+// apart. 0 with fewer than three points.
+double attachment_misfit(const Mesh& source, const Mesh& target, const SharedSkeletons& sh) {
+  const ReducedSkeleton& red = sh.match.a;
+  std::vector<int> chain_of(sh.a.nodes.size(), -1);  // shared node -> its end chain, or -2 for the core
+  for (size_t k = 0; k < red.keys.size(); ++k)
+    if (red.key_degree[k] >= 3) chain_of[k] = -2;
+  for (size_t c = 0; c < red.chains.size(); ++c) {
+    const bool core = red.key_degree[red.chains[c].from] >= 3 && red.key_degree[red.chains[c].to] >= 3;
+    for (int e : sh.chain_edges[c])
+      for (int n : sh.a.edges[e])
+        if (chain_of[n] == -1) chain_of[n] = core ? -2 : int(c);
+  }
+  const auto pa = attachments(source, sh.a.vertex_node, chain_of, red.chains.size());
+  const auto pb = attachments(target, sh.b.vertex_node, chain_of, red.chains.size());
+  std::vector<Eigen::Vector3d> x, y;
+  for (size_t c = 0; c < pa.size(); ++c)
+    if (pa[c].allFinite() && pb[c].allFinite()) x.push_back(pa[c]), y.push_back(pb[c]);
+  for (size_t n = 0; n < chain_of.size(); ++n)
+    if (chain_of[n] == -2) x.push_back(sh.a.nodes[n]), y.push_back(sh.b.nodes[n]);
+  if (x.size() < 3) return 0;
+  const Similarity T = fit_similarity(x, y, std::vector<double>(x.size(), 1.0));
+  double e = 0;
+  for (size_t i = 0; i < x.size(); ++i) e += (T(x[i]) - y[i]).squaredNorm();
+  return std::sqrt(e / double(x.size())) / std::max(bounding_box_diagonal(target), 1e-300);
+}
+
 }  // namespace
 
 BodyRegistration register_bodies(const Mesh& source, const Skeleton& skeleton_a, const Mesh& target, const Skeleton& skeleton_b,
@@ -221,13 +280,16 @@ BodyRegistration register_bodies(const Mesh& source, const Skeleton& skeleton_a,
     const ArticulatedFit f = articulated_registration(source, cands[i].a, target, cands[i].b.nodes, quick);
     r.candidate_rms.push_back(f.posed_rms), r.candidate_twist.push_back(f.twist);
     r.candidate_distortion.push_back(extremity_distortion(f.posed));
+    r.candidate_attachment.push_back(attachment_misfit(source, target, cands[i]));
     report_progress(opt.progress, "candidate match " + std::to_string(i + 1) + " of " + std::to_string(cands.size()) + ": RMS " +
                                       std::to_string(100 * f.posed_rms) + " % of the diagonal, parts turned " + std::to_string(f.twist) +
                                       " degrees against their neighbours, extremities' distances changed by " +
-                                      std::to_string(100 * r.candidate_distortion.back()) + " %");
+                                      std::to_string(100 * r.candidate_distortion.back()) + " %, branches attached " +
+                                      std::to_string(100 * r.candidate_attachment.back()) + " % apart");
   }
-  r.chosen = choose_candidate(r.candidate_distortion, r.candidate_twist, r.candidate_rms);
+  r.chosen = choose_candidate(r);
   r.ambiguity = ambiguity(cands, r);
+  r.attachment = r.candidate_attachment[size_t(r.chosen)];
   const size_t best = size_t(r.chosen);
   r.skeletons = std::move(cands[best]);
   // The chosen match's nodes start the non-rigid fit (fit_skeleton from the guesses). The full

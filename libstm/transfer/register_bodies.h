@@ -6,7 +6,8 @@
 // left and which right, which side is the front, only the surfaces tell) drives a short articulated
 // registration of the source onto the target (articulated_registration: per-node rigid motions, the
 // match's resampled target chains as the nodes' guesses); the one whose parts turn least against
-// their neighbours is kept, and its nodes start the non-rigid fit of the source's skeleton onto the
+// their neighbours is kept (or one that fits closer without turning more or laying the places where
+// the limbs meet the torso further apart), and its nodes start the non-rigid fit of the source's skeleton onto the
 // target (fit_skeleton: embedded deformation on the skeleton, stiffness lowered step by step). The placed source gives every target point its source point
 // (source_points_under).
 #include "libstm/core/progress.h"
@@ -48,7 +49,12 @@ struct BodyRegistration {
   // (ends of its skeleton), each over the square root of its surface's area: sum of |changes| over
   // sum of distances. The candidates within 0.05 of the least are told apart by their twist.
   std::vector<double> candidate_distortion;
+  // and how far its end branches meet the core (a torso) at other places on the two models (RMS
+  // distance after the best similarity, fraction of the target's diagonal): a match that crosses one
+  // pair of limbs and keeps the others cannot lay the attachments together.
+  std::vector<double> candidate_attachment;
   double distortion = 0;  // the same for the chosen registration
+  double attachment = 0;  // candidate_attachment of the chosen match
   int chosen = 0;                       // the candidate chosen
   // Set when another candidate that sends the source's ends to other target ends (left and right,
   // or front and back, the other way) ties with the chosen one on both measures (twist and fit

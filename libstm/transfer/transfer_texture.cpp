@@ -221,6 +221,7 @@ void take_registered(BodyRegistration reg, const TransferOptions& opt, TextureTr
   r.fit_rms = reg.rms, r.fit_p99 = reg.p99, r.registered = true;
   r.candidate_rms = std::move(reg.candidate_rms), r.branch_fit = std::move(reg.branch_fit);
   r.candidate_twist = std::move(reg.candidate_twist), r.candidate_distortion = std::move(reg.candidate_distortion);
+  r.candidate_attachment = std::move(reg.candidate_attachment);
   r.distortion = reg.distortion;
   tb.placed = std::move(reg.placed);
   const bool poor = !(r.fit_rms <= opt.registered_rms && r.fit_p99 <= opt.registered_p99);
@@ -231,6 +232,13 @@ void take_registered(BodyRegistration reg, const TransferOptions& opt, TextureTr
                      std::to_string(r.skeletons.length_disagreement) + " times longer, relative to its skeleton, than its match (up to " +
                      std::to_string(opt.registered_disagreement) + " is taken), so the texture would land on other parts. An extraction "
                      "may have missed a branch (check both with 'sdm skeleton'); pin branches with --match, or pass --force to write it anyway");
+  r.attachment = reg.attachment;
+  if (r.attachment > opt.registered_attachment && !opt.force)
+    throw InputError("the skeletons' branches are matched to other branches: where they meet the core (a torso) they lie " +
+                     std::to_string(100 * r.attachment) + " % of the diagonal apart on the two models (up to " +
+                     std::to_string(100 * opt.registered_attachment) + " % is taken), so the texture would land on other parts. An "
+                     "extraction may have split or missed a branch (check both with 'sdm skeleton'); pin branches with --match, or pass "
+                     "--force to write it anyway");
   r.ambiguity = std::move(reg.ambiguity);
   if (!r.ambiguity.empty() && !opt.force)
     throw InputError("left and right (or front and back) cannot be told apart: " + r.ambiguity +
