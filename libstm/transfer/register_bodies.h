@@ -47,7 +47,7 @@ struct BodyRegistration {
   std::vector<double> candidate_twist;  // and its ArticulatedFit::twist (degrees)
   // and how much it changes the distances along the surface between the source's extremities
   // (ends of its skeleton), each over the square root of its surface's area: sum of |changes| over
-  // sum of distances. The candidates within 0.05 of the least are told apart by their twist.
+  // sum of distances (reported; the choice no longer uses it: a tip lands wherever parts touch).
   std::vector<double> candidate_distortion;
   // and how far its end branches meet the core (a torso) at other places on the two models (RMS
   // distance after the best similarity, fraction of the target's diagonal): a match that crosses one
