@@ -54,7 +54,10 @@ struct BodyRegistration {
   // pair of limbs and keeps the others cannot lay the attachments together.
   std::vector<double> candidate_attachment;
   double distortion = 0;  // the same for the chosen registration
-  double attachment = 0;  // candidate_attachment of the chosen match
+  // candidate_attachment of the chosen match; 0 when a model's core (the chains between its
+  // junctions) spans under 3 % of its skeleton's length, so that its attachments all surround one
+  // point and do not compare (not measured).
+  double attachment = 0;
   int chosen = 0;                       // the candidate chosen
   // Set when another candidate that sends the source's ends to other target ends (left and right,
   // or front and back, the other way) ties with the chosen one on both measures (twist and fit
