@@ -82,7 +82,8 @@ struct TransferOptions {
   // than this fraction of the target's diagonal (BodyRegistration::attachment, after the best
   // similarity) is refused unless `force`: limbs are paired with other limbs, which the non-rigid
   // fit then bends into place (the TOSCA man onto FAUST 024: 9.1 %, the final fit 0.48 % RMS, every
-  // hand and foot on another; right matches of the five shared bodies 1.1-3.6 %).
+  // hand and foot on another; right matches of the five shared bodies 1.1-4.3 %). Not measured (0)
+  // where a model's core spans under 3 % of its skeleton (BodyRegistration::attachment).
   double registered_attachment = 0.05;
   // When the given skeletons' branchings differ beyond small branches, so that the target (neither
   // the source's shape nor the source bent) would be refused, each model's other extraction
