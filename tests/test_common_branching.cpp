@@ -74,10 +74,11 @@ namespace {
 
 // A stick person: pelvis at the origin, chest at (0, 1); legs of length 1 down from the pelvis,
 // a head of 0.3 up from the chest, arms of 0.8 out from the chest along +-x, every chain cut into
-// pieces of about 0.1, ten vertices per node. With `arm_from_pelvis`, the right arm's chain
+// pieces of about 0.1, ten vertices per node. With `headless_with_thumb`, no head, and the right
+// hand forks into a thumb and a finger (what a medial extraction of a jittered FAUST 024 returned). With `arm_from_pelvis`, the right arm's chain
 // starts at the pelvis instead and runs up the side of the torso (x = 0.15) to the shoulder
 // before going out: what an extraction of a flat torso sometimes returns.
-sdm::Skeleton stick_person(bool arm_from_pelvis) {
+sdm::Skeleton stick_person(bool arm_from_pelvis, bool headless_with_thumb = false) {
   sdm::Skeleton s;
   s.nodes = {Eigen::Vector3d::Zero(), Eigen::Vector3d(0, 1, 0)};
   auto chain = [&](int from, std::vector<Eigen::Vector3d> way) {
@@ -98,10 +99,13 @@ sdm::Skeleton stick_person(bool arm_from_pelvis) {
   chain(0, {{0.3, -1, 0}});
   const int spine_end = chain(0, {{0, 0.9, 0}});
   s.edges.push_back({spine_end, 1});
-  chain(1, {{0, 1.3, 0}});
+  if (!headless_with_thumb) chain(1, {{0, 1.3, 0}});
   chain(1, {{-0.8, 1, 0}});
   if (arm_from_pelvis) chain(0, {{0.15, 0.1, 0}, {0.15, 1, 0}, {0.8, 1, 0}});
-  else chain(1, {{0.8, 1, 0}});
+  else {
+    const int hand = chain(1, {{0.8, 1, 0}});
+    if (headless_with_thumb) chain(hand, {{0.9, 1.1, 0}}), chain(hand, {{0.95, 1, 0}});  // a thumb and a finger
+  }
   for (size_t i = 0; i < s.nodes.size(); ++i) s.vertex_node.insert(s.vertex_node.end(), 10, int(i));
   return s;
 }
@@ -136,4 +140,19 @@ TEST_CASE("an arm hung from the pelvis is slid to the chest", "[common_branching
   const sdm::CommonBranching same = sdm::common_branching(good, good);
   CHECK(same.slid_a.empty());
   CHECK(same.slid_b.empty());
+}
+
+// A skeleton that lost its head and forked a hand has five ends too. Sliding the thumb along the arm
+// to the chest made the branchings equal, and the thumb took the other body's head (a jittered FAUST
+// 024 onto 007: the head's texture on a hand). A branch small enough to prune does not slide: the
+// branchings stay different, for the caller to try the other extraction or refuse.
+TEST_CASE("a thumb is not slid to the chest to stand for a lost head", "[common_branching]") {
+  sdm::Skeleton good = stick_person(false);
+  const sdm::Skeleton thumb = stick_person(false, true);
+  for (size_t k = 0; k < good.nodes.size(); ++k)  // a head is short but voluminous: not pruned
+    if (good.nodes[k].y() > 1.05 && std::abs(good.nodes[k].x()) < 1e-9) good.vertex_node.insert(good.vertex_node.end(), 60, int(k));
+  REQUIRE(good.end_nodes() == thumb.end_nodes());
+  REQUIRE(!sdm::branching_difference(good, thumb).empty());
+  CHECK_THROWS_AS(sdm::common_branching(thumb, good), sdm::InputError);
+  CHECK_THROWS_AS(sdm::common_branching(good, thumb), sdm::InputError);
 }

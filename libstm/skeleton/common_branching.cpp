@@ -74,13 +74,26 @@ std::vector<Change> candidate_changes(const Skeleton& s, double max_branch, size
 
 // The slides small enough to be tried, the least significant first (at most `limit`): for every
 // chain S between two junctions J and K (no other chain joining them) and every other chain A at
-// J, A slid from J to K (and the same from K to J). A's nodes from J up to the one nearest K go;
-// the share of the skeleton's length they span is the slide's significance (at most max_share).
-std::vector<Change> candidate_slides(const Skeleton& s, double max_share, size_t limit) {
+// J that is not an end branch small enough to prune (max_branch, as candidate_changes), A slid from
+// J to K (and the same from K to J). A's nodes from J up to the one nearest K go; the share of the
+// skeleton's length they span is the slide's significance (at most max_share).
+std::vector<Change> candidate_slides(const Skeleton& s, double max_share, double max_branch, size_t limit) {
   const double total = total_length(s);
   const ReducedSkeleton r = reduce_skeleton(s);
   std::vector<Change> out;
   if (!(total > 0)) return out;
+  std::vector<int> owned(s.nodes.size(), 0);
+  for (int x : s.vertex_node) ++owned[x];
+  // An end branch small enough to be pruned (candidate_changes) does not slide: a thumb forked off
+  // a hand, slid along the arm to the shoulder, became a head where the extraction had lost it.
+  auto small_end = [&](const ReducedSkeleton::Chain& A) {
+    if ((r.key_degree[A.from] == 1) == (r.key_degree[A.to] == 1)) return false;  // not an end branch
+    const int junction = r.key_degree[A.from] == 1 ? A.nodes.back() : A.nodes.front();
+    double verts = 0;
+    for (int x : A.nodes)
+      if (x != junction) verts += owned[x];
+    return std::max(A.length / total, s.vertex_node.empty() ? 0.0 : verts / double(s.vertex_node.size())) <= max_branch;
+  };
   for (const auto& S : r.chains) {
     if (S.from == S.to || r.key_degree[S.from] < 3 || r.key_degree[S.to] < 3) continue;
     const int parallel = int(std::count_if(r.chains.begin(), r.chains.end(), [&](const ReducedSkeleton::Chain& d) {
@@ -90,7 +103,7 @@ std::vector<Change> candidate_slides(const Skeleton& s, double max_share, size_t
     for (int side = 0; side < 2; ++side) {
       const int J = side ? S.nodes.back() : S.nodes.front(), K = side ? S.nodes.front() : S.nodes.back();
       for (const auto& A : r.chains) {
-        if (&A == &S || A.from == A.to || (A.nodes.front() != J && A.nodes.back() != J)) continue;
+        if (&A == &S || A.from == A.to || (A.nodes.front() != J && A.nodes.back() != J) || small_end(A)) continue;
         std::vector<int> walk = A.nodes;  // from J outwards
         if (walk.front() != J) std::reverse(walk.begin(), walk.end());
         size_t best = 1;
@@ -290,7 +303,7 @@ CommonBranching common_branching(const Skeleton& a, const Skeleton& b, double ma
   // The matched chains disagree in length (or no pruning makes the branchings equal): an
   // extraction may have hung a branch from the neighbouring junction (an arm from the pelvis,
   // its chain running down the side of a flat torso).
-  const std::vector<Change> sa = candidate_slides(a, 3 * max_branch, 8), sb = candidate_slides(b, 3 * max_branch, 8);
+  const std::vector<Change> sa = candidate_slides(a, 3 * max_branch, max_branch, 8), sb = candidate_slides(b, 3 * max_branch, max_branch, 8);
   Tried slid = reduce_with_slide(a, b, ca, cb, sa, sb, plausible);
   if (slid.ok) return slid.r;
   if (first.ok) return first.r;

@@ -43,7 +43,8 @@ struct CommonBranching {
 // When the matched chains of the result disagree in length (length_disagreement above
 // `plausible`: a leg matched to a head), or no pruning works, one branch of either skeleton may
 // also be slid from its junction to a neighbouring one (its part between them, at most 3
-// max_branch of the length, goes): extractions of a flat torso hang an arm from the pelvis as
+// max_branch of the length, goes; an end branch small enough to prune never slides: a thumb slid
+// along its arm once stood for a head the extraction had lost): extractions of a flat torso hang an arm from the pelvis as
 // often as from the shoulders (one writing of FAUST tr_reg_007 as a PLY). The
 // plausible result with the fewest changes wins; without one, the first result stands and
 // `length_disagreement` says how poor it is.

@@ -6,10 +6,10 @@
 // left and which right, which side is the front, only the surfaces tell) drives a short articulated
 // registration of the source onto the target (articulated_registration: per-node rigid motions, the
 // match's resampled target chains as the nodes' guesses); the one whose parts turn least against
-// their neighbours is kept (or one that fits closer without turning more or laying the places where
-// the limbs meet the torso further apart), and its nodes start the non-rigid fit of the source's skeleton onto the
-// target (fit_skeleton: embedded deformation on the skeleton, stiffness lowered step by step). The placed source gives every target point its source point
-// (source_points_under).
+// their neighbours, that fits closest and lays the places where the limbs meet the torso least apart
+// (one score) is kept, and its nodes start the non-rigid fit of the source's skeleton onto the
+// target (fit_skeleton: embedded deformation on the skeleton, stiffness lowered step by step). The
+// placed source gives every target point its source point (source_points_under).
 #include "libstm/core/progress.h"
 #include "libstm/mesh/mesh.h"
 #include "libstm/skeleton/skeleton.h"
@@ -60,9 +60,9 @@ struct BodyRegistration {
   double attachment = 0;
   int chosen = 0;                       // the candidate chosen
   // Set when another candidate that sends the source's ends to other target ends (left and right,
-  // or front and back, the other way) ties with the chosen one on both measures (twist and fit
-  // within kTieTwist and kTieFit of register_bodies.cpp): which one is right is then a guess. Names
-  // both (1-based) and their figures.
+  // or front and back, the other way) ties with the chosen one (twist and fit within kTieTwist and
+  // kTieFit, or scores within kScoreTie, of register_bodies.cpp): which one is right is then a
+  // guess. Names both (1-based) and their figures.
   std::string ambiguity;
   std::vector<BranchFit> branch_fit;  // per chain of the chosen match
 };

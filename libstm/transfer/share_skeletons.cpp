@@ -343,18 +343,20 @@ std::vector<SharedSkeletons> share_skeletons_candidates(const Mesh& mesh_a, cons
                                                         double split_ratio, int count) {
   const CommonBranching common = common_branching(given_a, given_b);
   std::vector<SharedSkeletons> out;
-  auto add = [&](const CommonBranching& c) {
-    for (SkeletonMatch& m : match_candidates(c.a, c.b, fixed_in_common(c, given_fixed), count))
+  auto add = [&](const CommonBranching& c, bool exchanged) {
+    for (SkeletonMatch& m : match_candidates(c.a, c.b, fixed_in_common(c, given_fixed), count)) {
       out.push_back(share_through(mesh_a, mesh_b, c, std::move(m), split_ratio));
+      out.back().exchanged = exchanged;
+    }
   };
-  add(common);
+  add(common, false);
   // A pair of limbs split between two close junctions the other way round in the other skeleton
   // is matched crossed whatever the shapes say: the pair exchanged gives the other assignment.
   if (given_fixed.empty()) {
     for (Skeleton& v : exchanged_branches(common.a)) {
       CommonBranching c = common;
       c.a = std::move(v);
-      add(c);
+      add(c, true);
     }
   }
   return out;

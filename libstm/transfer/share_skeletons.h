@@ -29,6 +29,9 @@ struct SharedSkeletons {
   std::vector<int> pruned_a, pruned_b, node_a, node_b;
   std::vector<std::array<int, 3>> slid_a, slid_b;  // CommonBranching::slid_a / slid_b
   double length_disagreement = 1;                  // CommonBranching::length_disagreement
+  // share_skeletons_candidates: a's common branching had a pair of branches exchanged between two
+  // close junctions (exchanged_branches), so its resampled first edges cross from one to the other.
+  bool exchanged = false;
 };
 
 // Prunes a and b to their common branching (common_branching: at most two end branches, each

@@ -254,7 +254,8 @@ void take_registered(BodyRegistration reg, const TransferOptions& opt, TextureTr
 
 // The refusal's way out (TransferOptions::other_candidate): the pairs of given and other
 // extraction candidates, the model with fewer ends changed first, the first whose branchings agree
-// registered as another body. Empty when none agrees or registers.
+// and whose matched branches agree in length (TransferOptions::registered_disagreement) registered
+// as another body. Empty when none does.
 std::optional<BodyRegistration> register_other_candidates(const Mesh& source, const Skeleton& skeleton_a, const Mesh& target,
                                                           const Skeleton& skeleton_b, const TransferOptions& opt, TextureTransfer& r) {
   std::optional<Skeleton> other[2];
@@ -262,7 +263,7 @@ std::optional<BodyRegistration> register_other_candidates(const Mesh& source, co
   auto candidate = [&](bool is_target) -> const Skeleton* {
     if (!asked[is_target]) {
       asked[is_target] = true;
-      report_progress(opt.progress, std::string("the skeletons' branchings differ: extracting the ") + (is_target ? "target" : "source") +
+      report_progress(opt.progress, std::string("the skeletons' branchings differ or disagree: extracting the ") + (is_target ? "target" : "source") +
                                         "'s other candidate");
       other[is_target] = opt.other_candidate(is_target);
     }
@@ -278,6 +279,7 @@ std::optional<BodyRegistration> register_other_candidates(const Mesh& source, co
     if (!a || !b) continue;
     try {  // register_bodies throws InputError where the branchings still differ (common_branching)
       BodyRegistration reg = register_bodies(source, *a, target, *b, {}, bo);
+      if (reg.skeletons.length_disagreement > opt.registered_disagreement) continue;
       r.other_source_candidate = other_a, r.other_target_candidate = other_b;
       report_progress(opt.progress, std::string("registered with the other candidate of the ") +
                                         (other_a && other_b ? "source and the target" : other_a ? "source" : "target"));
@@ -315,8 +317,11 @@ TargetSkeleton recognise_or_register(const Mesh& source, const Skeleton& skeleto
     } catch (const InputError&) {
       body.reset();
     }
-    if (!body && !r.carried && !r.fitted && opt.other_candidate && opt.fixed.empty())
-      body = register_other_candidates(source, skeleton_a, target, skeleton_b, opt, r);
+    // Also where the match would be refused for branches that disagree in length: a jittered FAUST
+    // 024's medial skeleton lost its head, and its contraction candidate has one.
+    const bool implausible = body && body->skeletons.length_disagreement > opt.registered_disagreement;
+    if ((!body || implausible) && !r.carried && !r.fitted && opt.other_candidate && opt.fixed.empty())
+      if (std::optional<BodyRegistration> other = register_other_candidates(source, skeleton_a, target, skeleton_b, opt, r)) body = std::move(other);
   }
   if (r.carried || r.fitted) {
     // One graph on both sides: every junction and end is its own counterpart.
