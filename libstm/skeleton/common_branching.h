@@ -44,9 +44,9 @@ struct CommonBranching {
 // `plausible`: a leg matched to a head), or no pruning works, one branch of either skeleton may
 // also be slid from its junction to a neighbouring one (its part between them, at most 3
 // max_branch of the length, goes; an end branch small enough to prune never slides: a thumb slid
-// along its arm once stood for a head the extraction had lost): extractions of a flat torso hang an arm from the pelvis as
-// often as from the shoulders (one writing of FAUST tr_reg_007 as a PLY). The
-// plausible result with the fewest changes wins; without one, the first result stands and
+// along its arm once stood for a head the extraction had lost): extractions of a flat torso hang
+// an arm from the pelvis as often as from the shoulders (one writing of FAUST tr_reg_007 as a
+// PLY). The plausible result with the fewest changes wins; without one, the first result stands and
 // `length_disagreement` says how poor it is.
 CommonBranching common_branching(const Skeleton& a, const Skeleton& b, double max_branch = 0.08, int max_changes = 8,
                                  double plausible = 3.0);

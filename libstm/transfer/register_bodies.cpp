@@ -23,7 +23,7 @@ constexpr double kTieTwist = 0.01, kTieFit = 0.02;
 // ... nor two whose scores (candidate_score) lie within this fraction of each other: right choices
 // have been 3.7 % or more below every candidate that maps the ends otherwise, and the two wrong ones
 // closer than that 0.9 % (FAUST 007 onto 024 moved by 1e-7 of the diagonal, a mirror, under powers
-// 3/4 and 1/2) and 1.8 % (007 onto the TOSCA man so moved, the hands crossed).
+// 3/4 and 1/2) and 1.8 % (FAUST 024 onto the TOSCA man so moved, the hands crossed).
 constexpr double kScoreTie = 0.02;
 // Candidate matches examined for the distortion of their ends' distances, per one registered.
 constexpr int kCandidateFactor = 4;
@@ -226,11 +226,11 @@ std::vector<int> end_chain_of(const SharedSkeletons& sh) {
 }
 
 // Where the end branches meet the core on each model (attachments), by end node of the common
-// branching (match.a.keys on the source, match.b.keys on the target): measured once, on one
-// candidate, and looked up for every other, so that the candidates differ only in which ends they
-// pair. A candidate of exchanged_branches resamples its first edges across the torso and hands
-// chest vertices to an arm: measured on it, the right match's attachments lay 4.3 % apart and a
-// mirror's 2.5 % (jittered FAUST 007 -> 024, session 19).
+// branching (match.a.keys on the source, match.b.keys on the target), measured on one candidate.
+// A candidate of exchanged_branches takes those of the first candidate without exchanged branches,
+// so that it differs only in which ends it pairs: its own resampling runs its first edges across
+// the torso and hands chest vertices to an arm (measured on it, the right match's attachments lay
+// 4.3 % apart and a mirror's 2.5 %: jittered FAUST 007 -> 024, session 19).
 struct EndAttachments {
   std::map<int, Eigen::Vector3d> a, b;
 };
