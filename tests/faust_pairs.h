@@ -9,10 +9,13 @@
 #include "libstm/registration/carry_skeleton.h"
 #include "libstm/skeleton/skeleton.h"
 
+#include <catch2/catch.hpp>
+
 #include <Eigen/Geometry>
 #include <algorithm>
 #include <cmath>
 #include <fstream>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -46,6 +49,23 @@ inline std::vector<Eigen::Vector3d> true_guess(const sdm::Skeleton& s, const sdm
 struct Error {
   double mean = 0, p90 = 0, beyond5 = 0;  // % of the source's diagonal; share of vertices in %
 };
+
+// The file `sdm transfer --correspondence FILE.txt` writes, read back: per target vertex, in order,
+// the source face and the barycentric coordinates on it ('#' lines skipped). REQUIREs every line
+// to hold four numbers.
+inline std::vector<sdm::SourcePoint> read_correspondence(const std::string& path) {
+  std::ifstream in(path);
+  std::vector<sdm::SourcePoint> out;
+  for (std::string line; std::getline(in, line);) {
+    if (line.empty() || line[0] == '#') continue;
+    std::istringstream l(line);
+    sdm::SourcePoint p;
+    l >> p.face >> p.barycentric[0] >> p.barycentric[1] >> p.barycentric[2];
+    REQUIRE(l);
+    out.push_back(p);
+  }
+  return out;
+}
 
 // For every target vertex j, the distance between the source point under it and source vertex j.
 inline Error correspondence_error(const sdm::Mesh& source, const std::vector<sdm::SourcePoint>& under) {

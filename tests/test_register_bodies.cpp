@@ -146,18 +146,8 @@ TEST_CASE("sdm transfer --correspondence between two FAUST bodies", "[register_b
   CHECK(j.at("target_skeleton") == "registered");
   CHECK(j.at("fit_rms").get<double>() < 0.005);
   CHECK(j.at("branch_fit").size() >= 5);
-  std::ifstream in(dir / "c.txt");
-  std::string line;
-  std::vector<sdm::SourcePoint> under;
-  while (std::getline(in, line)) {
-    if (line.empty() || line[0] == '#') continue;
-    std::istringstream l(line);
-    sdm::SourcePoint p;
-    l >> p.face >> p.barycentric[0] >> p.barycentric[1] >> p.barycentric[2];
-    REQUIRE(l);
-    CHECK(std::abs(p.barycentric.sum() - 1) < 1e-6);
-    under.push_back(p);
-  }
+  const std::vector<sdm::SourcePoint> under = faust::read_correspondence(dir / "c.txt");
+  for (const sdm::SourcePoint& p : under) CHECK(std::abs(p.barycentric.sum() - 1) < 1e-6);
   REQUIRE(under.size() == a.n_vertices());
   const faust::Error e = faust::correspondence_error(a, under);
   INFO("mean " << e.mean << " %, p90 " << e.p90 << " %");

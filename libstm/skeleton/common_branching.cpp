@@ -33,13 +33,21 @@ double total_length(const Skeleton& s) {
   return total;
 }
 
+// An end branch's significance: the larger of its share of the skeleton's total length and of the
+// vertices its nodes other than `junction` own (`owned` per node).
+double end_significance(const Skeleton& s, const ReducedSkeleton::Chain& c, int junction, const std::vector<int>& owned, double total) {
+  double verts = 0;
+  for (int x : c.nodes)
+    if (x != junction) verts += owned[x];
+  return std::max(c.length / total, s.vertex_node.empty() ? 0.0 : verts / double(s.vertex_node.size()));
+}
+
 // The changes small enough to be made, the least significant first (at most `limit`).
 std::vector<Change> candidate_changes(const Skeleton& s, double max_branch, size_t limit) {
   const double total = total_length(s);
   const ReducedSkeleton r = reduce_skeleton(s);
   std::vector<int> owned(s.nodes.size(), 0);
   for (int x : s.vertex_node) ++owned[x];
-  const double nv = double(std::max<size_t>(1, s.vertex_node.size()));
   std::vector<Change> out;
   for (const auto& c : r.chains) {
     if (c.from == c.to || !(total > 0)) continue;
@@ -61,9 +69,7 @@ std::vector<Change> candidate_changes(const Skeleton& s, double max_branch, size
       ch.junction = end_first ? c.nodes.back() : c.nodes.front();
       for (int x : c.nodes)
         if (x != ch.junction) ch.removed.push_back(x);
-      double verts = 0;
-      for (int x : ch.removed) verts += owned[x];
-      ch.significance = std::max(share, s.vertex_node.empty() ? 0.0 : verts / nv);
+      ch.significance = end_significance(s, c, ch.junction, owned, total);
       if (ch.significance <= max_branch) out.push_back(std::move(ch));
     }
   }
@@ -89,10 +95,7 @@ std::vector<Change> candidate_slides(const Skeleton& s, double max_share, double
   auto small_end = [&](const ReducedSkeleton::Chain& A) {
     if ((r.key_degree[A.from] == 1) == (r.key_degree[A.to] == 1)) return false;  // not an end branch
     const int junction = r.key_degree[A.from] == 1 ? A.nodes.back() : A.nodes.front();
-    double verts = 0;
-    for (int x : A.nodes)
-      if (x != junction) verts += owned[x];
-    return std::max(A.length / total, s.vertex_node.empty() ? 0.0 : verts / double(s.vertex_node.size())) <= max_branch;
+    return end_significance(s, A, junction, owned, total) <= max_branch;
   };
   for (const auto& S : r.chains) {
     if (S.from == S.to || r.key_degree[S.from] < 3 || r.key_degree[S.to] < 3) continue;

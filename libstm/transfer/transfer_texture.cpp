@@ -214,6 +214,13 @@ Layout source_layout(const Mesh& source, const Skeleton& shared_a, const Transfe
   return compute_layout(source, shared_a, lo);
 }
 
+// Whether a match's branches disagree in length beyond what a registration takes
+// (TransferOptions::registered_disagreement): refused unless forced, and the cue to try the other
+// extraction candidates first.
+bool lengths_disagree(const SharedSkeletons& shared, const TransferOptions& opt) {
+  return shared.length_disagreement > opt.registered_disagreement;
+}
+
 // Takes a registration of another body (register_bodies) as the transfer's correspondence, or refuses
 // it (InputError) when its fit is poor and the options do not force it.
 void take_registered(BodyRegistration reg, const TransferOptions& opt, TextureTransfer& r, TargetSkeleton& tb) {
@@ -227,7 +234,7 @@ void take_registered(BodyRegistration reg, const TransferOptions& opt, TextureTr
   const bool poor = !(r.fit_rms <= opt.registered_rms && r.fit_p99 <= opt.registered_p99);
   report_progress(opt.progress, "registered: RMS " + std::to_string(100 * r.fit_rms) + " %, 99th percentile " +
                                     std::to_string(100 * r.fit_p99) + " % of the diagonal" + (poor ? ": a poor fit" : ""));
-  if (r.skeletons.length_disagreement > opt.registered_disagreement && !opt.force)
+  if (lengths_disagree(r.skeletons, opt) && !opt.force)
     throw InputError("the skeletons do not correspond branch for branch: a matched branch is " +
                      std::to_string(r.skeletons.length_disagreement) + " times longer, relative to its skeleton, than its match (up to " +
                      std::to_string(opt.registered_disagreement) + " is taken), so the texture would land on other parts. An extraction "
@@ -263,8 +270,8 @@ std::optional<BodyRegistration> register_other_candidates(const Mesh& source, co
   auto candidate = [&](bool is_target) -> const Skeleton* {
     if (!asked[is_target]) {
       asked[is_target] = true;
-      report_progress(opt.progress, std::string("the skeletons' branchings differ or disagree: extracting the ") + (is_target ? "target" : "source") +
-                                        "'s other candidate");
+      report_progress(opt.progress, std::string("the skeletons' branchings differ or disagree: extracting the ") +
+                                        (is_target ? "target" : "source") + "'s other candidate");
       other[is_target] = opt.other_candidate(is_target);
     }
     return other[is_target] ? &*other[is_target] : nullptr;
@@ -279,7 +286,7 @@ std::optional<BodyRegistration> register_other_candidates(const Mesh& source, co
     if (!a || !b) continue;
     try {  // register_bodies throws InputError where the branchings still differ (common_branching)
       BodyRegistration reg = register_bodies(source, *a, target, *b, {}, bo);
-      if (reg.skeletons.length_disagreement > opt.registered_disagreement) continue;
+      if (lengths_disagree(reg.skeletons, opt)) continue;
       r.other_source_candidate = other_a, r.other_target_candidate = other_b;
       report_progress(opt.progress, std::string("registered with the other candidate of the ") +
                                         (other_a && other_b ? "source and the target" : other_a ? "source" : "target"));
@@ -319,9 +326,9 @@ TargetSkeleton recognise_or_register(const Mesh& source, const Skeleton& skeleto
     }
     // Also where the match would be refused for branches that disagree in length: a jittered FAUST
     // 024's medial skeleton lost its head, and its contraction candidate has one.
-    const bool implausible = body && body->skeletons.length_disagreement > opt.registered_disagreement;
-    if ((!body || implausible) && !r.carried && !r.fitted && opt.other_candidate && opt.fixed.empty())
-      if (std::optional<BodyRegistration> other = register_other_candidates(source, skeleton_a, target, skeleton_b, opt, r)) body = std::move(other);
+    if ((!body || lengths_disagree(body->skeletons, opt)) && !r.carried && !r.fitted && opt.other_candidate && opt.fixed.empty())
+      if (std::optional<BodyRegistration> other = register_other_candidates(source, skeleton_a, target, skeleton_b, opt, r))
+        body = std::move(other);
   }
   if (r.carried || r.fitted) {
     // One graph on both sides: every junction and end is its own counterpart.

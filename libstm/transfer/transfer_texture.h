@@ -87,11 +87,12 @@ struct TransferOptions {
   double registered_attachment = 0.05;
   // When the given skeletons' branchings differ beyond small branches, or their matched branches
   // disagree in length beyond registered_disagreement, so that the target (neither the source's
-  // shape nor the source bent) would be refused, each model's other extraction candidate is tried: other_candidate(false) for the source, other_candidate(true) for the
-  // target (std::nullopt: none, e.g. a skeleton the user gave). The pairs (a, b'), (a', b), (a', b')
-  // are tried, first the model with fewer ends changed, and the first whose branchings agree
-  // (common_branching) and whose branches agree in length is registered as another body. An extraction keeps one of two candidates,
-  // and either can miss a major branch when the coordinates change in their last bits (FAUST
+  // shape nor the source bent) would be refused, each model's other extraction candidate is tried:
+  // other_candidate(false) for the source, other_candidate(true) for the target (std::nullopt:
+  // none, e.g. a skeleton the user gave). The pairs (a, b'), (a', b), (a', b') are tried, first the
+  // model with fewer ends changed, and the first whose branchings agree (common_branching) and whose
+  // branches agree in length is registered as another body. An extraction keeps one of two
+  // candidates, and either can miss a major branch when the coordinates change in their last bits (FAUST
   // tr_reg_085 scaled by 1 + 1e-7: no head end from the medial poles, one from the contraction).
   // Not tried with `fixed` pairs (they name nodes of the given skeletons).
   std::function<std::optional<Skeleton>(bool target)> other_candidate;
