@@ -1,4 +1,5 @@
 #include "apps/commands.h"
+#include "apps/hand_over.h"
 #include "apps/output_paths.h"
 #include "libstm/core/atomic_file.h"
 #include "libstm/core/errors.h"
@@ -8,6 +9,10 @@
 #include <vector>
 
 int main(int argc, char** argv) {
+#ifdef SDM_FRONT
+  // This build has only the light commands; every other command line goes to sdm-full.
+  if (!sdm::cli::light_command(argc, argv)) return sdm::cli::hand_over(argv);
+#endif
   CLI::App app{
       "sdm: skeleton texture maps (STM) and skeleton displacement maps (SDM).\n"
       "Extracts a curve skeleton from a closed triangle mesh, parameterizes the surface around each\n"
@@ -23,6 +28,7 @@ int main(int argc, char** argv) {
       sdm::cli::add_primitive_command(app),
       sdm::cli::add_skeleton_command(app),
       sdm::cli::add_stm_command(app),
+#ifndef SDM_FRONT
       sdm::cli::add_remap_command(app),
       sdm::cli::add_render_command(app),
       sdm::cli::add_encode_command(app),
@@ -31,6 +37,7 @@ int main(int argc, char** argv) {
       sdm::cli::add_compare_command(app),
       sdm::cli::add_transfer_command(app),
       sdm::cli::add_bench_command(app),
+#endif
   };
   // An interrupted write leaves no hidden temporary file behind (atomic_file.h).
   sdm::remove_temporaries_on_signal();

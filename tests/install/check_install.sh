@@ -11,6 +11,12 @@ trap 'rm -rf "$work"' EXIT
 cmake --install "$build" --prefix "$work/prefix" >/dev/null
 test -x "$work/prefix/bin/sdm"
 "$work/prefix/bin/sdm" --version
+# The installed sdm hands the commands it does not run itself to libexec/sdm/sdm-full: a capsule's
+# skeleton (sdm itself) and its map encoded (sdm-full) from the installed tree, the build moved away.
+"$work/prefix/bin/sdm" primitive capsule -o "$work/capsule.ply" >/dev/null
+"$work/prefix/bin/sdm" skeleton "$work/capsule.ply" -o "$work/capsule.json" >/dev/null 2>&1
+"$work/prefix/bin/sdm" encode "$work/capsule.ply" -o "$work/capsule.exr" --size 64 >/dev/null 2>&1
+test -s "$work/capsule.exr"
 test -f "$work/prefix/share/doc/sdm/LICENSE"
 
 cmake -S "$here/consumer" -B "$work/cmake-build" -G Ninja -DCMAKE_BUILD_TYPE=Release -DCMAKE_PREFIX_PATH="$work/prefix" >/dev/null

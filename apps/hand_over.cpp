@@ -1,0 +1,43 @@
+#include "apps/hand_over.h"
+
+#include <cerrno>
+#include <cstring>
+#include <filesystem>
+#include <iostream>
+#include <string>
+#include <system_error>
+#include <unistd.h>
+
+#ifndef SDM_FULL_RELATIVE
+#define SDM_FULL_RELATIVE "../libexec/sdm"
+#endif
+
+namespace sdm::cli {
+
+bool light_command(int argc, char** argv) {
+  if (argc < 2) return false;
+  static const char* const light[] = {"info", "convert", "remesh", "primitive", "skeleton", "stm", "--version"};
+  for (const char* name : light)
+    if (std::strcmp(argv[1], name) == 0) return true;
+  return false;
+}
+
+int hand_over(char** argv) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  const fs::path self = fs::read_symlink("/proc/self/exe", ec);
+  const fs::path folder = ec ? fs::path(argv[0]).parent_path() : self.parent_path();
+  const fs::path places[] = {folder / "sdm-full", folder / SDM_FULL_RELATIVE / "sdm-full"};
+  for (const fs::path& full : places) {
+    if (::access(full.c_str(), X_OK) != 0) continue;
+    const std::string name = full.string();
+    ::execv(name.c_str(), argv);  // argv[0] stays the user's word, so usage lines say "sdm"
+    std::cerr << "sdm: failed: cannot start " << name << ": " << std::strerror(errno) << std::endl;
+    return 1;
+  }
+  std::cerr << "sdm: failed: this command needs sdm-full, which is neither at " << places[0].string() << " nor at "
+            << places[1].lexically_normal().string() << ". Fix: build or install sdm again (both programs)." << std::endl;
+  return 1;
+}
+
+}  // namespace sdm::cli

@@ -1,0 +1,20 @@
+#pragma once
+// The `sdm` program is two: `sdm` itself runs the commands that need only libstm's core (reading,
+// checking and remeshing meshes, skeletons, layouts) and hands every other command line to
+// `sdm-full`, which has them all. The light commands then start without loading OpenEXR,
+// OpenSubdiv and GL, about 3 ms of every start (docs/BENCHMARKS.md, "Starting fast"); the others
+// pay one more exec (under 1 ms) on runs of a second or more.
+
+namespace sdm::cli {
+
+// Whether argv names, as its first argument, a command this build runs itself (info, convert,
+// remesh, primitive, skeleton, stm) or --version. --help, nothing and unknown words are not:
+// sdm-full answers them with the whole list of commands.
+bool light_command(int argc, char** argv);
+
+// Replaces this process with sdm-full and the same arguments: beside this program (the build
+// tree) or in SDM_FULL_RELATIVE from its folder (the installed tree, libexec/sdm). Returns only
+// when it cannot (1, with a message naming where it looked).
+int hand_over(char** argv);
+
+}  // namespace sdm::cli
