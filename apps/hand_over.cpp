@@ -1,5 +1,6 @@
 #include "apps/hand_over.h"
 
+#include <algorithm>
 #include <cerrno>
 #include <cstring>
 #include <filesystem>
@@ -14,12 +15,10 @@
 
 namespace sdm::cli {
 
-bool light_command(int argc, char** argv) {
+bool runs_here(const std::vector<std::string>& commands, int argc, char** argv) {
   if (argc < 2) return false;
-  static const char* const light[] = {"info", "convert", "remesh", "primitive", "skeleton", "stm", "--version"};
-  for (const char* name : light)
-    if (std::strcmp(argv[1], name) == 0) return true;
-  return false;
+  const std::string first = argv[1];
+  return first == "--version" || std::find(commands.begin(), commands.end(), first) != commands.end();
 }
 
 int hand_over(char** argv) {

@@ -4,13 +4,15 @@
 // `sdm-full`, which has them all. The light commands then start without loading OpenEXR,
 // OpenSubdiv and GL, about 3 ms of every start (docs/BENCHMARKS.md, "Starting fast"); the others
 // pay one more exec (under 1 ms) on runs of a second or more.
+#include <string>
+#include <vector>
 
 namespace sdm::cli {
 
-// Whether argv names, as its first argument, a command this build runs itself (info, convert,
-// remesh, primitive, skeleton, stm) or --version. --help, nothing and unknown words are not:
-// sdm-full answers them with the whole list of commands.
-bool light_command(int argc, char** argv);
+// Whether argv names, as its first argument, one of `commands` (those this program was built
+// with) or --version. --help, nothing and unknown words are not: sdm-full answers them with the
+// whole list of commands.
+bool runs_here(const std::vector<std::string>& commands, int argc, char** argv);
 
 // Replaces this process with sdm-full and the same arguments: beside this program (the build
 // tree) or in SDM_FULL_RELATIVE from its folder (the installed tree, libexec/sdm). Returns only

@@ -6,13 +6,10 @@
 #include "libstm/core/version.h"
 
 #include <iostream>
+#include <string>
 #include <vector>
 
 int main(int argc, char** argv) {
-#ifdef SDM_FRONT
-  // This build has only the light commands; every other command line goes to sdm-full.
-  if (!sdm::cli::light_command(argc, argv)) return sdm::cli::hand_over(argv);
-#endif
   CLI::App app{
       "sdm: skeleton texture maps (STM) and skeleton displacement maps (SDM).\n"
       "Extracts a curve skeleton from a closed triangle mesh, parameterizes the surface around each\n"
@@ -39,6 +36,12 @@ int main(int argc, char** argv) {
       sdm::cli::add_bench_command(app),
 #endif
   };
+#ifdef SDM_FRONT
+  // This program has only the light commands; every other command line goes to sdm-full.
+  std::vector<std::string> here;
+  for (const auto& c : commands) here.push_back(c.app->get_name());
+  if (!sdm::cli::runs_here(here, argc, argv)) return sdm::cli::hand_over(argv);
+#endif
   // An interrupted write leaves no hidden temporary file behind (atomic_file.h).
   sdm::remove_temporaries_on_signal();
   try {
