@@ -26,16 +26,7 @@ TEST_CASE("sdm hands the commands it lacks to sdm-full and runs the light ones i
   const fs::path alone = dir.path / "sdm";
   fs::copy_file(SDM_BINARY, alone);
   const std::string mesh = dir / "capsule.ply", map = dir / "capsule.exr";
-  auto run = [&](const std::string& args) {
-    test_util::RunResult r;
-    FILE* p = popen((alone.string() + " " + args + " 2>&1").c_str(), "r");
-    char buf[4096];
-    size_t n;
-    while (p && (n = fread(buf, 1, sizeof buf, p)) > 0) r.output.append(buf, n);
-    const int status = p ? pclose(p) : -1;
-    r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-    return r;
-  };
+  auto run = [&](const std::string& args) { return test_util::run_program(alone.string(), args); };
   CHECK(run("--version").exit_code == 0);
   REQUIRE(run("primitive capsule -o " + mesh).exit_code == 0);
   const auto info = run("info " + mesh + " --json");

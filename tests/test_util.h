@@ -51,10 +51,10 @@ struct RunResult {
   std::string output;  // stdout and stderr together
 };
 
-// Runs `sdm ARGS` (the binary built with the tests) and captures its output and exit code.
-inline RunResult run_sdm(const std::string& args) {
+// Runs `PROGRAM ARGS` and captures its output and exit code.
+inline RunResult run_program(const std::string& program, const std::string& args) {
   RunResult r;
-  std::string cmd = std::string(SDM_BINARY) + " " + args + " 2>&1";
+  std::string cmd = program + " " + args + " 2>&1";
   FILE* p = popen(cmd.c_str(), "r");
   if (!p) return r;
   char buf[4096];
@@ -64,6 +64,9 @@ inline RunResult run_sdm(const std::string& args) {
   r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
   return r;
 }
+
+// Runs `sdm ARGS` (the binary built with the tests) and captures its output and exit code.
+inline RunResult run_sdm(const std::string& args) { return run_program(SDM_BINARY, args); }
 
 // The JSON object a command printed last (`--json`), after its progress lines: the object that
 // starts a line of its own. Throws (the test fails) when there is none.
