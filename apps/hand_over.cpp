@@ -9,9 +9,7 @@
 #include <system_error>
 #include <unistd.h>
 
-#ifndef SDM_FULL_RELATIVE
-#define SDM_FULL_RELATIVE "../libexec/sdm"
-#endif
+// SDM_FULL_RELATIVE: libexec/sdm relative to bin, from CMake's install directories (CMakeLists.txt).
 
 namespace sdm::cli {
 

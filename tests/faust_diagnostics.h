@@ -36,12 +36,8 @@ inline std::vector<double> vertex_errors(const sdm::Mesh& a, const sdm::Mesh& b,
   const auto under = sdm::source_points_under(a, r.placed, faust::points_of(b));
   const double diag = sdm::bounding_box_diagonal(a);
   std::vector<double> err(under.size());
-  for (size_t j = 0; j < under.size(); ++j) {
-    Eigen::Vector3d p = Eigen::Vector3d::Zero();
-    int c = 0;
-    for (auto v : a.fv_range(a.face_handle(under[j].face))) p += under[j].barycentric[c++] * sdm::point(a, v);
-    err[j] = 100 * (p - sdm::point(a, a.vertex_handle(int(j)))).norm() / diag;
-  }
+  for (size_t j = 0; j < under.size(); ++j)
+    err[j] = 100 * (faust::point_under(a, under[j]) - sdm::point(a, a.vertex_handle(int(j)))).norm() / diag;
   return err;
 }
 

@@ -67,15 +67,20 @@ inline std::vector<sdm::SourcePoint> read_correspondence(const std::string& path
   return out;
 }
 
+// The point of `source` a correspondence entry names: its face's corners (fv_range order) blended.
+inline Eigen::Vector3d point_under(const sdm::Mesh& source, const sdm::SourcePoint& q) {
+  Eigen::Vector3d p = Eigen::Vector3d::Zero();
+  int c = 0;
+  for (auto v : source.fv_range(source.face_handle(q.face))) p += q.barycentric[c++] * sdm::point(source, v);
+  return p;
+}
+
 // For every target vertex j, the distance between the source point under it and source vertex j.
 inline Error correspondence_error(const sdm::Mesh& source, const std::vector<sdm::SourcePoint>& under) {
   const double diag = sdm::bounding_box_diagonal(source);
   std::vector<double> e;
   for (size_t j = 0; j < under.size(); ++j) {
-    Eigen::Vector3d p = Eigen::Vector3d::Zero();
-    int c = 0;
-    for (auto v : source.fv_range(source.face_handle(under[j].face))) p += under[j].barycentric[c++] * sdm::point(source, v);
-    e.push_back(100 * (p - sdm::point(source, source.vertex_handle(int(j)))).norm() / diag);
+    e.push_back(100 * (point_under(source, under[j]) - sdm::point(source, source.vertex_handle(int(j)))).norm() / diag);
   }
   Error r;
   for (double x : e) r.mean += x, r.beyond5 += x > 5;

@@ -180,10 +180,7 @@ Parts transfer_parts(const Body& src, const Body& tgt) {
   std::vector<Eigen::Vector3d> under;  // per target vertex, its source point
   for (const sdm::SourcePoint& q : faust::read_correspondence(dir / "c.txt")) {
     REQUIRE((q.face >= 0 && q.face < int(a.n_faces())));
-    Eigen::Vector3d p = Eigen::Vector3d::Zero();
-    int c = 0;
-    for (auto v : a.fv_range(a.face_handle(q.face))) p += q.barycentric[c++] * sdm::point(a, v);
-    under.push_back(p);
+    under.push_back(faust::point_under(a, q));
   }
   REQUIRE(under.size() == b.n_vertices());
   for (int k = 0; k < 5; ++k) {
