@@ -159,6 +159,11 @@ inline void print_rotation_errors(const sdm::Mesh& a, const sdm::Mesh& b, const 
   report_rotations("at the start (smallest per node)", smallest_rotations(r.skeletons, start), truth, weight, r.skeletons);
   sdm::FitSkeletonOptions fo;
   fo.stride = 2;  // as register_bodies
+  {
+    sdm::FitSkeletonOptions f0 = fo;
+    f0.iterations_per_stiffness = 0;
+    report_rotations("at fit_skeleton's own start", sdm::fit_skeleton(a, r.skeletons.a, b, start, r.skeletons.b.nodes, f0).node_rotation, truth, weight, r.skeletons);
+  }
   const auto fit = sdm::fit_skeleton(a, r.skeletons.a, b, start, r.skeletons.b.nodes, fo);
   report_rotations("after fit_skeleton", fit.node_rotation, truth, weight, r.skeletons);
   if (!std::getenv("SDM_MEASURE_ORACLE")) return;

@@ -13,17 +13,33 @@ namespace sdm {
 class SupernodalCholesky {
  public:
   // Ordering (AMD, then an elimination-tree postorder) and structure of L, from the pattern of
-  // the lower triangle of A (column-major, compressed; the diagonal present).
-  void analyze(const Eigen::SparseMatrix<double>& A_lower);
+  // the lower triangle of A (column-major, compressed; the diagonal present). `threads` 1 keeps
+  // every factorisation on the calling thread; 2 lets factorize() use a second one where it pays.
+  void analyze(const Eigen::SparseMatrix<double>& A_lower, int threads = 2);
   // Numeric factorisation of a matrix with the analysed pattern; false when it is not positive
-  // definite (or not finite).
+  // definite (or not finite). Matrices worth it (analyze's plan) are factorised on two threads:
+  // disjoint subtrees of the elimination tree on each, then their ancestors. Every supernode sums
+  // its children's updates in the serial order, so the result is the same bit for bit.
   bool factorize(const Eigen::SparseMatrix<double>& A_lower);
+  // Whether factorize() uses a second thread (analyze's plan).
+  bool two_threads() const { return !subtrees_[1].empty(); }
   // Solves A X = B after a successful factorize().
   Eigen::MatrixX3d solve(const Eigen::MatrixX3d& B) const;
 
  private:
   // Fills col_start_, col_row_, col_src_ from A under perm_.
   void index_lower_triangle(const Eigen::SparseMatrix<double>& A_lower);
+  // Children lists and, for `threads` 2, the two-thread plan, from the supernodes' parents.
+  void plan_threads(int threads);
+  // Per-thread scratch of the numeric factorisation.
+  struct Scratch {
+    std::vector<int> local;     // row of L -> row in the current front
+    std::vector<double> work;   // the front, reused: allocating one per supernode showed in profiles
+    std::vector<int> index;
+  };
+  // Assembles supernode `id`'s front from A's values `a` and its children's updates (releasing
+  // them), factorises its columns into values_ and leaves its own update in updates_[id].
+  bool factor_supernode(int id, const double* a, Scratch& scratch);
 
   int n_ = 0;
   std::vector<int> perm_;  // perm_[old] = new index
@@ -41,6 +57,13 @@ class SupernodalCholesky {
   std::vector<Supernode> sn_;
   std::vector<int> rows_;
   std::vector<double> values_;
+  std::vector<std::vector<int>> children_;     // per supernode, increasing
+  std::vector<Eigen::MatrixXd> updates_;        // update matrices not yet added to their parent
+  // Two-thread plan: per thread, whole subtrees as ranges [first, last] of supernodes (postorder
+  // keeps a subtree contiguous); then `top_` (their ancestors, increasing) on the calling thread.
+  // Both empty: serial.
+  std::vector<std::pair<int, int>> subtrees_[2];
+  std::vector<int> top_;
 };
 
 }  // namespace sdm

@@ -109,8 +109,11 @@ Contraction::Contraction(const Eigen::MatrixX3d& V0, const Eigen::MatrixX3i& F, 
 }
 
 void Contraction::build_rings() {
+  std::vector<int> corners(n_, 1);
+  for (int f = 0; f < m_; ++f)
+    for (int k = 0; k < 3; ++k) corners[F_(f, k)] += 2;
   ring_.resize(n_);
-  for (int i = 0; i < n_; ++i) ring_[i].push_back(i);
+  for (int i = 0; i < n_; ++i) ring_[i].reserve(corners[i]), ring_[i].push_back(i);
   for (int f = 0; f < m_; ++f)
     for (int k = 0; k < 3; ++k) {
       const int a = F_(f, k), b = F_(f, (k + 1) % 3);
@@ -130,20 +133,28 @@ void Contraction::build_rings() {
 }
 
 // Pattern of the lower triangle of L^T L (+ diagonal): every pair inside one closed ring; and the
-// value slot of every ring pair, so each iteration fills A without searching.
+// value slot of every ring pair, so each iteration fills A without searching. Column j's rows are
+// the vertices i >= j of the rings j is in, which are the rings of j's own closed ring.
 void Contraction::build_pattern() {
-  std::vector<Eigen::Triplet<double>> trip;
+  std::vector<int> start(n_ + 1, 0), rows;
+  rows.reserve(size_t(n_) * 16);
+  std::vector<int> column;
+  for (int j = 0; j < n_; ++j) {
+    column.clear();
+    for (int k : ring_[j])
+      for (auto it = std::lower_bound(ring_[k].begin(), ring_[k].end(), j); it != ring_[k].end(); ++it) column.push_back(*it);
+    std::sort(column.begin(), column.end());
+    column.erase(std::unique(column.begin(), column.end()), column.end());
+    rows.insert(rows.end(), column.begin(), column.end());
+    start[j + 1] = int(rows.size());
+  }
+  A_ = Eigen::SparseMatrix<double>(n_, n_);
+  A_.resizeNonZeros(Eigen::Index(rows.size()));
+  std::copy(start.begin(), start.end(), A_.outerIndexPtr());
+  std::copy(rows.begin(), rows.end(), A_.innerIndexPtr());
+  std::fill(A_.valuePtr(), A_.valuePtr() + rows.size(), 0.0);
   size_t pairs = 0;
   for (const auto& r : ring_) pairs += r.size() * (r.size() + 1) / 2;
-  trip.reserve(pairs);
-  for (const auto& r : ring_)
-    for (size_t a = 0; a < r.size(); ++a)
-      for (size_t b = 0; b <= a; ++b) trip.emplace_back(r[a], r[b], 0.0);  // r sorted: r[a] >= r[b]
-  A_.resize(n_, n_);
-  A_.setFromTriplets(trip.begin(), trip.end());
-  A_.makeCompressed();
-  trip.clear();
-  trip.shrink_to_fit();
   pair_slot_.reserve(pairs);
   auto value_index = [&](int row, int col) {
     const int* begin = A_.innerIndexPtr() + A_.outerIndexPtr()[col];
