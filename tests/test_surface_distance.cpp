@@ -1,9 +1,11 @@
 // Surface distance: checked against shapes whose distance is known in closed form.
 #include "libstm/mesh/surface_distance.h"
 #include "libstm/geometry/triangle_bvh.h"
+#include "libstm/mesh/primitives.h"
 
 #include <catch2/catch.hpp>
 #include <cmath>
+#include <random>
 
 using namespace sdm;
 
@@ -55,4 +57,71 @@ TEST_CASE("A surface is at zero distance from itself and rays hit where expected
   CHECK(hit.t == Approx(0.9));
   CHECK(bvh.count_hits({0.1, 0.2, 0.3}, Eigen::Vector3d(0.3, 0.5, 0.8).normalized()) == 1);  // inside: odd
   CHECK(bvh.count_hits({3, 0.2, 0.3}, Eigen::Vector3d(-1, 0.01, 0.02).normalized()) == 2);   // outside: even
+}
+
+namespace {
+
+// The nearest point of every face, by brute force: the reference for the tree's queries.
+double brute_distance(const Eigen::MatrixX3d& V, const Eigen::MatrixX3i& F, const Eigen::Vector3d& p) {
+  double best = INFINITY;
+  for (int f = 0; f < F.rows(); ++f)
+    best = std::min(best, (sdm::closest_point_on_triangle(p, V.row(F(f, 0)), V.row(F(f, 1)), V.row(F(f, 2))) - p).norm());
+  return best;
+}
+
+}  // namespace
+
+TEST_CASE("Closest points started from a hint are the ones found without it", "[surface_distance]") {
+  // The ypsilon bent (each vertex turned about the z axis by an angle growing with its height).
+  const Mesh m = sdm::make_primitive("ypsilon");
+  const Eigen::MatrixX3d V0 = vertex_matrix(m);
+  const Eigen::MatrixX3i F = face_matrix(m);
+  Eigen::MatrixX3d V1 = V0;
+  const double zmin = V0.col(2).minCoeff(), zmax = V0.col(2).maxCoeff();
+  for (int i = 0; i < V1.rows(); ++i) {
+    const double a = 0.8 * (V0(i, 2) - zmin) / (zmax - zmin);
+    V1(i, 0) = std::cos(a) * V0(i, 0) - std::sin(a) * V0(i, 1), V1(i, 1) = std::sin(a) * V0(i, 0) + std::cos(a) * V0(i, 1);
+  }
+  const TriangleBvh built(V1, F);
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> U(-1.2, 1.2);
+  const Eigen::Vector3d lo = V1.colwise().minCoeff(), hi = V1.colwise().maxCoeff();
+  int hint = -1, hinted_far = 0;
+  for (int q = 0; q < 400; ++q) {
+    Eigen::Vector3d p;
+    for (int k = 0; k < 3; ++k) p[k] = 0.5 * (lo[k] + hi[k]) + U(rng) * 0.5 * (hi[k] - lo[k]);
+    const double truth = brute_distance(V1, F, p);
+    INFO("query " << q);
+    const auto plain = built.closest_point(p);
+    CHECK(std::abs(plain.distance - truth) <= 1e-12);
+    // The hint: the previous query's face (usually far), a face near the answer, none, or a bad index.
+    const int given = q % 4 == 0 ? -1 : q % 4 == 1 ? hint : q % 4 == 2 ? built.closest_point(p + Eigen::Vector3d(0.01, 0, 0)).face : int(F.rows()) + 5;
+    int h = given;
+    const auto c = built.closest_point_near(p, h);
+    CHECK(c.face == plain.face);  // the same face, ties included
+    CHECK(c.point == plain.point);
+    CHECK(h == c.face);
+    hinted_far += q % 4 == 1 && given != c.face;
+    // With a bound: nothing beyond it, the same point within it.
+    int h2 = given;
+    const auto bounded = built.closest_point_near(p, h2, 0.5 * truth);
+    CHECK(bounded.face == -1);
+    int h3 = given;
+    CHECK(built.closest_point_near(p, h3, 2 * truth + 1e-9).face == plain.face);
+    hint = c.face;
+  }
+  CHECK(hinted_far > 50);  // the previous query's face was mostly not the answer: the hints were exercised
+  // Points just off a vertex, away from the centroid: the vertex is nearest, shared by all its
+  // faces (exact ties), and each of its faces in turn is the hint.
+  const Eigen::Vector3d centre = V1.colwise().mean();
+  for (int f = 0; f < F.rows(); f += 7) {
+    const Eigen::Vector3d v = V1.row(F(f, 0));
+    const Eigen::Vector3d p = v + 1e-3 * (v - centre).normalized();
+    const auto plain = built.closest_point(p);
+    int h = f;
+    const auto c = built.closest_point_near(p, h);
+    INFO("face " << f);
+    CHECK(c.face == plain.face);
+    CHECK(c.point == plain.point);
+  }
 }

@@ -102,6 +102,8 @@ TriangleBvh::TriangleBvh(const Eigen::MatrixX3d& V, const Eigen::MatrixX3i& F, c
     nodes_.resize(size_t(subtree_nodes(int(tris_.size()), leaf_size_)));
     // Two threads from 100k triangles (1M: 0.72 -> 0.55 s on 2 cores); the tree is the same.
     build(0, int(tris_.size()), 0, tris_.size() >= 100000 && std::thread::hardware_concurrency() > 1 ? 2 : 1);
+    slot_of_face_.assign(size_t(F.rows()), -1);
+    for (size_t i = 0; i < tris_.size(); ++i) slot_of_face_[size_t(tris_[i].face)] = int(i);
   }
 }
 
@@ -215,6 +217,24 @@ TriangleBvh::Closest TriangleBvh::closest_point(const Eigen::Vector3d& p, double
   }
   if (best.face >= 0) best.distance = std::sqrt(best2);
   return best;
+}
+
+TriangleBvh::Closest TriangleBvh::closest_point_near(const Eigen::Vector3d& p, int& hint, double max_distance) const {
+  if (hint < 0 || hint >= int(slot_of_face_.size()) || slot_of_face_[size_t(hint)] < 0) {
+    const Closest c = closest_point(p, max_distance);
+    if (c.face >= 0) hint = c.face;
+    return c;
+  }
+  const Tri& t = tris_[size_t(slot_of_face_[size_t(hint)])];
+  Closest near;
+  near.point = closest_point_on_triangle(p, t.a, t.b, t.c);
+  near.distance = (near.point - p).norm();
+  near.face = hint;
+  // A bound a little above the hint's distance keeps the hint, and every face at least as close,
+  // in the search.
+  const Closest c = closest_point(p, std::min(max_distance, near.distance * (1 + 1e-9) + 1e-300));
+  if (c.face >= 0) hint = c.face;
+  return c.face >= 0 || !(near.distance < max_distance) ? c : near;
 }
 
 TriangleBvh::Hit TriangleBvh::first_hit(const Eigen::Vector3d& o, const Eigen::Vector3d& d, double t_min,

@@ -25,6 +25,12 @@ class TriangleBvh {
   // Nearest surface point to p; with max_distance, only points closer than that are looked for
   // (face == -1 when there is none), which prunes most of the tree for small balls.
   Closest closest_point(const Eigen::Vector3d& p, double max_distance = INFINITY) const;
+  // closest_point(p, max_distance) started from face `hint` (an index into F; -1 or a face not in
+  // the tree: no hint), whose distance bounds the search from the first node: in an iterative
+  // registration the previous step's face is usually the answer or next to it, and less of the
+  // tree is opened. The same faces are searched in the same order, so the same face is found;
+  // `hint` becomes it.
+  Closest closest_point_near(const Eigen::Vector3d& p, int& hint, double max_distance = INFINITY) const;
 
   struct Hit {
     double t = INFINITY;  // ray parameter: origin + t * direction
@@ -72,6 +78,7 @@ class TriangleBvh {
   int leaf_size_ = 4;
   std::vector<Node> nodes_;
   std::vector<Tri> tris_;
+  std::vector<int> slot_of_face_;  // index into F -> index into tris_, -1 for faces left out
 };
 
 // The ray o + t d meets triangle (a, b, c) at barycentric (u, v), for some t of either sign

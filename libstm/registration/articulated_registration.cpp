@@ -151,14 +151,16 @@ std::vector<Eigen::Vector3d> posed(const Problem& pr, const Motions& m) {
 // each): one per source vertex, one per target vertex (its closest point on the posed source as
 // corners and barycentric weights). Pairs whose normals disagree by more than normal_angle or that lie
 // further apart than `outlier` of the diagonal get weight 0 (they still count in the distances).
+// `hints` (ns + nt faces, -1 at first) carry each query's face from one step to the next.
 std::vector<Pair> make_pairs(const Problem& pr, const TriangleBvh& target_bvh, const std::vector<Eigen::Vector3d>& vd,
-                             const ArticulatedOptions& opt, int stride = 1) {
+                             const ArticulatedOptions& opt, std::vector<int>& hints, int stride = 1) {
+  hints.resize(size_t(pr.ns + pr.nt), -1);
   const double min_cos = std::cos(opt.normal_angle * M_PI / 180), cut = opt.outlier * pr.diag;
   const std::vector<Eigen::Vector3d> sn = vertex_normals_of(pr.F, vd);
   std::vector<Pair> pairs;
   pairs.reserve((pr.ns + pr.nt) / stride + 2);
   for (int v = 0; v < pr.ns; v += stride) {
-    const auto c = target_bvh.closest_point(vd[v]);
+    const auto c = target_bvh.closest_point_near(vd[v], hints[size_t(v)]);
     Pair& p = pairs.emplace_back();
     p.vertex[0] = v, p.q = c.point, p.n = pr.tfn[c.face], p.weight = p.area = pr.area_s[v], p.distance = c.distance;
     if (sn[v].dot(p.n) < min_cos || c.distance > cut) p.weight = 0;
@@ -167,7 +169,7 @@ std::vector<Pair> make_pairs(const Problem& pr, const TriangleBvh& target_bvh, c
   for (int v = 0; v < pr.ns; ++v) V.row(v) = vd[v].transpose();
   const TriangleBvh bvh(V, pr.F);
   for (int j = 0; j < pr.nt; j += stride) {
-    const auto c = bvh.closest_point(pr.tp[j]);
+    const auto c = bvh.closest_point_near(pr.tp[j], hints[size_t(pr.ns + j)]);
     Pair& p = pairs.emplace_back();
     p.corners = 3;
     for (int i = 0; i < 3; ++i) p.vertex[i] = pr.F(c.face, i);
@@ -264,9 +266,9 @@ void add_guesses(const Problem& pr, const Motions& m, double weight, Eigen::Matr
 
 // One Gauss-Newton step of the articulated fit; returns the largest translation change.
 double articulated_step(const Problem& pr, const TriangleBvh& target_bvh, const ArticulatedOptions& opt, double guess_weight,
-                        Motions& m) {
+                        Motions& m, std::vector<int>& hints) {
   const std::vector<Eigen::Vector3d> vd = posed(pr, m);
-  const std::vector<Pair> pairs = make_pairs(pr, target_bvh, vd, opt, std::max(opt.stride, 1));
+  const std::vector<Pair> pairs = make_pairs(pr, target_bvh, vd, opt, hints, std::max(opt.stride, 1));
   Eigen::MatrixXd M = Eigen::MatrixXd::Zero(6 * pr.N, 6 * pr.N);
   Eigen::VectorXd B = Eigen::VectorXd::Zero(6 * pr.N);
   add_data(pr, m, pairs, vd, std::clamp(opt.plane_weight, 0.0, 0.9), M, B);
@@ -326,9 +328,10 @@ ArticulatedFit articulated_registration(const Mesh& source, const Skeleton& skel
   const TriangleBvh target_bvh(vertex_matrix(target), face_matrix(target));
   Motions m = motions_from_guess(pr);
   ArticulatedFit fit;
+  std::vector<int> hints;
   for (int it = 0; it < opt.iterations; ++it, ++fit.iterations) {
     const double gw = std::max(opt.guess_floor, opt.guess_weight * std::pow(0.5, double(it) / std::max(opt.guess_halving, 1)));
-    if (articulated_step(pr, target_bvh, opt, gw, m) < 1e-7 * pr.diag) break;
+    if (articulated_step(pr, target_bvh, opt, gw, m, hints) < 1e-7 * pr.diag) break;
   }
   fit.posed = posed(pr, m);
   fit.skeleton.edges = skeleton.edges, fit.skeleton.vertex_node = skeleton.vertex_node;
@@ -345,13 +348,14 @@ ArticulatedFit articulated_registration(const Mesh& source, const Skeleton& skel
     turn += std::acos(std::clamp((D.trace() - 1) / 2, -1.0, 1.0)) * 180 / M_PI;
   }
   fit.twist = skeleton.edges.empty() ? 0 : turn / double(skeleton.edges.size());
-  distances(pr, make_pairs(pr, target_bvh, fit.posed, opt, std::max(opt.stride, 1)), fit.posed_rms, unused);
+  distances(pr, make_pairs(pr, target_bvh, fit.posed, opt, hints, std::max(opt.stride, 1)), fit.posed_rms, unused);
   fit.deformed = opt.refine ? refine(source, fit.skeleton, target, fit.posed) : fit.posed;
-  distances(pr, make_pairs(pr, target_bvh, fit.deformed, opt), fit.rms, fit.p99);
+  distances(pr, make_pairs(pr, target_bvh, fit.deformed, opt, hints), fit.rms, fit.p99);
   if (opt.refine) {
     const SkeletonFit other = fit_skeleton(source, skeleton, target, start, node_guess);
     double rms = 0, p99 = 0;
-    distances(pr, make_pairs(pr, target_bvh, other.bent, opt), rms, p99);
+    std::vector<int> other_hints;
+    distances(pr, make_pairs(pr, target_bvh, other.bent, opt, other_hints), rms, p99);
     if (rms < fit.rms) fit.deformed = other.bent, fit.rms = rms, fit.p99 = p99, fit.refined_from_guesses = true;
   }
   return fit;

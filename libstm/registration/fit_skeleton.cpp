@@ -137,10 +137,12 @@ Similarity register_region(const Frame& fr, const TriangleBvh& target_bvh, const
   Similarity T;
   std::vector<Eigen::Vector3d> x, y;
   std::vector<double> w, d;
+  std::vector<int> hints(region.size(), -1);  // each vertex's face at the previous step
   for (int it = 0; it < 40; ++it) {
     x.clear(), y.clear(), w.clear(), d.clear();
-    for (int v : region) {
-      const auto c = target_bvh.closest_point(T(fr.v0[v]));
+    for (size_t r = 0; r < region.size(); ++r) {
+      const int v = region[r];
+      const auto c = target_bvh.closest_point_near(T(fr.v0[v]), hints[r]);
       x.push_back(fr.v0[v]), y.push_back(c.point), w.push_back(fr.area_s[v]), d.push_back(c.distance);
     }
     if (it >= 5) {
@@ -190,21 +192,24 @@ std::vector<Eigen::Vector3d> deformed(const Frame& fr, const NodeMaps& maps) {
 
 // Closest points both ways between the bent source `vd` and the target: first one pair per source
 // vertex (weighted by its area), then one per target vertex (its closest point on the bent source
-// as a face and barycentric coordinates).
-std::vector<Pair> make_pairs(const Frame& fr, const TriangleBvh& target_bvh, const std::vector<Eigen::Vector3d>& vd, int stride = 1) {
+// as a face and barycentric coordinates). `hints` (ns + nt faces, -1 at first) carry each query's
+// face from one step to the next.
+std::vector<Pair> make_pairs(const Frame& fr, const TriangleBvh& target_bvh, const std::vector<Eigen::Vector3d>& vd,
+                             std::vector<int>& hints, int stride = 1) {
   std::vector<Pair> pairs;
   stride = std::max(stride, 1);
+  hints.resize(size_t(fr.ns + fr.nt), -1);
   Eigen::MatrixX3d V(fr.ns, 3);
   for (int v = 0; v < fr.ns; ++v) V.row(v) = vd[v].transpose();
   const TriangleBvh bvh(V, fr.F);
   for (int v = 0; v < fr.ns; v += stride) {
-    const auto c = target_bvh.closest_point(vd[v]);
+    const auto c = target_bvh.closest_point_near(vd[v], hints[size_t(v)]);
     Pair p;
     p.vertex[0] = v, p.q = c.point, p.weight = fr.area_s[v], p.distance = c.distance;
     pairs.push_back(p);
   }
   for (int j = 0; j < fr.nt; j += stride) {
-    const auto c = bvh.closest_point(fr.tp[j]);
+    const auto c = bvh.closest_point_near(fr.tp[j], hints[size_t(fr.ns + j)]);
     Pair p;
     p.corners = 3;
     p.face = c.face;
@@ -314,8 +319,8 @@ double solve_maps(const Frame& fr, const NormalEquations& eq, NodeMaps& maps) {
 // maps that minimise data + agreement + rigidity. False (maps unchanged) when no pair lies within
 // the outlier distance; else `moved` is the largest change of a translation.
 bool nonrigid_step(const Frame& fr, const TriangleBvh& target_bvh, const FitSkeletonOptions& opt, double stiffness,
-                   NodeMaps& maps, double& moved) {
-  const std::vector<Pair> pairs = make_pairs(fr, target_bvh, deformed(fr, maps), opt.stride);
+                   NodeMaps& maps, std::vector<int>& hints, double& moved) {
+  const std::vector<Pair> pairs = make_pairs(fr, target_bvh, deformed(fr, maps), hints, opt.stride);
   // Only gross outliers go: a limb still far from where it went must keep pulling (cutting at
   // three median distances left Spot's turned head behind: 1.0 % RMS against 0.27 %).
   const double cut = opt.outlier * fr.diag;
@@ -334,7 +339,7 @@ bool nonrigid_step(const Frame& fr, const TriangleBvh& target_bvh, const FitSkel
 // The stiffness schedule: stiffness_start halved until a value at or below stiffness_end (within
 // 0.01 %) is reached, that one included; iterations_per_stiffness steps each, fewer when a step
 // moves no translation by 1e-7 of the diagonal or finds no pair. Returns the completed steps.
-int fit_maps(const Frame& fr, const TriangleBvh& target_bvh, const FitSkeletonOptions& opt, NodeMaps& maps) {
+int fit_maps(const Frame& fr, const TriangleBvh& target_bvh, const FitSkeletonOptions& opt, NodeMaps& maps, std::vector<int>& hints) {
   int stages = 1;
   for (double s = opt.stiffness_start; s > opt.stiffness_end * 1.0001; s *= 0.5) ++stages;
   int iterations = 0;
@@ -342,7 +347,7 @@ int fit_maps(const Frame& fr, const TriangleBvh& target_bvh, const FitSkeletonOp
   for (int stage = 0; stage < stages; ++stage, stiffness *= 0.5)
     for (int it = 0; it < opt.iterations_per_stiffness; ++it, ++iterations) {
       double moved = 0;
-      if (!nonrigid_step(fr, target_bvh, opt, stiffness, maps, moved) || moved < 1e-7 * fr.diag) break;
+      if (!nonrigid_step(fr, target_bvh, opt, stiffness, maps, hints, moved) || moved < 1e-7 * fr.diag) break;
     }
   return iterations;
 }
@@ -432,9 +437,10 @@ SkeletonFit fit_skeleton(const Mesh& source, const Skeleton& skeleton, const Mes
   else if (opt.articulated_start) register_neighbourhoods(fr, skeleton, target_bvh, maps);
 
   SkeletonFit result;
-  result.iterations = fit_maps(fr, target_bvh, opt, maps);
+  std::vector<int> hints;
+  result.iterations = fit_maps(fr, target_bvh, opt, maps, hints);
   result.bent = deformed(fr, maps);
-  const std::vector<Pair> pairs = make_pairs(fr, target_bvh, result.bent);
+  const std::vector<Pair> pairs = make_pairs(fr, target_bvh, result.bent, hints);
   measure_fit(fr, pairs, result.bent, maps, result);
   result.skeleton.edges = skeleton.edges;
   place_nodes(fr, result.bent, maps, start, result);

@@ -36,21 +36,23 @@ struct Problem {
 // Pairs (source point, target point) in both directions under T; distances in target units.
 // Pairs over `reach` are not looked for (distance INFINITY).
 // Every step-th sample only, when probing many starts.
+// `hints` (ns + nt faces, -1 at first) carry each query's face from one step to the next.
 void make_pairs(const Problem& P, const Similarity& T, double reach, std::vector<Eigen::Vector3d>& x, std::vector<Eigen::Vector3d>& y,
-                std::vector<double>& w, std::vector<double>& dist, size_t step = 1) {
+                std::vector<double>& w, std::vector<double>& dist, std::vector<int>& hints, size_t step = 1) {
   const Similarity Ti = T.inverse();
   const size_t ns = P.src.p.size(), nt = P.tgt.p.size();
+  hints.resize(ns + nt, -1);
   x.assign(ns + nt, Eigen::Vector3d::Zero()), y.assign(ns + nt, Eigen::Vector3d::Zero());
   w.assign(ns + nt, 0.0), dist.assign(ns + nt, INFINITY);
   for (size_t i = 0; i < ns; i += step) {
-    const auto c = P.tgt_bvh.closest_point(T(P.src.p[i]), reach);
+    const auto c = P.tgt_bvh.closest_point_near(T(P.src.p[i]), hints[i], reach);
     x[i] = P.src.p[i];
     y[i] = c.point;
     w[i] = P.src.w[i] * T.scale * T.scale;  // source areas in target units
     dist[i] = c.face < 0 ? INFINITY : c.distance;
   }
   for (size_t j = 0; j < nt; j += step) {
-    const auto c = P.src_bvh.closest_point(Ti(P.tgt.p[j]), std::isfinite(reach) ? reach * Ti.scale : reach);
+    const auto c = P.src_bvh.closest_point_near(Ti(P.tgt.p[j]), hints[ns + j], std::isfinite(reach) ? reach * Ti.scale : reach);
     x[ns + j] = c.point;
     y[ns + j] = P.tgt.p[j];
     w[ns + j] = P.tgt.w[j];
@@ -61,10 +63,11 @@ void make_pairs(const Problem& P, const Similarity& T, double reach, std::vector
 Registration run(const Problem& P, Similarity T, int max_iterations, size_t step = 1) {
   std::vector<Eigen::Vector3d> x, y;
   std::vector<double> w, dist;
+  std::vector<int> hints;
   Registration r;
   double reach = INFINITY;
   for (int it = 0; it < max_iterations; ++it) {
-    make_pairs(P, T, reach, x, y, w, dist, step);
+    make_pairs(P, T, reach, x, y, w, dist, hints, step);
     std::vector<double> fd, fw;
     for (size_t i = 0; i < dist.size(); ++i)
       if (std::isfinite(dist[i]) && w[i] > 0) fd.push_back(dist[i]), fw.push_back(w[i]);
@@ -91,7 +94,7 @@ Registration run(const Problem& P, Similarity T, int max_iterations, size_t step
     if (moved < (step > 1 ? 1e-6 : 1e-9) * P.diag) break;
   }
   // Measured on the same samples (a probe from many starts only ranks them).
-  make_pairs(P, T, INFINITY, x, y, w, dist, step);
+  make_pairs(P, T, INFINITY, x, y, w, dist, hints, step);
   std::vector<double> md, mw;
   for (size_t i = 0; i < dist.size(); ++i)
     if (w[i] > 0) md.push_back(dist[i]), mw.push_back(w[i]);
