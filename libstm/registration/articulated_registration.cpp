@@ -1,6 +1,7 @@
 #include "libstm/registration/articulated_registration.h"
 
 #include "libstm/core/errors.h"
+#include "libstm/core/parallel.h"
 #include "libstm/geometry/triangle_bvh.h"
 #include "libstm/mesh/mesh_geometry.h"
 #include "libstm/registration/fit_skeleton.h"
@@ -157,28 +158,32 @@ std::vector<Pair> make_pairs(const Problem& pr, const TriangleBvh& target_bvh, c
   hints.resize(size_t(pr.ns + pr.nt), -1);
   const double min_cos = std::cos(opt.normal_angle * M_PI / 180), cut = opt.outlier * pr.diag;
   const std::vector<Eigen::Vector3d> sn = vertex_normals_of(pr.F, vd);
-  std::vector<Pair> pairs;
-  pairs.reserve((pr.ns + pr.nt) / stride + 2);
-  for (int v = 0; v < pr.ns; v += stride) {
-    const auto c = target_bvh.closest_point_near(vd[v], hints[size_t(v)]);
-    Pair& p = pairs.emplace_back();
-    p.vertex[0] = v, p.q = c.point, p.n = pr.tfn[c.face], p.weight = p.area = pr.area_s[v], p.distance = c.distance;
-    if (sn[v].dot(p.n) < min_cos || c.distance > cut) p.weight = 0;
-  }
   Eigen::MatrixX3d V(pr.ns, 3);
   for (int v = 0; v < pr.ns; ++v) V.row(v) = vd[v].transpose();
   const TriangleBvh bvh(V, pr.F);
-  for (int j = 0; j < pr.nt; j += stride) {
+  // The queries are independent (each writes its own pair and hint): a second thread takes chunks
+  // of them when a core is free; the pairs keep their order.
+  const int from_source = (pr.ns + stride - 1) / stride, from_target = (pr.nt + stride - 1) / stride;
+  std::vector<Pair> pairs(size_t(from_source + from_target));
+  parallel_for(from_source + from_target, 512, [&](int i) {
+    Pair& p = pairs[size_t(i)];
+    if (i < from_source) {
+      const int v = i * stride;
+      const auto c = target_bvh.closest_point_near(vd[v], hints[size_t(v)]);
+      p.vertex[0] = v, p.q = c.point, p.n = pr.tfn[c.face], p.weight = p.area = pr.area_s[v], p.distance = c.distance;
+      if (sn[v].dot(p.n) < min_cos || c.distance > cut) p.weight = 0;
+      return;
+    }
+    const int j = (i - from_source) * stride;
     const auto c = bvh.closest_point_near(pr.tp[j], hints[size_t(pr.ns + j)]);
-    Pair& p = pairs.emplace_back();
     p.corners = 3;
-    for (int i = 0; i < 3; ++i) p.vertex[i] = pr.F(c.face, i);
+    for (int k = 0; k < 3; ++k) p.vertex[k] = pr.F(c.face, k);
     const Eigen::Vector3d b = barycentric(c.point, vd[p.vertex[0]], vd[p.vertex[1]], vd[p.vertex[2]]);
     Eigen::Vector3d n = Eigen::Vector3d::Zero();
-    for (int i = 0; i < 3; ++i) p.beta[i] = b[i], n += b[i] * sn[p.vertex[i]];
+    for (int k = 0; k < 3; ++k) p.beta[k] = b[k], n += b[k] * sn[p.vertex[k]];
     p.q = pr.tp[j], p.n = pr.tn[j], p.weight = p.area = pr.area_t[j], p.distance = c.distance;
     if (n.normalized().dot(pr.tn[j]) < min_cos || c.distance > cut) p.weight = 0;
-  }
+  }, 2);
   return pairs;
 }
 
