@@ -234,13 +234,15 @@ void SupernodalCholesky::plan_threads(int threads) {
     if (s.parent >= 0) children_[s.parent].push_back(id), work[s.parent] += work[id];
     else total += work[id];
   }
-  subtrees_[0].clear();
-  subtrees_[1].clear();
-  top_.clear();
-  if (threads < 2 || total < kParallelFlops) return;
+  for (auto& ids : order_) ids.clear();
+  if (threads < 2 || total < kParallelFlops) {
+    for (int id = 0; id < count; ++id) order_[0].push_back(id);
+    return;
+  }
   std::vector<int> frontier, top;
   for (int id = 0; id < count; ++id)
     if (sn_[id].parent < 0) frontier.push_back(id);
+  std::vector<std::pair<int, int>> subtrees[2];  // the best plan's, as ranges [first, last]
   double best = total;
   for (int step = 0; step < 256 && !frontier.empty(); ++step) {
     std::sort(frontier.begin(), frontier.end(), [&](int a, int b) { return work[a] > work[b] || (work[a] == work[b] && a < b); });
@@ -254,16 +256,25 @@ void SupernodalCholesky::plan_threads(int threads) {
     const double time = std::max(load[0], load[1]) + (total - load[0] - load[1]);
     if (time < best) {
       best = time;
-      for (int t = 0; t < 2; ++t) subtrees_[t] = bins[t];
-      top_ = top;
+      for (int t = 0; t < 2; ++t) subtrees[t] = bins[t];
+      order_[2] = top;
     }
     const int split = frontier.front();
     frontier.erase(frontier.begin());
     top.push_back(split);
     frontier.insert(frontier.end(), children_[split].begin(), children_[split].end());
   }
-  for (auto& bin : subtrees_) std::sort(bin.begin(), bin.end());
-  std::sort(top_.begin(), top_.end());
+  if (subtrees[1].empty()) {  // no split paid: serial
+    order_[2].clear();
+    for (int id = 0; id < count; ++id) order_[0].push_back(id);
+    return;
+  }
+  for (int t = 0; t < 2; ++t) {
+    std::sort(subtrees[t].begin(), subtrees[t].end());
+    for (const auto& [from, to] : subtrees[t])
+      for (int id = from; id <= to; ++id) order_[t].push_back(id);
+  }
+  std::sort(order_[2].begin(), order_[2].end());
 }
 
 void SupernodalCholesky::index_lower_triangle(const Eigen::SparseMatrix<double>& A) {
@@ -325,33 +336,19 @@ bool SupernodalCholesky::factor_supernode(int id, const double* a, Scratch& sc) 
 bool SupernodalCholesky::factorize(const Eigen::SparseMatrix<double>& A) {
   const double* a = A.valuePtr();
   updates_.assign(sn_.size(), Eigen::MatrixXd());
-  auto run = [&](auto&& ids) {
+  auto run = [&](const std::vector<int>& ids) {
     Scratch sc;
     sc.local.assign(n_, -1);
-    bool ok = true;
-    ids([&](int id) { ok = ok && factor_supernode(id, a, sc); });
-    return ok;
+    for (int id : ids)
+      if (!factor_supernode(id, a, sc)) return false;
+    return true;
   };
-  bool ok[3] = {true, true, true};
-  if (!two_threads()) {
-    ok[0] = run([&](auto&& f) {
-      for (int id = 0; id < int(sn_.size()); ++id) f(id);
-    });
-  } else {
-    auto bin = [&](int t) {
-      return [&, t](auto&& f) {
-        for (const auto& [first, last] : subtrees_[t])
-          for (int id = first; id <= last; ++id) f(id);
-      };
-    };
-    run_concurrently([&] { ok[1] = run(bin(1)); }, [&] { ok[0] = run(bin(0)); });
-    ok[2] = run([&](auto&& f) {
-      for (int id : top_) f(id);
-    });
-  }
+  bool ok0 = true, ok1 = true;
+  if (two_threads()) run_concurrently([&] { ok1 = run(order_[1]); }, [&] { ok0 = run(order_[0]); });
+  else ok0 = run(order_[0]);
+  const bool ok = ok0 && ok1 && run(order_[2]);
   updates_.clear();
-  if (!(ok[0] && ok[1] && ok[2])) return false;
-  return std::all_of(values_.begin(), values_.end(), [](double v) { return std::isfinite(v); });
+  return ok && std::all_of(values_.begin(), values_.end(), [](double v) { return std::isfinite(v); });
 }
 
 Eigen::MatrixX3d SupernodalCholesky::solve(const Eigen::MatrixX3d& B) const {

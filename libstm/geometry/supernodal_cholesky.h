@@ -22,7 +22,7 @@ class SupernodalCholesky {
   // its children's updates in the serial order, so the result is the same bit for bit.
   bool factorize(const Eigen::SparseMatrix<double>& A_lower);
   // Whether factorize() uses a second thread (analyze's plan).
-  bool two_threads() const { return !subtrees_[1].empty(); }
+  bool two_threads() const { return !order_[1].empty(); }
   // Solves A X = B after a successful factorize().
   Eigen::MatrixX3d solve(const Eigen::MatrixX3d& B) const;
 
@@ -59,11 +59,10 @@ class SupernodalCholesky {
   std::vector<double> values_;
   std::vector<std::vector<int>> children_;     // per supernode, increasing
   std::vector<Eigen::MatrixXd> updates_;        // update matrices not yet added to their parent
-  // Two-thread plan: per thread, whole subtrees as ranges [first, last] of supernodes (postorder
-  // keeps a subtree contiguous); then `top_` (their ancestors, increasing) on the calling thread.
-  // Both empty: serial.
-  std::vector<std::pair<int, int>> subtrees_[2];
-  std::vector<int> top_;
+  // The supernodes in the order each list factorises them: [0] on the calling thread and [1] on a
+  // second one (whole subtrees each, children before parents), then [2] (their ancestors) on the
+  // calling thread. Serial: every supernode in [0], [1] and [2] empty.
+  std::vector<int> order_[3];
 };
 
 }  // namespace sdm

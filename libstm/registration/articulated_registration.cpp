@@ -1,9 +1,9 @@
 #include "libstm/registration/articulated_registration.h"
 
 #include "libstm/core/errors.h"
-#include "libstm/core/parallel.h"
 #include "libstm/geometry/triangle_bvh.h"
 #include "libstm/mesh/mesh_geometry.h"
+#include "libstm/registration/closest_pairs.h"
 #include "libstm/registration/fit_skeleton.h"
 
 #include <Eigen/Geometry>
@@ -155,36 +155,23 @@ std::vector<Eigen::Vector3d> posed(const Problem& pr, const Motions& m) {
 // `hints` (ns + nt faces, -1 at first) carry each query's face from one step to the next.
 std::vector<Pair> make_pairs(const Problem& pr, const TriangleBvh& target_bvh, const std::vector<Eigen::Vector3d>& vd,
                              const ArticulatedOptions& opt, std::vector<int>& hints, int stride = 1) {
-  hints.resize(size_t(pr.ns + pr.nt), -1);
   const double min_cos = std::cos(opt.normal_angle * M_PI / 180), cut = opt.outlier * pr.diag;
   const std::vector<Eigen::Vector3d> sn = vertex_normals_of(pr.F, vd);
-  Eigen::MatrixX3d V(pr.ns, 3);
-  for (int v = 0; v < pr.ns; ++v) V.row(v) = vd[v].transpose();
-  const TriangleBvh bvh(V, pr.F);
-  // The queries are independent (each writes its own pair and hint): a second thread takes chunks
-  // of them when a core is free; the pairs keep their order.
-  const int from_source = (pr.ns + stride - 1) / stride, from_target = (pr.nt + stride - 1) / stride;
-  std::vector<Pair> pairs(size_t(from_source + from_target));
-  parallel_for(from_source + from_target, 512, [&](int i) {
-    Pair& p = pairs[size_t(i)];
-    if (i < from_source) {
-      const int v = i * stride;
-      const auto c = target_bvh.closest_point_near(vd[v], hints[size_t(v)]);
-      p.vertex[0] = v, p.q = c.point, p.n = pr.tfn[c.face], p.weight = p.area = pr.area_s[v], p.distance = c.distance;
-      if (sn[v].dot(p.n) < min_cos || c.distance > cut) p.weight = 0;
-      return;
-    }
-    const int j = (i - from_source) * stride;
-    const auto c = bvh.closest_point_near(pr.tp[j], hints[size_t(pr.ns + j)]);
-    p.corners = 3;
-    for (int k = 0; k < 3; ++k) p.vertex[k] = pr.F(c.face, k);
-    const Eigen::Vector3d b = barycentric(c.point, vd[p.vertex[0]], vd[p.vertex[1]], vd[p.vertex[2]]);
-    Eigen::Vector3d n = Eigen::Vector3d::Zero();
-    for (int k = 0; k < 3; ++k) p.beta[k] = b[k], n += b[k] * sn[p.vertex[k]];
-    p.q = pr.tp[j], p.n = pr.tn[j], p.weight = p.area = pr.area_t[j], p.distance = c.distance;
-    if (n.normalized().dot(pr.tn[j]) < min_cos || c.distance > cut) p.weight = 0;
-  }, 2);
-  return pairs;
+  return closest_pairs_both_ways<Pair>(
+      target_bvh, vd, pr.F, pr.tp, hints, stride,
+      [&](Pair& p, int v, const TriangleBvh::Closest& c) {
+        p.vertex[0] = v, p.q = c.point, p.n = pr.tfn[c.face], p.weight = p.area = pr.area_s[v], p.distance = c.distance;
+        if (sn[v].dot(p.n) < min_cos || c.distance > cut) p.weight = 0;
+      },
+      [&](Pair& p, int j, const TriangleBvh::Closest& c) {
+        p.corners = 3;
+        for (int k = 0; k < 3; ++k) p.vertex[k] = pr.F(c.face, k);
+        const Eigen::Vector3d b = barycentric(c.point, vd[p.vertex[0]], vd[p.vertex[1]], vd[p.vertex[2]]);
+        Eigen::Vector3d n = Eigen::Vector3d::Zero();
+        for (int k = 0; k < 3; ++k) p.beta[k] = b[k], n += b[k] * sn[p.vertex[k]];
+        p.q = pr.tp[j], p.n = pr.tn[j], p.weight = p.area = pr.area_t[j], p.distance = c.distance;
+        if (n.normalized().dot(pr.tn[j]) < min_cos || c.distance > cut) p.weight = 0;
+      });
 }
 
 Eigen::Matrix3d cross_matrix(const Eigen::Vector3d& a) {

@@ -1,8 +1,8 @@
 #include "libstm/registration/fit_skeleton.h"
 
 #include "libstm/registration/carry_skeleton.h"
+#include "libstm/registration/closest_pairs.h"
 #include "libstm/core/errors.h"
-#include "libstm/core/parallel.h"
 #include "libstm/layout/segments.h"
 #include "libstm/geometry/triangle_bvh.h"
 
@@ -197,33 +197,19 @@ std::vector<Eigen::Vector3d> deformed(const Frame& fr, const NodeMaps& maps) {
 // face from one step to the next.
 std::vector<Pair> make_pairs(const Frame& fr, const TriangleBvh& target_bvh, const std::vector<Eigen::Vector3d>& vd,
                              std::vector<int>& hints, int stride = 1) {
-  stride = std::max(stride, 1);
-  hints.resize(size_t(fr.ns + fr.nt), -1);
-  Eigen::MatrixX3d V(fr.ns, 3);
-  for (int v = 0; v < fr.ns; ++v) V.row(v) = vd[v].transpose();
-  const TriangleBvh bvh(V, fr.F);
-  // The queries are independent (each writes its own pair and hint): a second thread takes chunks
-  // of them when a core is free; the pairs keep their order.
-  const int from_source = (fr.ns + stride - 1) / stride, from_target = (fr.nt + stride - 1) / stride;
-  std::vector<Pair> pairs(size_t(from_source + from_target));
-  parallel_for(from_source + from_target, 512, [&](int i) {
-    Pair& p = pairs[size_t(i)];
-    if (i < from_source) {
-      const int v = i * stride;
-      const auto c = target_bvh.closest_point_near(vd[v], hints[size_t(v)]);
-      p.vertex[0] = v, p.q = c.point, p.weight = fr.area_s[v], p.distance = c.distance;
-      return;
-    }
-    const int j = (i - from_source) * stride;
-    const auto c = bvh.closest_point_near(fr.tp[j], hints[size_t(fr.ns + j)]);
-    p.corners = 3;
-    p.face = c.face;
-    for (int k = 0; k < 3; ++k) p.vertex[k] = fr.F(c.face, k);
-    const Eigen::Vector3d b = barycentric(c.point, vd[p.vertex[0]], vd[p.vertex[1]], vd[p.vertex[2]]);
-    for (int k = 0; k < 3; ++k) p.beta[k] = b[k];
-    p.q = fr.tp[j], p.weight = fr.area_t[j], p.distance = c.distance;
-  }, 2);
-  return pairs;
+  return closest_pairs_both_ways<Pair>(
+      target_bvh, vd, fr.F, fr.tp, hints, stride,
+      [&](Pair& p, int v, const TriangleBvh::Closest& c) {
+        p.vertex[0] = v, p.q = c.point, p.weight = fr.area_s[v], p.distance = c.distance;
+      },
+      [&](Pair& p, int j, const TriangleBvh::Closest& c) {
+        p.corners = 3;
+        p.face = c.face;
+        for (int k = 0; k < 3; ++k) p.vertex[k] = fr.F(c.face, k);
+        const Eigen::Vector3d b = barycentric(c.point, vd[p.vertex[0]], vd[p.vertex[1]], vd[p.vertex[2]]);
+        for (int k = 0; k < 3; ++k) p.beta[k] = b[k];
+        p.q = fr.tp[j], p.weight = fr.area_t[j], p.distance = c.distance;
+      });
 }
 
 // The normal equations M X = B of one step. Unknowns: per node k and coordinate r, row r of A_k
