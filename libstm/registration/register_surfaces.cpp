@@ -163,12 +163,15 @@ Registration register_surfaces(const Mesh& source, const Mesh& target, const std
   // until it settles, then on every sample.
   const int probe = std::min(max_iterations, 15);
   const size_t step = std::max<size_t>(1, std::max(P.src.p.size(), P.tgt.p.size()) / 1000);
-  auto finish = [&](const std::vector<Similarity>& tries) {
+  // The closest probe goes on only when its RMS is under `promising`: the turned starts win only
+  // when far closer than the prior's fit, and one that ends there is near it after the probe.
+  auto finish = [&](const std::vector<Similarity>& tries, double promising) {
     Registration first;
     for (const Similarity& T : tries) {
       const Registration r = run(P, T, probe, step);
       if (r.rms < first.rms) first = r;
     }
+    if (!(first.rms < promising)) return first;
     const Registration coarse = run(P, first.transform, std::max(0, max_iterations - probe - 10), step);
     // Polished on every sample only when it may be the same shape: far off (another body: 4-7 %
     // of the diagonal on FAUST and TOSCA pairs) it would cost seconds and change nothing decided.
@@ -181,7 +184,7 @@ Registration register_surfaces(const Mesh& source, const Mesh& target, const std
     r.iterations += first.iterations + coarse.iterations;
     return r;
   };
-  const Registration best = finish(prior), other = finish(turned);
+  const Registration best = finish(prior, INFINITY), other = finish(turned, 0.5 * best.rms);
   if (other.rms < 0.25 * best.rms) return other;
   return best;
 }
