@@ -8,7 +8,7 @@ PACKAGES=(
   libeigen3-dev libopenmesh-dev libopenexr-dev libosd-dev
   libegl-dev libgl-dev libegl-mesa0 libgl1-mesa-dri
   catch2 libcli11-dev nlohmann-json3-dev libstb-dev libsuitesparse-dev python3
-  pybind11-dev python3-dev python3-numpy libtinygltf-dev zlib1g-dev
+  pybind11-dev python3-dev python3-numpy libtinygltf-dev zlib1g-dev libpng-dev
 )
 
 missing=()

@@ -319,6 +319,21 @@ TEST_CASE("PNG write/read round trip is exact; contact sheet places images", "[r
       for (int k = 0; k < 3; ++k) CHECK(rb.at(x, y)[k] == rgb.at(x, y)[k]);
       CHECK(rb.at(x, y)[3] == 255);
     }
+  // Grey and grey with alpha come back as RGBA with the grey in every colour channel.
+  for (int channels : {1, 2}) {
+    sdm::Image grey(6, 4, channels);
+    for (auto& v : grey.pixels) v = uint8_t(rng());
+    const std::string path = (dir / ("g" + std::to_string(channels) + ".png")).string();
+    sdm::write_png(grey, path);
+    const sdm::Image rg = sdm::read_png(path);
+    REQUIRE(rg.width == 6);
+    REQUIRE(rg.height == 4);
+    for (int y = 0; y < 4; ++y)
+      for (int x = 0; x < 6; ++x) {
+        for (int k = 0; k < 3; ++k) CHECK(rg.at(x, y)[k] == grey.at(x, y)[0]);
+        CHECK(rg.at(x, y)[3] == (channels == 2 ? grey.at(x, y)[1] : 255));
+      }
+  }
   const std::string missing = (dir / "missing.png").string();
   try {
     sdm::read_png(missing);

@@ -4,8 +4,8 @@
 #include "libstm/core/errors.h"
 #include "libstm/core/limits.h"
 
+#include <png.h>
 #include <stb_image.h>
-#include <stb_image_write.h>
 
 #include <algorithm>
 #include <cmath>
@@ -31,8 +31,37 @@ Image read_png(const std::string& path) {
 
 namespace {
 
-void append_bytes(void* context, void* data, int size) {
-  static_cast<std::string*>(context)->append(static_cast<const char*>(data), size_t(size));
+// PNG bytes of `image` through libpng: zlib level 3 and the Sub and Up row filters. Measured on a
+// transfer's 1024^2 RGBA atlas and Spot's texture against stb_image_write (level 8, every filter
+// tried per row): 0.94 MB and 93 KB against 1.24 MB and 109 KB, 4-5x faster (a 1024^2 atlas
+// 440 -> 115-150 ms, the preview 125 -> 20-23 ms on the 2-core Xeon VM).
+std::string encode_png(const Image& image, const std::string& path) {
+  static const int kColourType[5] = {0, PNG_COLOR_TYPE_GRAY, PNG_COLOR_TYPE_GRAY_ALPHA, PNG_COLOR_TYPE_RGB, PNG_COLOR_TYPE_RGBA};
+  std::string bytes;
+  png_structp png = png_create_write_struct(PNG_LIBPNG_VER_STRING, nullptr, nullptr, nullptr);
+  png_infop info = png ? png_create_info_struct(png) : nullptr;
+  if (!info) {
+    png_destroy_write_struct(&png, nullptr);
+    throw std::runtime_error("cannot encode PNG '" + path + "': out of memory");
+  }
+  // libpng reports failures by longjmp; nothing with a destructor is created past this point.
+  if (setjmp(png_jmpbuf(png))) {
+    png_destroy_write_struct(&png, &info);
+    throw std::runtime_error("cannot encode PNG '" + path + "'");
+  }
+  png_set_write_fn(
+      png, &bytes, [](png_structp p, png_bytep data, png_size_t n) { static_cast<std::string*>(png_get_io_ptr(p))->append(reinterpret_cast<const char*>(data), n); },
+      [](png_structp) {});
+  png_set_compression_level(png, 3);
+  png_set_filter(png, PNG_FILTER_TYPE_BASE, PNG_FILTER_SUB | PNG_FILTER_UP);
+  png_set_IHDR(png, info, png_uint_32(image.width), png_uint_32(image.height), 8, kColourType[image.channels], PNG_INTERLACE_NONE,
+               PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
+  png_write_info(png, info);
+  const size_t stride = size_t(image.width) * size_t(image.channels);
+  for (int y = 0; y < image.height; ++y) png_write_row(png, image.pixels.data() + size_t(y) * stride);
+  png_write_end(png, info);
+  png_destroy_write_struct(&png, &info);
+  return bytes;
 }
 
 }  // namespace
@@ -41,15 +70,11 @@ void write_png(const Image& image, const std::string& path) {
   if (image.width <= 0 || image.height <= 0 || image.channels < 1 || image.channels > 4 ||
       image.pixels.size() != size_t(image.width) * image.height * image.channels)
     throw std::runtime_error("write_png: inconsistent image for '" + path + "'");
-  // stb_image_write computes sizes in int: beyond this side they would overflow.
   if (image.width > kMaxImageSide || image.height > kMaxImageSide)
     throw InputError("cannot write PNG " + path + ": " + std::to_string(image.width) + "x" + std::to_string(image.height) +
                      " pixels, more than " + std::to_string(kMaxImageSide) + " a side");
   write_atomically(path, [&](const std::string& tmp) {
-    std::string bytes;
-    if (!stbi_write_png_to_func(append_bytes, &bytes, image.width, image.height, image.channels, image.pixels.data(),
-                                image.width * image.channels))
-      throw std::runtime_error("cannot encode PNG '" + path + "'");
+    const std::string bytes = encode_png(image, path);
     write_bytes_checked(tmp, bytes.data(), bytes.size(), path);
   });
 }
