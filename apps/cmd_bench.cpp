@@ -5,6 +5,7 @@
 #include "apps/commands.h"
 #include "libsdm/decode/decode_sdm.h"
 #include "libsdm/encode/encode_sdm.h"
+#include "libstm/core/parallel.h"
 #include "libstm/core/stopwatch.h"
 #include "libstm/layout/layout.h"
 #include "libstm/mesh/mesh.h"
@@ -420,7 +421,8 @@ TransferRow time_transfer(GlContext& gl, const std::string& a_path, const std::s
   to.size = 1024;
   for (int r = 0; r < repeat; ++r) {
     Stopwatch sw;
-    const Skeleton sa = extract_skeleton(a, transfer_skeleton_options()), sb = extract_skeleton(b, transfer_skeleton_options());
+    Skeleton sa, sb;
+    run_concurrently([&] { sb = extract_skeleton(b, transfer_skeleton_options()); }, [&] { sa = extract_skeleton(a, transfer_skeleton_options()); });
     const double e = sw.lap();
     const TextureTransfer t = transfer_texture(gl, a, checker, sa, b, sb, to);
     row.extract = std::min(row.extract, e), row.transfer = std::min(row.transfer, sw.lap());

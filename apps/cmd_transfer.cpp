@@ -2,6 +2,7 @@
 #include "apps/memory_budget.h"
 #include "libsdm/decode/decode_sdm.h"
 #include "libsdm/map/sdm_exr.h"
+#include "libstm/core/parallel.h"
 #include "libstm/transfer/carry_attributes.h"
 #include "libstm/transfer/transfer_texture.h"
 #include "libstm/core/atomic_file.h"
@@ -32,7 +33,8 @@ struct TransferArgs {
 
 // The skeleton read from json_path (it must map mesh's vertices), or else extracted with the
 // transfer's options (its statistics into *stats); `what` names the model in messages.
-sdm::Skeleton skeleton_for(const sdm::Mesh& mesh, const std::string& json_path, const std::string& what, sdm::SkeletonStats* stats) {
+sdm::Skeleton skeleton_for(const sdm::Mesh& mesh, const std::string& json_path, const std::string& what, sdm::SkeletonStats* stats,
+                           const sdm::Progress& report) {
   if (!json_path.empty()) {
     sdm::Skeleton s = sdm::read_skeleton_json(json_path);
     if (s.vertex_node.size() != mesh.n_vertices())
@@ -40,8 +42,8 @@ sdm::Skeleton skeleton_for(const sdm::Mesh& mesh, const std::string& json_path, 
                             " vertices, not " + std::to_string(mesh.n_vertices()));
     return s;
   }
-  progress("extracting the " + what + " skeleton");
-  return sdm::extract_skeleton(mesh, sdm::transfer_skeleton_options(), progress, stats);
+  report("extracting the " + what + " skeleton");
+  return sdm::extract_skeleton(mesh, sdm::transfer_skeleton_options(), report, stats);
 }
 
 // path with its extension replaced by suffix (OUT.obj -> OUT_atlas.png).
@@ -146,8 +148,21 @@ TransferInputs read_inputs(const TransferArgs& o) {
     in.texture_path.clear();
   }
   in.target = sdm::load_mesh(o.target);
-  in.skeleton_a = skeleton_for(in.source, o.source_skeleton, "source", &in.stats_a);
-  in.skeleton_b = skeleton_for(in.target, o.target_skeleton, "target", &in.stats_b);
+  // Both skeletons at once: an extraction keeps a second core busy only while its medial candidate
+  // runs (FAUST 007 and 024: 1.9 -> 1.4 s for the two). Each line says whose it is. One after the
+  // other for large meshes, whose extractions' memory would add up.
+  const sdm::Progress shared = sdm::serialised(progress);
+  auto labelled = [&](const std::string& what) -> sdm::Progress {
+    return [shared, what](const std::string& line) { shared(line.rfind("extracting", 0) == 0 ? line : what + ": " + line); };
+  };
+  auto source = [&] { in.skeleton_a = skeleton_for(in.source, o.source_skeleton, "source", &in.stats_a, labelled("source")); };
+  auto target = [&] { in.skeleton_b = skeleton_for(in.target, o.target_skeleton, "target", &in.stats_b, labelled("target")); };
+  if (in.source.n_vertices() + in.target.n_vertices() <= 400000) {
+    sdm::run_concurrently(target, source);
+  } else {
+    source();
+    target();
+  }
   return in;
 }
 
