@@ -4,6 +4,7 @@
 #include "libstm/mesh/mesh_geometry.h"
 #include "libstm/registration/articulated_registration.h"
 #include "libstm/registration/fit_skeleton.h"
+#include "libstm/transfer/end_bends.h"
 
 #include <algorithm>
 #include <sstream>
@@ -25,6 +26,10 @@ constexpr double kTieTwist = 0.01, kTieFit = 0.02;
 // closer than that 0.9 % (FAUST 007 onto 024 moved by 1e-7 of the diagonal, a mirror, under powers
 // 3/4 and 1/2) and 1.8 % (FAUST 024 onto the TOSCA man so moved, the hands crossed).
 constexpr double kScoreTie = 0.02;
+// How much less alike a candidate's ends may bend than the most alike candidate's
+// (end_bend_agreement) and still be chosen: the right match and its mirror differ by 0.38 or more
+// on the 20 ordered pairs of the five shared bodies (0.4-3.6; a foot's bend counts up to 1).
+constexpr double kFrontBack = 0.4;
 // Candidate matches examined for the distortion of their ends' distances, per one registered.
 constexpr int kCandidateFactor = 4;
 
@@ -51,10 +56,20 @@ double candidate_score(const BodyRegistration& r, size_t i) {
 // closer fit within 7 % of its twist and 1.3 times its attachment misfit: it crossed the hands of
 // FAUST 024 and the TOSCA man (either way) read from their OFF files, the least twist there being a
 // crossing whose attachments lay 1.9 times as far apart.
+// Only candidates whose ends bend about as alike as the most alike (within kFrontBack) compete, and
+// only they can tie with the chosen one (ambiguity): a mirrored match bends them the other way
+// (0.4-3.6 lower than the right match on the 20 ordered pairs of the five shared bodies), where
+// twist, fit and attachments favoured four mirrors by 13-40 %.
+bool bends_the_other_way(const BodyRegistration& r, size_t i) {
+  if (i >= r.candidate_bend.size()) return false;
+  return r.candidate_bend[i] < *std::max_element(r.candidate_bend.begin(), r.candidate_bend.end()) - kFrontBack;
+}
+
 int choose_candidate(const BodyRegistration& r) {
   int best = -1;
   double least = INFINITY;
   for (size_t i = 0; i < r.candidate_twist.size(); ++i) {
+    if (bends_the_other_way(r, i)) continue;
     const double score = candidate_score(r, i);
     if (std::isfinite(score) && score < least) least = score, best = int(i);
   }
@@ -76,7 +91,7 @@ std::string ambiguity(const std::vector<SharedSkeletons>& cands, const BodyRegis
   const size_t c = size_t(r.chosen);
   const std::vector<std::pair<int, int>> chosen_ends = end_pairs(cands[c]);
   for (size_t i = 0; i < cands.size(); ++i) {
-    if (i == c) continue;
+    if (i == c || bends_the_other_way(r, i)) continue;
     const bool tie = (std::abs(r.candidate_twist[i] - r.candidate_twist[c]) <= kTieTwist * r.candidate_twist[c] &&
                       std::abs(r.candidate_rms[i] - r.candidate_rms[c]) <= kTieFit * r.candidate_rms[c]) ||
                      candidate_score(r, i) <= (1 + kScoreTie) * candidate_score(r, c);
@@ -340,11 +355,13 @@ BodyRegistration register_bodies(const Mesh& source, const Skeleton& skeleton_a,
     r.candidate_rms.push_back(f.posed_rms), r.candidate_twist.push_back(f.twist);
     r.candidate_distortion.push_back(extremity_distortion(f.posed));
     r.candidate_attachment.push_back(attachment_misfit(target, cands[i], cands[i].exchanged ? attached : end_attachments(source, target, cands[i])));
+    r.candidate_bend.push_back(end_bend_agreement(cands[i].a, cands[i].b));
     report_progress(opt.progress, "candidate match " + std::to_string(i + 1) + " of " + std::to_string(cands.size()) + ": RMS " +
                                       std::to_string(100 * f.posed_rms) + " % of the diagonal, parts turned " + std::to_string(f.twist) +
                                       " degrees against their neighbours, extremities' distances changed by " +
                                       std::to_string(100 * r.candidate_distortion.back()) + " %, branches attached " +
-                                      std::to_string(100 * r.candidate_attachment.back()) + " % apart");
+                                      std::to_string(100 * r.candidate_attachment.back()) + " % apart, ends bend alike " +
+                                      std::to_string(r.candidate_bend.back()));
   }
   r.chosen = choose_candidate(r);
   r.ambiguity = ambiguity(cands, r);

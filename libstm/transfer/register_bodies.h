@@ -53,6 +53,9 @@ struct BodyRegistration {
   // distance after the best similarity, fraction of the target's diagonal): a match that crosses one
   // pair of limbs and keeps the others cannot lay the attachments together.
   std::vector<double> candidate_attachment;
+  // and how alike its ends bend relative to the core on the two models (end_bend_agreement): a match
+  // with front and back the other way bends them the other way.
+  std::vector<double> candidate_bend;
   double distortion = 0;  // the same for the chosen registration
   // candidate_attachment of the chosen match; 0 when a model's core (the chains between its
   // junctions) spans under 3 % of its skeleton's length, so that its attachments all surround one
