@@ -12,6 +12,7 @@
 #include "libstm/mesh/mesh_geometry.h"
 #include "libstm/mesh/primitives.h"
 #include "libstm/skeleton/extract_skeleton.h"
+#include "libstm/transfer/end_bends.h"
 #include "libstm/transfer/register_bodies.h"
 #include "libstm/transfer/transfer_texture.h"
 
@@ -317,4 +318,31 @@ TEST_CASE("register_bodies: crossed hands lay the limbs' attachments further apa
                       << right.candidate_twist[size_t(right.chosen)] << " / " << wrong.candidate_twist[size_t(wrong.chosen)] << " degrees");
   CHECK(right.attachment < 0.05);
   CHECK(wrong.attachment > 1.3 * right.attachment);
+}
+
+// The ends of two real bodies matched the right way bend alike (end_bend_agreement); with left and
+// right swapped (hands and feet pinned to the other side, head kept) the match can only lay the core
+// half around and the ends bend the other way, by more than register_bodies' margin (0.4). FAUST
+// 007 onto 024 (another person, one leg raised) and the TOSCA gorilla onto the man.
+TEST_CASE("register_bodies: a mirrored match's ends bend the other way", "[register_bodies]") {
+  struct Pair {
+    const char *a, *b;
+    std::vector<int> la, lb;  // head, left hand, right hand, left foot, right foot
+  };
+  const Pair pairs[] = {{"tr_reg_007.off", "tr_reg_024.off", {411, 2445, 5905, 3216, 6617}, {411, 2445, 5905, 3216, 6617}},
+                        {"8_gorilla_01.off", "8_man_02.off", {889, 3401, 2374, 4976, 4179}, {2982, 962, 228, 4617, 513}}};
+  for (const Pair& p : pairs) {
+    if (!faust::have(p.a) || !faust::have(p.b)) continue;
+    const sdm::Mesh a = sdm::load_mesh(faust::humans_dir() + "/" + p.a), b = sdm::load_mesh(faust::humans_dir() + "/" + p.b);
+    const sdm::Skeleton sa = sdm::extract_skeleton(a, sdm::transfer_skeleton_options()), sb = sdm::extract_skeleton(b, sdm::transfer_skeleton_options());
+    const std::vector<int> ea = ends_nearest(a, sa, p.la), eb = ends_nearest(b, sb, p.lb);
+    std::vector<std::pair<int, int>> straight, mirrored;
+    const int other[5] = {0, 2, 1, 4, 3};
+    for (int k = 0; k < 5; ++k) straight.push_back({ea[k], eb[k]}), mirrored.push_back({ea[k], eb[other[k]]});
+    const sdm::SharedSkeletons s = sdm::share_skeletons(a, sa, b, sb, straight), m = sdm::share_skeletons(a, sa, b, sb, mirrored);
+    const double right = sdm::end_bend_agreement(s.a, s.b), mirror = sdm::end_bend_agreement(m.a, m.b);
+    INFO(p.a << " -> " << p.b << ": ends bend alike " << right << " matched straight, " << mirror << " mirrored");
+    CHECK(right > 0.2);
+    CHECK(right - mirror > 0.4);
+  }
 }
