@@ -5,7 +5,8 @@
 // to their common branching, and every candidate match of them (match_candidates: which limb is
 // left and which right, which side is the front, only the surfaces tell) drives a short articulated
 // registration of the source onto the target (articulated_registration: per-node rigid motions, the
-// match's resampled target chains as the nodes' guesses); the one whose parts turn least against
+// match's resampled target chains as the nodes' guesses); among those whose ends bend about as alike
+// as the most alike (end_bend_agreement: front and back), the one whose parts turn least against
 // their neighbours, that fits closest and lays the places where the limbs meet the torso least apart
 // (one score) is kept, and its nodes start the non-rigid fit of the source's skeleton onto the
 // target (fit_skeleton: embedded deformation on the skeleton, stiffness lowered step by step). The
