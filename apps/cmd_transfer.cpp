@@ -300,6 +300,7 @@ void print_transfer_json(const TransferArgs& o, const TransferInputs& in, const 
               {"candidate_twist", r.candidate_twist},
               {"candidate_distortion", r.candidate_distortion},
               {"candidate_attachment", r.candidate_attachment},
+              {"candidate_bend", r.candidate_bend},
               {"attachment_misfit", r.attachment},
               {"target_skeleton", r.carried      ? "carried"
                                   : r.fitted     ? "bent"

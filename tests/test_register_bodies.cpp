@@ -147,6 +147,10 @@ TEST_CASE("sdm transfer --correspondence between two FAUST bodies", "[register_b
   CHECK(j.at("target_skeleton") == "registered");
   CHECK(j.at("fit_rms").get<double>() < 0.005);
   CHECK(j.at("branch_fit").size() >= 5);
+  // Each candidate's measures, how alike its ends bend among them (the right match: 1.32).
+  const auto bends = j.at("candidate_bend").get<std::vector<double>>();
+  CHECK(bends.size() == j.at("candidate_twist").size());
+  CHECK(*std::max_element(bends.begin(), bends.end()) > 1.0);
   const std::vector<sdm::SourcePoint> under = faust::read_correspondence(dir / "c.txt");
   for (const sdm::SourcePoint& p : under) CHECK(std::abs(p.barycentric.sum() - 1) < 1e-6);
   REQUIRE(under.size() == a.n_vertices());

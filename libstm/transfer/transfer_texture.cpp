@@ -228,7 +228,7 @@ void take_registered(BodyRegistration reg, const TransferOptions& opt, TextureTr
   r.fit_rms = reg.rms, r.fit_p99 = reg.p99, r.registered = true;
   r.candidate_rms = std::move(reg.candidate_rms), r.branch_fit = std::move(reg.branch_fit);
   r.candidate_twist = std::move(reg.candidate_twist), r.candidate_distortion = std::move(reg.candidate_distortion);
-  r.candidate_attachment = std::move(reg.candidate_attachment);
+  r.candidate_attachment = std::move(reg.candidate_attachment), r.candidate_bend = std::move(reg.candidate_bend);
   r.distortion = reg.distortion;
   tb.placed = std::move(reg.placed);
   const bool poor = !(r.fit_rms <= opt.registered_rms && r.fit_p99 <= opt.registered_p99);

@@ -119,7 +119,7 @@ struct TextureTransfer {
   // only with `force`): left and right may be swapped.
   std::string ambiguity;
   std::vector<double> candidate_rms;  // per candidate match, the short registration's RMS (registered)
-  std::vector<double> candidate_twist, candidate_distortion, candidate_attachment;  // and BodyRegistration's other measures
+  std::vector<double> candidate_twist, candidate_distortion, candidate_attachment, candidate_bend;  // and BodyRegistration's other measures
   double distortion = 0;              // registered: BodyRegistration::distortion
   double attachment = 0;              // registered: BodyRegistration::attachment
   std::vector<BranchFit> branch_fit;  // registered: per branch
