@@ -149,7 +149,7 @@ TransferInputs read_inputs(const TransferArgs& o) {
   }
   in.target = sdm::load_mesh(o.target);
   // Both skeletons at once: an extraction keeps a second core busy only while its medial candidate
-  // runs (FAUST 007 and 024: 1.9 -> 1.4 s for the two). Each line says whose it is. One after the
+  // runs (FAUST 007 and 024: 0.95-1.08 -> 0.63-0.69 s for the two). Each line says whose it is. One after the
   // other for large meshes, whose extractions' memory would add up.
   const sdm::Progress shared = sdm::serialised(progress);
   auto labelled = [&](const std::string& what) -> sdm::Progress {
