@@ -49,9 +49,10 @@ std::string encode_png(const Image& image, const std::string& path) {
     png_destroy_write_struct(&png, &info);
     throw std::runtime_error("cannot encode PNG '" + path + "'");
   }
-  png_set_write_fn(
-      png, &bytes, [](png_structp p, png_bytep data, png_size_t n) { static_cast<std::string*>(png_get_io_ptr(p))->append(reinterpret_cast<const char*>(data), n); },
-      [](png_structp) {});
+  auto append = [](png_structp p, png_bytep data, png_size_t n) {
+    static_cast<std::string*>(png_get_io_ptr(p))->append(reinterpret_cast<const char*>(data), n);
+  };
+  png_set_write_fn(png, &bytes, append, [](png_structp) {});
   png_set_compression_level(png, 3);
   png_set_filter(png, PNG_FILTER_TYPE_BASE, PNG_FILTER_SUB | PNG_FILTER_UP);
   png_set_IHDR(png, info, png_uint_32(image.width), png_uint_32(image.height), 8, kColourType[image.channels], PNG_INTERLACE_NONE,
