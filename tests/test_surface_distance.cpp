@@ -125,3 +125,34 @@ TEST_CASE("Closest points started from a hint are the ones found without it", "[
     CHECK(c.point == plain.point);
   }
 }
+
+// Two sheets touching as limbs do, 0.01 apart and facing away from each other (the top of the lower
+// one up, the bottom of the upper one down), each a fan of triangles: a point just above the lower
+// sheet, with the lower sheet's normal, is nearest the upper sheet's back when it lies closer to
+// it, and closest_point_facing keeps to the faces that face its way; brute force over the faces
+// agrees, and with no face facing its way there is none.
+TEST_CASE("Closest points facing a normal skip the sheet that faces away", "[surface_distance]") {
+  Eigen::MatrixX3d V(8, 3);
+  V << 0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0,           // lower sheet, z = 0, normal +z
+      0, 0, 0.01, 1, 0, 0.01, 1, 1, 0.01, 0, 1, 0.01;  // upper sheet, z = 0.01, normal -z
+  Eigen::MatrixX3i F(4, 3);
+  F << 0, 1, 2, 0, 2, 3, 4, 6, 5, 4, 7, 6;
+  const sdm::TriangleBvh bvh(V, F);
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> u(0.05, 0.95);
+  for (int i = 0; i < 200; ++i) {
+    const Eigen::Vector3d p(u(rng), u(rng), 0.004 + 0.005 * u(rng));  // nearer the upper sheet from 0.005 on
+    const auto any = bvh.closest_point(p);
+    const auto up = bvh.closest_point_facing(p, Eigen::Vector3d::UnitZ(), 0.0);
+    REQUIRE(up.face >= 0);
+    CHECK(up.face < 2);  // a face of the lower sheet
+    CHECK(std::abs(up.distance - p.z()) < 1e-12);
+    CHECK((up.point - Eigen::Vector3d(p.x(), p.y(), 0)).norm() < 1e-12);
+    CHECK(any.distance <= up.distance + 1e-15);
+    if (p.z() > 0.0051) CHECK(any.face >= 2);
+    const auto down = bvh.closest_point_facing(p, -Eigen::Vector3d::UnitZ(), 0.0);
+    CHECK(down.face >= 2);
+    CHECK(std::abs(down.distance - (0.01 - p.z())) < 1e-12);
+  }
+  CHECK(bvh.closest_point_facing(Eigen::Vector3d(0.5, 0.5, 0.005), Eigen::Vector3d::UnitX(), 0.5).face == -1);
+}

@@ -31,6 +31,10 @@ class TriangleBvh {
   // tree is opened. The same faces are searched in the same order, so the same face is found;
   // `hint` becomes it.
   Closest closest_point_near(const Eigen::Vector3d& p, int& hint, double max_distance = INFINITY) const;
+  // Nearest point to p on the triangles whose unit normal n_f has n_f . n >= min_cos (face == -1
+  // when none does): where two surfaces touch (a raised foot against the other leg), the nearest
+  // point may lie on the sheet facing the other way.
+  Closest closest_point_facing(const Eigen::Vector3d& p, const Eigen::Vector3d& n, double min_cos) const;
 
   struct Hit {
     double t = INFINITY;  // ray parameter: origin + t * direction

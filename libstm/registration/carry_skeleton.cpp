@@ -8,15 +8,23 @@
 namespace sdm {
 
 std::vector<SourcePoint> source_points_under(const Mesh& source, const std::vector<Eigen::Vector3d>& placed,
-                                             const std::vector<Eigen::Vector3d>& points) {
+                                             const std::vector<Eigen::Vector3d>& points, const std::vector<Eigen::Vector3d>& normals) {
   const Eigen::MatrixX3i F = face_matrix(source);
   Eigen::MatrixX3d P(placed.size(), 3);
   for (size_t v = 0; v < placed.size(); ++v) P.row(Eigen::Index(v)) = placed[v].transpose();
   const TriangleBvh bvh(P, F);
   std::vector<SourcePoint> out;
   out.reserve(points.size());
-  for (const auto& q : points) {
-    const auto c = bvh.closest_point(q);
+  for (size_t i = 0; i < points.size(); ++i) {
+    const Eigen::Vector3d& q = points[i];
+    auto c = bvh.closest_point(q);
+    if (normals.size() == points.size() && c.face >= 0) {
+      const Eigen::Vector3d a = P.row(F(c.face, 0)), b = P.row(F(c.face, 1)), d = P.row(F(c.face, 2));
+      if ((b - a).cross(d - a).dot(normals[i]) < 0) {
+        const auto facing = bvh.closest_point_facing(q, normals[i], 0.0);
+        if (facing.face >= 0) c = facing;
+      }
+    }
     out.push_back({c.face, barycentric(c.point, P.row(F(c.face, 0)), P.row(F(c.face, 1)), P.row(F(c.face, 2)))});
   }
   return out;

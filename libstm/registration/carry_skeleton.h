@@ -24,8 +24,11 @@ struct SourcePoint {
 // For every point (e.g. the target's vertices), the source point under it: the closest point of
 // the source placed at `placed` (its vertices moved onto the target, same faces), in that face's
 // barycentric coordinates.
+// With `normals` (one unit normal per point), a point whose closest placed face faces away from its
+// normal takes the closest face that does not, when there is one (touching limbs).
 std::vector<SourcePoint> source_points_under(const Mesh& source, const std::vector<Eigen::Vector3d>& placed,
-                                             const std::vector<Eigen::Vector3d>& points);
+                                             const std::vector<Eigen::Vector3d>& points,
+                                             const std::vector<Eigen::Vector3d>& normals = {});
 
 // The target's vertex_node through a correspondence (`under`, one source point per target vertex):
 // each vertex takes the node of the source corner with the largest barycentric weight. A node left

@@ -179,14 +179,19 @@ StmCoordinates coordinates_through_source(const Mesh& source, const std::vector<
   const std::vector<int> fa = assign_faces(source, shared_a);
   const Eigen::MatrixX3i F = face_matrix(source);
   // Source points under the target's vertices, then under its face centroids.
-  std::vector<Eigen::Vector3d> points;
+  std::vector<Eigen::Vector3d> points, normals(target.n_vertices(), Eigen::Vector3d::Zero());
   for (auto v : target.vertices()) points.push_back(point(target, v));
   for (auto f : target.faces()) {
-    Eigen::Vector3d c = Eigen::Vector3d::Zero();
-    for (auto v : target.fv_range(f)) c += point(target, v) / 3;
+    Eigen::Vector3d c = Eigen::Vector3d::Zero(), corner[3];
+    int k = 0;
+    for (auto v : target.fv_range(f)) c += point(target, v) / 3, corner[k++] = point(target, v);
     points.push_back(c);
+    const Eigen::Vector3d n = (corner[1] - corner[0]).cross(corner[2] - corner[0]);
+    for (auto v : target.fv_range(f)) normals[size_t(v.idx())] += n;
+    normals.push_back(n.normalized());
   }
-  const std::vector<SourcePoint> at = source_points_under(source, placed, points);
+  for (size_t i = 0; i < target.n_vertices(); ++i) normals[i].normalize();
+  const std::vector<SourcePoint> at = source_points_under(source, placed, points, normals);
   correspondence.assign(at.begin(), at.begin() + target.n_vertices());
   Mesh under = target;
   for (auto v : target.vertices()) {
