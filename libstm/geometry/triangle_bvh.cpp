@@ -169,7 +169,10 @@ double TriangleBvh::node_distance2(const Eigen::Vector3d& p, const Node& n) {
   return std::max(box_distance2(p, n.lo, n.hi), slab * slab);
 }
 
-TriangleBvh::Closest TriangleBvh::closest_point(const Eigen::Vector3d& p, double max_distance) const {
+// The traversal of closest_point and closest_point_facing: the nearest point on the triangles that
+// `accept` takes, within max_distance.
+template <class Accept>
+TriangleBvh::Closest TriangleBvh::nearest(const Eigen::Vector3d& p, double max_distance, Accept accept) const {
   Closest best;
   if (nodes_.empty()) return best;
   double best2 = max_distance * max_distance;
@@ -189,6 +192,7 @@ TriangleBvh::Closest TriangleBvh::closest_point(const Eigen::Vector3d& p, double
     if (n.left < 0) {
       for (int i = n.begin; i < n.end; ++i) {
         const Tri& t = tris_[i];
+        if (!accept(t)) continue;
         // The plane bound skips most triangles tangent to a query ball (the medial poles'
         // queries); the margin leaves near-ties to the exact distance, so results do not change.
         const Eigen::Vector3d pa = p - t.a;
@@ -219,42 +223,12 @@ TriangleBvh::Closest TriangleBvh::closest_point(const Eigen::Vector3d& p, double
   return best;
 }
 
+TriangleBvh::Closest TriangleBvh::closest_point(const Eigen::Vector3d& p, double max_distance) const {
+  return nearest(p, max_distance, [](const Tri&) { return true; });
+}
+
 TriangleBvh::Closest TriangleBvh::closest_point_facing(const Eigen::Vector3d& p, const Eigen::Vector3d& n, double min_cos) const {
-  Closest best;
-  if (nodes_.empty()) return best;
-  double best2 = INFINITY;
-  struct Item {
-    double d2;
-    int node;
-  };
-  Item stack[128];
-  int sp = 0;
-  stack[sp++] = {node_distance2(p, nodes_[0]), 0};
-  while (sp) {
-    const Item item = stack[--sp];
-    if (item.d2 >= best2) continue;
-    const Node& nd = nodes_[item.node];
-    if (nd.left < 0) {
-      for (int i = nd.begin; i < nd.end; ++i) {
-        const Tri& t = tris_[i];
-        if (t.normal.dot(n) < min_cos) continue;
-        const Eigen::Vector3d q = closest_point_on_triangle(p, t.a, t.b, t.c);
-        const double d2 = (q - p).squaredNorm();
-        if (d2 < best2) best2 = d2, best.face = t.face, best.point = q;
-      }
-      continue;
-    }
-    const double dl = node_distance2(p, nodes_[nd.left]), dr = node_distance2(p, nodes_[nd.right]);
-    if (dl < dr) {
-      if (dr < best2) stack[sp++] = {dr, nd.right};
-      stack[sp++] = {dl, nd.left};
-    } else {
-      if (dl < best2) stack[sp++] = {dl, nd.left};
-      if (dr < best2) stack[sp++] = {dr, nd.right};
-    }
-  }
-  if (best.face >= 0) best.distance = std::sqrt(best2);
-  return best;
+  return nearest(p, INFINITY, [&](const Tri& t) { return t.normal.dot(n) >= min_cos; });
 }
 
 TriangleBvh::Closest TriangleBvh::closest_point_near(const Eigen::Vector3d& p, int& hint, double max_distance) const {

@@ -67,6 +67,8 @@ class TriangleBvh {
     Eigen::Vector3d axis = Eigen::Vector3d::Zero();
     double slab_lo = 0, slab_hi = 0;
   };
+  template <class Accept>
+  Closest nearest(const Eigen::Vector3d& p, double max_distance, Accept accept) const;
   // Lower bound of the squared distance from p to the node's triangles.
   static double node_distance2(const Eigen::Vector3d& p, const Node& n);
   struct Tri {
