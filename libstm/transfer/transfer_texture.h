@@ -61,7 +61,9 @@ struct TransferOptions {
   double same_shape_rms = 0.005, same_shape_p99 = 0.02;
   // Otherwise (same condition) the source's skeleton is bent onto the target (fit_skeleton): it is
   // used when the bent source lies within fit_rms (RMS) and fit_p99 (99th percentile) of the target
-  // and no two ends came closer than fit_spread of their distance. Measured: a turned head, thicker
+  // and no two ends came closer than fit_spread of their distance, unless the registration as another
+  // body below fits closer and would be taken (FAUST 024 and 085, two people: bent 0.36-0.38 %, a
+  // raised leg folded at the knee; registered 0.29-0.30 %). Measured: a turned head, thicker
   // legs, a bent arm 0.18-0.23 % RMS and 0.8-1.0 %; crossed cylinders bent onto a ypsilon 0.74 %
   // and 2.4 %. Both meshes must have the same Euler characteristic (genus) for either.
   double fit_rms = 0.004, fit_p99 = 0.016, fit_spread = 0.5;
