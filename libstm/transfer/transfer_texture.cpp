@@ -274,9 +274,11 @@ void take_registered(BodyRegistration reg, const TransferOptions& opt, TextureTr
 // The refusal's way out (TransferOptions::other_candidate): the pairs of given and other
 // extraction candidates, the model with fewer ends changed first, the first whose branchings agree
 // and whose matched branches agree in length (TransferOptions::registered_disagreement) registered
-// as another body. Empty when none does.
+// as another body; with `need_taken`, the first that take_registered takes as it is
+// (registration_taken). Empty when none does.
 std::optional<BodyRegistration> register_other_candidates(const Mesh& source, const Skeleton& skeleton_a, const Mesh& target,
-                                                          const Skeleton& skeleton_b, const TransferOptions& opt, TextureTransfer& r) {
+                                                          const Skeleton& skeleton_b, const TransferOptions& opt, bool need_taken,
+                                                          TextureTransfer& r) {
   std::optional<Skeleton> other[2];
   bool asked[2] = {false, false};
   auto candidate = [&](bool is_target) -> const Skeleton* {
@@ -298,7 +300,7 @@ std::optional<BodyRegistration> register_other_candidates(const Mesh& source, co
     if (!a || !b) continue;
     try {  // register_bodies throws InputError where the branchings still differ (common_branching)
       BodyRegistration reg = register_bodies(source, *a, target, *b, {}, bo);
-      if (lengths_disagree(reg.skeletons, opt)) continue;
+      if (need_taken ? !registration_taken(reg, opt) : lengths_disagree(reg.skeletons, opt)) continue;
       r.other_source_candidate = other_a, r.other_target_candidate = other_b;
       report_progress(opt.progress, std::string("registered with the other candidate of the ") +
                                         (other_a && other_b ? "source and the target" : other_a ? "source" : "target"));
@@ -337,9 +339,14 @@ TargetSkeleton recognise_or_register(const Mesh& source, const Skeleton& skeleto
       body.reset();
     }
     // Also where the match would be refused for branches that disagree in length: a jittered FAUST
-    // 024's medial skeleton lost its head, and its contraction candidate has one.
-    if ((!body || lengths_disagree(body->skeletons, opt)) && !r.carried && !r.fitted && opt.other_candidate && opt.fixed.empty())
-      if (std::optional<BodyRegistration> other = register_other_candidates(source, skeleton_a, target, skeleton_b, opt, r))
+    // 024's medial skeleton lost its head, and its contraction candidate has one. And where it would
+    // be refused otherwise (limbs meeting the torso at other places, a tie, a poor fit), for a pair
+    // that would be taken: the TOSCA man's medial skeleton (a float PLY of it) and FAUST 024's each
+    // have one small end more, at other places, so that no end is pruned and every match pairs a
+    // limb with another (attachments 9.1 % apart).
+    const bool unmatched = !body || lengths_disagree(body->skeletons, opt);
+    if ((unmatched || !registration_taken(*body, opt)) && !r.carried && !r.fitted && opt.other_candidate && opt.fixed.empty())
+      if (std::optional<BodyRegistration> other = register_other_candidates(source, skeleton_a, target, skeleton_b, opt, !unmatched, r))
         body = std::move(other);
   }
   // The source bent along its own skeleton is meant for the source in another pose; another body
