@@ -231,6 +231,10 @@ TriangleBvh::Closest TriangleBvh::closest_point_facing(const Eigen::Vector3d& p,
   return nearest(p, INFINITY, [&](const Tri& t) { return t.normal.dot(n) >= min_cos; });
 }
 
+TriangleBvh::Closest TriangleBvh::closest_point_among(const Eigen::Vector3d& p, const std::vector<char>& faces) const {
+  return nearest(p, INFINITY, [&](const Tri& t) { return t.face >= 0 && size_t(t.face) < faces.size() && faces[size_t(t.face)]; });
+}
+
 TriangleBvh::Closest TriangleBvh::closest_point_near(const Eigen::Vector3d& p, int& hint, double max_distance) const {
   if (hint < 0 || hint >= int(slot_of_face_.size()) || slot_of_face_[size_t(hint)] < 0) {
     const Closest c = closest_point(p, max_distance);

@@ -35,6 +35,9 @@ class TriangleBvh {
   // when none does): where two surfaces touch (a raised foot against the other leg), the nearest
   // point may lie on the sheet facing the other way.
   Closest closest_point_facing(const Eigen::Vector3d& p, const Eigen::Vector3d& n, double min_cos) const;
+  // Nearest point to p on the triangles whose face (index into F) is flagged in `faces` (face == -1
+  // when none is).
+  Closest closest_point_among(const Eigen::Vector3d& p, const std::vector<char>& faces) const;
 
   struct Hit {
     double t = INFINITY;  // ray parameter: origin + t * direction

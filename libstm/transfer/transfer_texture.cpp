@@ -1,6 +1,7 @@
 #include "libstm/transfer/transfer_texture.h"
 
 #include "libstm/registration/carry_skeleton.h"
+#include "libstm/registration/mend_islands.h"
 #include "libstm/core/errors.h"
 #include "libstm/render/render_atlas.h"
 #include "libstm/layout/segment_frames.h"
@@ -191,7 +192,18 @@ StmCoordinates coordinates_through_source(const Mesh& source, const std::vector<
     normals.push_back(n.normalized());
   }
   for (size_t i = 0; i < target.n_vertices(); ++i) normals[i].normalize();
-  const std::vector<SourcePoint> at = source_points_under(source, placed, points, normals);
+  std::vector<SourcePoint> at = source_points_under(source, placed, points, normals);
+  // Patches whose source points jump away from everything around them (touching parts) looked up
+  // again near what surrounds them; a face centroid goes with its first corner in an island.
+  const CorrespondenceIslands islands =
+      find_islands(source, shared_a, target, std::vector<SourcePoint>(at.begin(), at.begin() + target.n_vertices()));
+  std::vector<int> point_island = islands.island_of;
+  for (auto f : target.faces()) {
+    int id = -1;
+    for (auto v : target.fv_range(f)) id = id >= 0 ? id : islands.island_of[size_t(v.idx())];
+    point_island.push_back(id);
+  }
+  mend_islands(source, placed, islands, points, point_island, at);
   correspondence.assign(at.begin(), at.begin() + target.n_vertices());
   Mesh under = target;
   for (auto v : target.vertices()) {
