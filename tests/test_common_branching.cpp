@@ -156,3 +156,53 @@ TEST_CASE("a thumb is not slid to the chest to stand for a lost head", "[common_
   CHECK_THROWS_AS(sdm::common_branching(thumb, good), sdm::InputError);
   CHECK_THROWS_AS(sdm::common_branching(good, thumb), sdm::InputError);
 }
+
+namespace {
+
+// A stick body: shoulders S at the origin, hips P one unit below; a left arm and a right arm of
+// length 1 along -x and +x; legs of length 1 down from the hips; with `head`, a head of 0.4 up from
+// S that owns many vertices (a head is thick); with `prongs`, the right hand forked into two finger
+// prongs of 0.1 owning one vertex each.
+sdm::Skeleton stick_body(bool head, bool prongs) {
+  sdm::Skeleton s;
+  auto chain = [&](int from, const Eigen::Vector3d& to, int pieces, int per_node) {
+    const Eigen::Vector3d start = s.nodes[size_t(from)];
+    int prev = from;
+    for (int i = 1; i <= pieces; ++i) {
+      s.nodes.push_back(start + (to - start) * double(i) / pieces);
+      s.edges.push_back({prev, int(s.nodes.size()) - 1});
+      prev = int(s.nodes.size()) - 1;
+      s.vertex_node.insert(s.vertex_node.end(), size_t(per_node), prev);
+    }
+    return prev;
+  };
+  s.nodes.push_back(Eigen::Vector3d::Zero());
+  s.vertex_node.insert(s.vertex_node.end(), 10, 0);
+  const int hips = chain(0, {0, -1, 0}, 4, 10);
+  chain(0, {-1, 0, 0}, 4, 10);
+  const int hand = chain(0, {1, 0, 0}, 4, 10);
+  chain(hips, {-0.3, -2, 0}, 5, 10);
+  chain(hips, {0.3, -2, 0}, 5, 10);
+  if (head) chain(0, {0, 0.4, 0}, 2, 40);
+  if (prongs) chain(hand, {1.1, 0.05, 0}, 1, 1), chain(hand, {1.1, -0.05, 0}, 1, 1);
+  return s;
+}
+
+}  // namespace
+
+// A target whose extraction lost the head (4 ends) against a source with a head and a forked hand
+// (6 ends): pruning the two prongs leaves the hand an end, and sliding the head from the shoulders
+// onto that hand would make the head continue the arm and the branchings "equal" (a jittered FAUST
+// 085 against 024, session 24: the head's texture went to a hand). A branch slides only onto a node
+// that stays a junction, so this is a difference of major branchings.
+TEST_CASE("a branch does not slide onto a hand whose prongs are pruned", "[common_branching]") {
+  const sdm::Skeleton a = stick_body(true, true), b = stick_body(false, false);
+  REQUIRE(a.end_nodes() == 6);
+  REQUIRE(b.end_nodes() == 4);
+  CHECK_THROWS_AS(sdm::common_branching(a, b), sdm::InputError);
+  // With the head on both, one prong goes (the other continues the arm).
+  const sdm::CommonBranching c = sdm::common_branching(a, stick_body(true, false));
+  CHECK(c.pruned_a.size() == 1);
+  CHECK(c.slid_a.empty());
+  CHECK(c.a.end_nodes() == 5);
+}

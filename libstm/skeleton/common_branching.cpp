@@ -270,6 +270,16 @@ Tried reduce_by_pruning(const Skeleton& a, const Skeleton& b, const std::vector<
   return best;
 }
 
+// Whether a slide's branch hangs from a junction of the reduced skeleton `red` (`map`: the given
+// skeleton's nodes -> red's): prunes taken with it may leave its new junction with one other
+// branch, and the slid branch would then continue that one instead of meeting the core (a jittered
+// FAUST 024's head slid onto a hand whose two finger prongs were pruned, to match a target skeleton
+// that had lost its head).
+bool slid_onto_junction(const Skeleton& red, const std::vector<int>& map, const Change& slide) {
+  const int at = slide.other >= 0 && size_t(slide.other) < map.size() ? map[size_t(slide.other)] : -1;
+  return at >= 0 && red.degrees()[size_t(at)] >= 3;
+}
+
 // One slide (in either skeleton) with at most two prunes or joins: among the results whose
 // matched chains agree in length (length_disagreement at most `plausible`), the fewest changes,
 // then the lowest disagreement.
@@ -290,6 +300,7 @@ Tried reduce_with_slide(const Skeleton& a, const Skeleton& b, const std::vector<
           if (n > best_changes) return;
           Tried t = try_changes(a, b, xa, xb);
           if (!t.ok || t.disagreement > plausible || (n == best_changes && !(t.disagreement < best.disagreement))) return;
+          if (!slid_onto_junction(side ? t.r.b : t.r.a, side ? t.r.b_node : t.r.a_node, slide)) return;
           best_changes = n, best = std::move(t);
         });
       }
