@@ -310,6 +310,16 @@ TEST_CASE("sdm transfer: limbs matched to other limbs are refused, not written",
   check_right_or_refused(transfer_bands(kBodies[4], kBodies[1]), "matched to other branches", "--force");
 }
 
+// FAUST 085 onto the TOSCA gorilla landed hands on feet and feet on hands, silently: the gorilla's
+// medial skeleton joins head, arms and legs within 0.5 % of its length, and the reduction slid 085's
+// head to its hips to agree with it, pairing legs with arms. No skeleton is slid to agree with one
+// whose junctions nearly coincide (common_branching); the gorilla's other candidate is then refused
+// (limbs meeting the torso 5.7 % apart). Right or refused, never the scramble.
+TEST_CASE("sdm transfer: FAUST 085 onto the TOSCA gorilla is right or refused", "[transfer_bands]") {
+  if (!faust::have(kBodies[2].file) || !faust::have(kBodies[3].file)) return;
+  check_right_or_refused(transfer_bands(kBodies[2], kBodies[3]), "matched to other branches", "--force");
+}
+
 // `sdm bench --transfer` reads the gorilla from its OFF file, whose extraction puts the legs at one
 // junction and the head and arms at another 0.5 % of the length away: every place where a limb meets
 // that core surrounds one point, the attachments of every candidate measured 9-10 % apart from the
