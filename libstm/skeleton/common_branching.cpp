@@ -270,18 +270,6 @@ Tried reduce_by_pruning(const Skeleton& a, const Skeleton& b, const std::vector<
   return best;
 }
 
-// The share of a skeleton's length on chains between two junctions (its core: a torso).
-constexpr double kPointCore = 0.03;
-double core_share(const Skeleton& s) {
-  const ReducedSkeleton r = reduce_skeleton(s);
-  double core = 0, total = 0;
-  for (const auto& c : r.chains) {
-    total += c.length;
-    if (r.key_degree[c.from] >= 3 && r.key_degree[c.to] >= 3) core += c.length;
-  }
-  return total > 0 ? core / total : 0;
-}
-
 // Whether a slide's branch hangs from a junction of the reduced skeleton `red` (`map`: the given
 // skeleton's nodes -> red's): prunes taken with it may leave its new junction with one other
 // branch, and the slid branch would then continue that one instead of meeting the core (a jittered
@@ -329,10 +317,10 @@ CommonBranching common_branching(const Skeleton& a, const Skeleton& b, double ma
   // The matched chains disagree in length (or no pruning makes the branchings equal): an
   // extraction may have hung a branch from the neighbouring junction (an arm from the pelvis,
   // its chain running down the side of a flat torso).
-  // A skeleton whose junctions nearly coincide (its core under kPointCore of its length: the TOSCA
+  // A skeleton whose junctions nearly coincide (its core under kCoreShare of its length: the TOSCA
   // gorilla's medial skeleton joins head, arms and legs within 0.5 %) says nothing about which
   // branch hangs from which junction, so the other is not slid to agree with it.
-  const bool a_slides = core_share(b) >= kPointCore, b_slides = core_share(a) >= kPointCore;
+  const bool a_slides = core_share(reduce_skeleton(b)) >= kCoreShare, b_slides = core_share(reduce_skeleton(a)) >= kCoreShare;
   const std::vector<Change> sa = a_slides ? candidate_slides(a, 3 * max_branch, max_branch, 8) : std::vector<Change>(),
                             sb = b_slides ? candidate_slides(b, 3 * max_branch, max_branch, 8) : std::vector<Change>();
   Tried slid = reduce_with_slide(a, b, ca, cb, sa, sb, plausible);

@@ -157,6 +157,15 @@ ReducedSkeleton reduce_skeleton(const Skeleton& s) {
   return r;
 }
 
+double core_share(const ReducedSkeleton& r) {
+  double core = 0, total = 0;
+  for (const auto& c : r.chains) {
+    total += c.length;
+    if (r.key_degree[c.from] >= 3 && r.key_degree[c.to] >= 3) core += c.length;
+  }
+  return total > 0 ? core / total : 0;
+}
+
 std::string branching_difference(const Skeleton& a, const Skeleton& b) {
   auto junctions = [](const Skeleton& s) {
     std::vector<int> d;

@@ -29,6 +29,13 @@ struct ReducedSkeleton {
 // node farthest from the component's centre (ties by coordinates), so the choice follows geometry.
 ReducedSkeleton reduce_skeleton(const Skeleton& skeleton);
 
+// The share of a reduced skeleton's total chain length that lies on chains between two junctions
+// (its core: a torso's spine); 0 for a skeleton without chains. Under kCoreShare the junctions
+// nearly coincide: which branch hangs from which junction, and where the branches meet the core,
+// say nothing (TOSCA's gorilla: head and arms, and legs, at junctions 0.5 % of its length apart).
+constexpr double kCoreShare = 0.03;
+double core_share(const ReducedSkeleton& reduced);
+
 // What differs between two branchings, in words ("junction degrees 3 vs 4; ends 3 vs 4"), or
 // empty when they can match.
 std::string branching_difference(const Skeleton& a, const Skeleton& b);

@@ -294,24 +294,12 @@ double attachment_misfit(const Mesh& target, const SharedSkeletons& sh, const En
   return std::sqrt(e / double(x.size())) / std::max(bounding_box_diagonal(target), 1e-300);
 }
 
-// The smaller share, of the two skeletons of a match, of the total chain length that lies between
-// junctions (the core: a torso's spine). Under kCoreShare the attachments of one model all surround
-// one point and cannot be compared with the other's: TOSCA's gorilla as read from its OFF file gets
-// its legs at one junction and its head and arms at another 0.5 % of the length away, and every
-// candidate onto the man measured 9.2-10.3 % (FAUST and the man: about 10 %).
-constexpr double kCoreShare = 0.03;
-double core_share(const SkeletonMatch& m) {
-  double share = INFINITY;
-  for (const ReducedSkeleton* red : {&m.a, &m.b}) {
-    double core = 0, total = 0;
-    for (const auto& c : red->chains) {
-      total += c.length;
-      if (red->key_degree[c.from] >= 3 && red->key_degree[c.to] >= 3) core += c.length;
-    }
-    share = std::min(share, total > 0 ? core / total : 0.0);
-  }
-  return share;
-}
+// The smaller core share (core_share) of the two skeletons of a match. Under kCoreShare the
+// attachments of one model all surround one point and cannot be compared with the other's: TOSCA's
+// gorilla as read from its OFF file gets its legs at one junction and its head and arms at another
+// 0.5 % of the length away, and every candidate onto the man measured 9.2-10.3 % (FAUST and the man:
+// about 10 %).
+double smaller_core_share(const SkeletonMatch& m) { return std::min(core_share(m.a), core_share(m.b)); }
 
 }  // namespace
 
@@ -370,7 +358,7 @@ BodyRegistration register_bodies(const Mesh& source, const Skeleton& skeleton_a,
   }
   r.chosen = choose_candidate(r);
   r.ambiguity = ambiguity(cands, r);
-  r.attachment = core_share(cands[size_t(r.chosen)].match) >= kCoreShare ? r.candidate_attachment[size_t(r.chosen)] : 0;
+  r.attachment = smaller_core_share(cands[size_t(r.chosen)].match) >= kCoreShare ? r.candidate_attachment[size_t(r.chosen)] : 0;
   const size_t best = size_t(r.chosen);
   r.skeletons = std::move(cands[best]);
   // The chosen match's nodes start the non-rigid fit (fit_skeleton from the guesses). The full
