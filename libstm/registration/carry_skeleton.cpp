@@ -30,18 +30,26 @@ std::vector<SourcePoint> source_points_under(const Mesh& source, const std::vect
   return out;
 }
 
+int heaviest_corner(const Mesh& source, const SourcePoint& q) {
+  int c = 0, best = 0;
+  int corner[3];
+  for (auto v : source.fv_range(source.face_handle(q.face))) corner[c++] = v.idx();
+  for (int k = 1; k < 3; ++k)
+    if (q.barycentric[k] > q.barycentric[best]) best = k;
+  return corner[best];
+}
+
+Eigen::Vector3d position_of(const Mesh& source, const SourcePoint& q) {
+  Eigen::Vector3d p = Eigen::Vector3d::Zero();
+  int k = 0;
+  for (auto v : source.fv_range(source.face_handle(q.face))) p += q.barycentric[k++] * point(source, v);
+  return p;
+}
+
 std::vector<int> vertex_nodes_through(const Mesh& source, const Skeleton& skeleton, const std::vector<SourcePoint>& under,
                                       const Mesh& target, const std::vector<Eigen::Vector3d>& nodes) {
   std::vector<int> vertex_node(target.n_vertices(), 0);
-  for (size_t j = 0; j < under.size(); ++j) {
-    const auto f = source.face_handle(under[j].face);
-    int c = 0, best = 0;
-    int corner[3];
-    for (auto v : source.fv_range(f)) corner[c++] = v.idx();
-    for (int k = 1; k < 3; ++k)
-      if (under[j].barycentric[k] > under[j].barycentric[best]) best = k;
-    vertex_node[j] = skeleton.vertex_node[corner[best]];
-  }
+  for (size_t j = 0; j < under.size(); ++j) vertex_node[j] = skeleton.vertex_node[size_t(heaviest_corner(source, under[j]))];
   std::vector<int> count(nodes.size(), 0);
   for (int x : vertex_node) ++count[x];
   for (size_t node = 0; node < nodes.size(); ++node) {

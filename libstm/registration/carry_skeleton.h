@@ -30,6 +30,12 @@ std::vector<SourcePoint> source_points_under(const Mesh& source, const std::vect
                                              const std::vector<Eigen::Vector3d>& points,
                                              const std::vector<Eigen::Vector3d>& normals = {});
 
+// The source vertex at the corner of q's face with the largest barycentric weight (the first of equals).
+int heaviest_corner(const Mesh& source, const SourcePoint& q);
+
+// q at the source's own vertex positions.
+Eigen::Vector3d position_of(const Mesh& source, const SourcePoint& q);
+
 // The target's vertex_node through a correspondence (`under`, one source point per target vertex):
 // each vertex takes the node of the source corner with the largest barycentric weight. A node left
 // without a vertex takes the target vertex nearest to `nodes[k]` from a node that owns more than

@@ -16,19 +16,6 @@ int root(std::vector<int>& parent, int x) {
   return x;
 }
 
-// The source point at the source's own positions, and the node of its heaviest corner.
-Eigen::Vector3d rest_point(const Mesh& source, const SourcePoint& q, int* corner) {
-  Eigen::Vector3d p = Eigen::Vector3d::Zero();
-  int k = 0, best = 0;
-  for (auto v : source.fv_range(source.face_handle(q.face))) {
-    p += q.barycentric[k] * point(source, v);
-    if (q.barycentric[k] > q.barycentric[best]) best = k;
-    if (k == best) *corner = v.idx();
-    ++k;
-  }
-  return p;
-}
-
 // Per node, its neighbours in the skeleton.
 std::vector<std::vector<int>> node_neighbours(const Skeleton& s) {
   std::vector<std::vector<int>> adj(s.nodes.size());
@@ -65,11 +52,8 @@ CorrespondenceIslands find_islands(const Mesh& source, const Skeleton& skeleton,
   if (under.size() != n || skeleton.vertex_node.size() != source.n_vertices() || n == 0) return out;
   std::vector<Eigen::Vector3d> at(n);
   std::vector<int> node(n);
-  for (size_t i = 0; i < n; ++i) {
-    int corner = 0;
-    at[i] = rest_point(source, under[i], &corner);
-    node[i] = skeleton.vertex_node[size_t(corner)];
-  }
+  for (size_t i = 0; i < n; ++i)
+    at[i] = position_of(source, under[i]), node[i] = skeleton.vertex_node[size_t(heaviest_corner(source, under[i]))];
   const double tear = opt.tear * bounding_box_diagonal(source);
   std::vector<int> parent(n);
   std::iota(parent.begin(), parent.end(), 0);

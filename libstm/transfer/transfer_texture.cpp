@@ -178,7 +178,6 @@ std::vector<Eigen::Matrix3d> segment_rotations(const Skeleton& shared_a, const S
 StmCoordinates coordinates_through_source(const Mesh& source, const std::vector<Eigen::Vector3d>& placed, const Mesh& target,
                                           const Skeleton& shared_a, const Layout& layout_a, std::vector<SourcePoint>& correspondence) {
   const std::vector<int> fa = assign_faces(source, shared_a);
-  const Eigen::MatrixX3i F = face_matrix(source);
   // Source points under the target's vertices, then under its face centroids.
   std::vector<Eigen::Vector3d> points, normals(target.n_vertices(), Eigen::Vector3d::Zero());
   for (auto v : target.vertices()) points.push_back(point(target, v));
@@ -207,9 +206,7 @@ StmCoordinates coordinates_through_source(const Mesh& source, const std::vector<
   correspondence.assign(at.begin(), at.begin() + target.n_vertices());
   Mesh under = target;
   for (auto v : target.vertices()) {
-    const SourcePoint& q = at[v.idx()];
-    Eigen::Vector3d p = Eigen::Vector3d::Zero();
-    for (int k = 0; k < 3; ++k) p += q.barycentric[k] * point(source, source.vertex_handle(F(q.face, k)));
+    const Eigen::Vector3d p = position_of(source, at[v.idx()]);
     under.set_point(v, Mesh::Point(p.x(), p.y(), p.z()));
   }
   std::vector<int> face_segment;
