@@ -313,11 +313,20 @@ TEST_CASE("sdm transfer: limbs matched to other limbs are refused, not written",
 // FAUST 085 onto the TOSCA gorilla landed hands on feet and feet on hands, silently: the gorilla's
 // medial skeleton joins head, arms and legs within 0.5 % of its length, and the reduction slid 085's
 // head to its hips to agree with it, pairing legs with arms. No skeleton is slid to agree with one
-// whose junctions nearly coincide (common_branching); the gorilla's other candidate is then refused
-// (limbs meeting the torso 5.7 % apart). Right or refused, never the scramble.
-TEST_CASE("sdm transfer: FAUST 085 onto the TOSCA gorilla is right or refused", "[transfer_bands]") {
+// whose junctions nearly coincide (common_branching), and the gorilla's other candidate was then
+// refused (limbs meeting the torso 5.7 % apart: session 24). Since session 25 every pair of the two
+// models' candidates is registered and the closest fit kept: both other candidates (0.292 % RMS,
+// attachments 3.0 % apart) lay every band on its part (95.1 % for the worst, measured).
+TEST_CASE("sdm transfer: FAUST 085 onto the TOSCA gorilla takes the pair of candidates that fits", "[transfer_bands]") {
   if (!faust::have(kBodies[2].file) || !faust::have(kBodies[3].file)) return;
-  check_right_or_refused(transfer_bands(kBodies[2], kBodies[3]), "matched to other branches", "--force");
+  const Bands r = transfer_bands(kBodies[2], kBodies[3]);
+  INFO(r.output);
+  REQUIRE(r.exit_code == 0);
+  std::fprintf(stderr, "tr_reg_085.off -> 8_gorilla_01.off:\n%s", describe(r).c_str());
+  for (int k = 0; k < 5; ++k) {
+    INFO(kPart[k]);
+    CHECK(r.on_part[k] >= 0.9);
+  }
 }
 
 // `sdm bench --transfer` reads the gorilla from its OFF file, whose extraction puts the legs at one

@@ -87,13 +87,20 @@ struct TransferOptions {
   // hand and foot on another; right matches of the five shared bodies 1.1-4.3 %). Not measured (0)
   // where a model's core spans under 3 % of its skeleton (BodyRegistration::attachment).
   double registered_attachment = 0.05;
+  // A registration that would be taken but lays the attachments further apart than this is checked
+  // against the other extraction candidates (other_candidate) like a refused one, and kept unless
+  // another pair fits closer: Homer (alecjacobson/common-3d-test-models), whose medial skeleton
+  // joins his right arm to the belly beside the hips, went onto FAUST 007 and back at 4.7 and
+  // 4.8 %, upside down; right matches of the five shared bodies lie 1.0-3.5 % apart.
+  double marginal_attachment = 0.04;
   // When the given skeletons' branchings differ beyond small branches, or their matched branches
   // disagree in length beyond registered_disagreement, so that the target (neither the source's
   // shape nor the source bent) would be refused, each model's other extraction candidate is tried:
   // other_candidate(false) for the source, other_candidate(true) for the target (std::nullopt:
-  // none, e.g. a skeleton the user gave). The pairs (a, b'), (a', b), (a', b') are tried, first the
-  // model with fewer ends changed, and the first whose branchings agree (common_branching) and whose
-  // branches agree in length is registered as another body. An extraction keeps one of two
+  // none, e.g. a skeleton the user gave). The pairs (a, b'), (a', b), (a', b') are all registered,
+  // and of those whose branchings agree (common_branching) and whose branches agree in length (or
+  // that would be taken, where the given pair's registration would be refused for another reason
+  // or is marginal) the one that fits closest is kept. An extraction keeps one of two
   // candidates, and either can miss a major branch when the coordinates change in their last bits (FAUST
   // tr_reg_085 scaled by 1 + 1e-7: no head end from the medial poles, one from the contraction).
   // Not tried with `fixed` pairs (they name nodes of the given skeletons).
