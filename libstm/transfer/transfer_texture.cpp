@@ -373,11 +373,11 @@ TargetSkeleton recognise_or_register(const Mesh& source, const Skeleton& skeleto
     // have one small end more, at other places, so that no end is pruned and every match pairs a
     // limb with another (attachments 9.1 % apart).
     // And where it would be taken with its limbs meeting the core at places almost too far apart to
-    // be (marginal_attachment): Homer's medial skeleton onto FAUST 007's (DESIGN 6). The given pair
-    // is kept unless another lays the attachments closer.
+    // be (marginal_attachment), or between bodies of other proportions (marginal_distortion): Homer's
+    // medial skeleton onto FAUST 007's (DESIGN 6). The given pair is kept unless another fits closer.
     const bool unmatched = !body || lengths_disagree(body->skeletons, opt);
     const bool taken = !unmatched && registration_taken(*body, opt);
-    const bool marginal = taken && body->attachment > opt.marginal_attachment;
+    const bool marginal = taken && (body->attachment > opt.marginal_attachment || body->distortion > opt.marginal_distortion);
     if ((!taken || marginal) && !r.carried && !r.fitted && opt.other_candidate && opt.fixed.empty()) {
       std::optional<BodyRegistration> other = register_other_candidates(source, skeleton_a, target, skeleton_b, opt, !unmatched, r);
       if (other && (!marginal || registration_rank(*other) < registration_rank(*body)))

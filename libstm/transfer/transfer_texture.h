@@ -93,6 +93,12 @@ struct TransferOptions {
   // joins his right arm to the belly beside the hips, went onto FAUST 007 and back at 4.7 and
   // 4.8 %, upside down; right matches of the five shared bodies lie 1.0-3.5 % apart.
   double marginal_attachment = 0.04;
+  // Likewise a registration that would be taken but changes the distances between the extremities
+  // by more than this share (BodyRegistration::distortion): a body of other proportions, where a
+  // skeleton that hangs a limb from another junction still lays its attachments close. Homer onto
+  // FAUST 085 and the TOSCA bodies onto Homer: 0.30-0.47, upside down or scrambled with attachments
+  // 2.3-3.6 % apart; the 20 pairs of the five shared bodies 0.03-0.20, so they never pay for it.
+  double marginal_distortion = 0.25;
   // When the given skeletons' branchings differ beyond small branches, or their matched branches
   // disagree in length beyond registered_disagreement, so that the target (neither the source's
   // shape nor the source bent) would be refused, each model's other extraction candidate is tried:
