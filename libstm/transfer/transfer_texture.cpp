@@ -331,11 +331,6 @@ std::optional<BodyRegistration> register_other_candidates(const Mesh& source, co
     } catch (const InputError&) {
     }
   }
-  if (best)
-    report_progress(opt.progress, std::string("registered with the other candidate of the ") +
-                                      (r.other_source_candidate && r.other_target_candidate ? "source and the target"
-                                       : r.other_source_candidate                            ? "source"
-                                                                                             : "target"));
   return best;
 }
 
@@ -380,10 +375,16 @@ TargetSkeleton recognise_or_register(const Mesh& source, const Skeleton& skeleto
     const bool marginal = taken && (body->attachment > opt.marginal_attachment || body->distortion > opt.marginal_distortion);
     if ((!taken || marginal) && !r.carried && !r.fitted && opt.other_candidate && opt.fixed.empty()) {
       std::optional<BodyRegistration> other = register_other_candidates(source, skeleton_a, target, skeleton_b, opt, !unmatched, r);
-      if (other && (!marginal || registration_rank(*other) < registration_rank(*body)))
+      if (other && (!marginal || registration_rank(*other) < registration_rank(*body))) {
         body = std::move(other);
-      else if (marginal)
+        report_progress(opt.progress, std::string("registered with the other candidate of the ") +
+                                          (r.other_source_candidate && r.other_target_candidate ? "source and the target"
+                                           : r.other_source_candidate                            ? "source"
+                                                                                                 : "target"));
+      } else if (marginal) {
         r.other_source_candidate = r.other_target_candidate = false;
+        report_progress(opt.progress, "the given candidates fit closest: kept");
+      }
     }
   }
   // The source bent along its own skeleton is meant for the source in another pose; another body
