@@ -347,8 +347,8 @@ void print_transfer_text(const TransferArgs& o, const TransferInputs& in, const 
               << 100 * r.fit_rms << " % of the diagonal (RMS), 99th percentile " << 100 * r.fit_p99 << " %\n";
     if (r.other_source_candidate || r.other_target_candidate)
       std::cout << "    with the other extraction candidate of the "
-                << (r.other_source_candidate && r.other_target_candidate ? "source and the target" : r.other_source_candidate ? "source" : "target")
-                << " (the kept ones' branchings differ; node numbers below are that candidate's)\n";
+                << sdm::other_candidates_named(r.other_source_candidate, r.other_target_candidate)
+                << " (the registration with the kept ones was refused or marginal; node numbers below are that candidate's)\n";
     for (const auto& b : r.branch_fit)
       std::cout << "    branch " << b.source_from << "-" << b.source_to << ": RMS " << 100 * b.rms << " %, 99th percentile " << 100 * b.p99 << " %\n";
   }

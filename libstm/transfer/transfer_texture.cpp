@@ -29,6 +29,10 @@ SkeletonOptions transfer_skeleton_options() {
   return o;
 }
 
+const char* other_candidates_named(bool source, bool target) {
+  return source && target ? "source and the target" : source ? "source" : "target";
+}
+
 Skeleton other_transfer_candidate(const Mesh& mesh, const SkeletonStats& stats, const Progress& progress) {
   SkeletonOptions o = transfer_skeleton_options();
   const bool all_medial = !stats.kept.empty() && std::all_of(stats.kept.begin(), stats.kept.end(), [](const std::string& k) { return k == "medial"; });
@@ -321,8 +325,7 @@ std::optional<BodyRegistration> register_other_candidates(const Mesh& source, co
     try {  // register_bodies throws InputError where the branchings still differ (common_branching)
       BodyRegistration reg = register_bodies(source, *a, target, *b, {}, bo);
       if (need_taken ? !registration_taken(reg, opt) : lengths_disagree(reg.skeletons, opt)) continue;
-      report_progress(opt.progress, std::string("the other candidate of the ") +
-                                        (other_a && other_b ? "source and the target" : other_a ? "source" : "target") +
+      report_progress(opt.progress, std::string("the other candidate of the ") + other_candidates_named(other_a, other_b) +
                                         " registered: limbs meet the core " + std::to_string(100 * reg.attachment) + " % apart, RMS " +
                                         std::to_string(100 * reg.rms) + " %");
       if (best && registration_rank(reg) >= registration_rank(*best)) continue;
@@ -378,9 +381,7 @@ TargetSkeleton recognise_or_register(const Mesh& source, const Skeleton& skeleto
       if (other && (!marginal || registration_rank(*other) < registration_rank(*body))) {
         body = std::move(other);
         report_progress(opt.progress, std::string("registered with the other candidate of the ") +
-                                          (r.other_source_candidate && r.other_target_candidate ? "source and the target"
-                                           : r.other_source_candidate                            ? "source"
-                                                                                                 : "target"));
+                                          other_candidates_named(r.other_source_candidate, r.other_target_candidate));
       } else if (marginal) {
         r.other_source_candidate = r.other_target_candidate = false;
         report_progress(opt.progress, "the given candidates fit closest: kept");

@@ -36,6 +36,10 @@ SkeletonOptions transfer_skeleton_options();
 /// contraction where every part kept the medial poles, else the medial poles. DESIGN 6.
 Skeleton other_transfer_candidate(const Mesh& mesh, const SkeletonStats& stats, const Progress& progress = nullptr);
 
+/// Which models an "other extraction candidate" names, in words: "source and the target", "source"
+/// or "target" (TextureTransfer::other_source_candidate, other_target_candidate).
+const char* other_candidates_named(bool source, bool target);
+
 // The target's layout: layout_a's atlas (size, margin, scale, every rectangle x, y, w, h, rotated,
 // d, neighbours, segment ends a -> b) around b's skeleton (the same graph as layout_a.skeleton), with
 // b's own segment geometry and frames carried from a's: axis_b = (b - a) of b's nodes,
