@@ -3,6 +3,7 @@
 // with new values on one analysis; and indefinite input refused.
 #include "libstm/mesh/mesh.h"
 #include "libstm/mesh/primitives.h"
+#include "libstm/geometry/dense_front.h"
 #include "libstm/geometry/supernodal_cholesky.h"
 
 #include <catch2/catch.hpp>
@@ -142,4 +143,48 @@ TEST_CASE("supernodal Cholesky on two threads gives one thread's factor bit for 
     A.coeffRef(v, v) = keep;
   }
   CHECK(chol.factorize(lower(A)));
+}
+
+TEST_CASE("the dense front kernels factorise as the definition says, on either instruction set", "[supernodal_cholesky]") {
+  // Fronts of the sizes the contraction meets (k columns of m rows), from a random SPD matrix:
+  // L11 L11^T = F11, L21 L11^T = F21, update = F22 - L21 L21^T, each to rounding; the AVX2 copy
+  // (where this build and processor have it) agrees with the baseline to rounding too.
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> U(-1.0, 1.0);
+  std::vector<sdm::DenseKernels> kernels{sdm::DenseKernels::baseline};
+  if (sdm::avx2_kernels_available()) kernels.push_back(sdm::DenseKernels::avx2);
+  else WARN("this processor or build has no AVX2 kernels: only the baseline is checked");
+  for (auto [m, k] : {std::pair{1, 1}, {7, 3}, {66, 57}, {100, 84}, {340, 282}}) {
+    Eigen::MatrixXd G(m, m);
+    for (int j = 0; j < m; ++j)
+      for (int i = 0; i < m; ++i) G(i, j) = U(rng);
+    const Eigen::MatrixXd F = G * G.transpose() + m * Eigen::MatrixXd::Identity(m, m);
+    std::vector<Eigen::MatrixXd> fronts, updates;
+    for (sdm::DenseKernels which : kernels) {
+      Eigen::MatrixXd front = F, update = Eigen::MatrixXd::Zero(m - k, m - k);
+      front.triangularView<Eigen::StrictlyUpper>().setZero();  // only the lower triangle is read
+      REQUIRE(sdm::factor_front(front.data(), m, k, update.data(), which));
+      const Eigen::MatrixXd L11 = front.topLeftCorner(k, k).triangularView<Eigen::Lower>();
+      const Eigen::MatrixXd L21 = front.bottomLeftCorner(m - k, k);
+      const double scale = F.norm();
+      INFO("m " << m << ", k " << k << ", kernels " << (which == sdm::DenseKernels::avx2 ? "avx2" : "baseline"));
+      CHECK((L11 * L11.transpose() - F.topLeftCorner(k, k)).norm() <= 1e-13 * scale);
+      CHECK((L21 * L11.transpose() - F.bottomLeftCorner(m - k, k)).norm() <= 1e-13 * scale);
+      const Eigen::MatrixXd expected = F.bottomRightCorner(m - k, m - k) - L21 * L21.transpose();
+      CHECK((Eigen::MatrixXd(update.triangularView<Eigen::Lower>()) - Eigen::MatrixXd(expected.triangularView<Eigen::Lower>())).norm() <=
+            1e-13 * scale);
+      fronts.push_back(front.leftCols(k));
+      updates.push_back(update.triangularView<Eigen::Lower>());
+    }
+    if (fronts.size() == 2) {
+      CHECK((fronts[0] - fronts[1]).norm() <= 1e-13 * fronts[0].norm());
+      CHECK((updates[0] - updates[1]).norm() <= 1e-13 * (1 + updates[0].norm()));
+    }
+    // Not positive definite: refused by either kernel.
+    for (sdm::DenseKernels which : kernels) {
+      Eigen::MatrixXd front = F, update(m - k, m - k);
+      front(k - 1, k - 1) = -1.0;
+      CHECK_FALSE(sdm::factor_front(front.data(), m, k, update.data(), which));
+    }
+  }
 }

@@ -1,6 +1,7 @@
 #include "libstm/geometry/supernodal_cholesky.h"
 
 #include "libstm/core/parallel.h"
+#include "libstm/geometry/dense_front.h"
 
 #include <Eigen/OrderingMethods>
 #include <algorithm>
@@ -320,15 +321,8 @@ bool SupernodalCholesky::factor_supernode(int id, const double* a, Scratch& sc) 
     }
     u = Eigen::MatrixXd();
   }
-  Eigen::Ref<Eigen::MatrixXd> diag = front.topLeftCorner(k, k);
-  const Eigen::LLT<Eigen::Ref<Eigen::MatrixXd>> llt(diag);
-  if (llt.info() != Eigen::Success) return false;
-  if (m > k) {
-    auto below = front.bottomLeftCorner(m - k, k);
-    diag.triangularView<Eigen::Lower>().transpose().solveInPlace<Eigen::OnTheRight>(below);
-    updates_[id] = front.bottomRightCorner(m - k, m - k);
-    updates_[id].selfadjointView<Eigen::Lower>().rankUpdate(below, -1.0);
-  }
+  if (m > k) updates_[id].resize(m - k, m - k);
+  if (!factor_front(front.data(), m, k, updates_[id].data())) return false;
   Eigen::Map<Eigen::MatrixXd>(values_.data() + s.value_start, m, k) = front.leftCols(k);
   return true;
 }
