@@ -298,16 +298,17 @@ std::pair<double, double> registration_rank(const BodyRegistration& reg) { retur
 // tried, not the first that qualifies: Homer's medial skeleton (alecjacobson/common-3d-test-models)
 // joins his right arm to the belly beside the hips; paired with FAUST 007's contraction skeleton it
 // was taken (0.407 % RMS), the texture upside down, where both contraction skeletons fit 0.361 %,
-// every part in place. Empty when no pair qualifies.
+// every part in place. Empty when no pair qualifies. `why` says on the progress line why the other
+// candidates are extracted.
 std::optional<BodyRegistration> register_other_candidates(const Mesh& source, const Skeleton& skeleton_a, const Mesh& target,
                                                           const Skeleton& skeleton_b, const TransferOptions& opt, bool need_taken,
-                                                          TextureTransfer& r) {
+                                                          const char* why, TextureTransfer& r) {
   std::optional<Skeleton> other[2];
   bool asked[2] = {false, false};
   auto candidate = [&](bool is_target) -> const Skeleton* {
     if (!asked[is_target]) {
       asked[is_target] = true;
-      report_progress(opt.progress, std::string("the skeletons' branchings differ or disagree: extracting the ") +
+      report_progress(opt.progress, std::string(why) + ": extracting the " +
                                         (is_target ? "target" : "source") + "'s other candidate");
       other[is_target] = opt.other_candidate(is_target);
     }
@@ -377,7 +378,10 @@ TargetSkeleton recognise_or_register(const Mesh& source, const Skeleton& skeleto
     const bool taken = !unmatched && registration_taken(*body, opt);
     const bool marginal = taken && (body->attachment > opt.marginal_attachment || body->distortion > opt.marginal_distortion);
     if ((!taken || marginal) && !r.carried && !r.fitted && opt.other_candidate && opt.fixed.empty()) {
-      std::optional<BodyRegistration> other = register_other_candidates(source, skeleton_a, target, skeleton_b, opt, !unmatched, r);
+      const char* why = marginal    ? "the registration is marginal (limbs meet the core far apart, or the proportions differ)"
+                        : unmatched ? "the skeletons' branchings differ or disagree"
+                                    : "the registration would be refused";
+      std::optional<BodyRegistration> other = register_other_candidates(source, skeleton_a, target, skeleton_b, opt, !unmatched, why, r);
       if (other && (!marginal || registration_rank(*other) < registration_rank(*body))) {
         body = std::move(other);
         report_progress(opt.progress, std::string("registered with the other candidate of the ") +
