@@ -1,8 +1,8 @@
 #!/usr/bin/env python3
 """The AVX2 copy of the dense kernels (libstm/geometry/dense_front_avx2.cpp) must define no global
-or weak symbol that does not name its own namespaces: an inline function or template it emitted under a shared
-name could be merged by the linker with the baseline's copy, and a processor without AVX2 would then
-run AVX2 instructions. Usage: check_kernel_symbols.py OBJECT_FILE... (the one named
+or weak symbol that does not name its own namespaces: an inline function or template it emitted
+under a shared name could be merged by the linker with the baseline's copy, and a processor without
+AVX2 would then run AVX2 instructions. Usage: check_kernel_symbols.py OBJECT_FILE... (the one named
 *dense_front_avx2* is checked; exit 1 naming each stray symbol)."""
 import subprocess
 import sys

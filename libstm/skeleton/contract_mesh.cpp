@@ -156,23 +156,21 @@ void Contraction::build_pattern() {
   size_t pairs = 0;
   for (const auto& r : ring_) pairs += r.size() * (r.size() + 1) / 2;
   pair_slot_.reserve(pairs);
-  // A ring's rows r[b] <= r[a] <= ... all lie in column r[b] (sorted): one walk down the column
-  // per b finds them, instead of a binary search per pair (the set-up was a tenth of a small
+  // A ring's rows r[b] <= r[a] <= ... all lie in column r[b] (sorted): one cursor per b walks down
+  // that column as a grows, instead of a binary search per pair (the set-up was a tenth of a small
   // mesh's contraction).
   const int* row_of = A_.innerIndexPtr();
-  std::vector<int> slot;
+  std::vector<int> cursor;
   for (const auto& r : ring_) {
-    const size_t size = r.size();
-    slot.resize(size * size);
-    for (size_t b = 0; b < size; ++b) {
-      int q = A_.outerIndexPtr()[r[b]];
-      for (size_t a = b; a < size; ++a) {
+    cursor.resize(r.size());
+    for (size_t a = 0; a < r.size(); ++a) {
+      cursor[a] = A_.outerIndexPtr()[r[a]];
+      for (size_t b = 0; b <= a; ++b) {
+        int& q = cursor[b];
         while (row_of[q] < r[a]) ++q;
-        slot[a * size + b] = q;
+        pair_slot_.push_back(q);
       }
     }
-    for (size_t a = 0; a < size; ++a)
-      for (size_t b = 0; b <= a; ++b) pair_slot_.push_back(slot[a * size + b]);
   }
   diag_slot_.resize(n_);
   for (int i = 0; i < n_; ++i) diag_slot_[i] = A_.outerIndexPtr()[i];  // the diagonal heads its column
