@@ -154,7 +154,9 @@ TEST_CASE("the dense front kernels factorise as the definition says, on either i
   std::vector<sdm::DenseKernels> kernels{sdm::DenseKernels::baseline};
   if (sdm::avx2_kernels_available()) kernels.push_back(sdm::DenseKernels::avx2);
   else WARN("this processor or build has no AVX2 kernels: only the baseline is checked");
-  for (auto [m, k] : {std::pair{1, 1}, {7, 3}, {66, 57}, {100, 84}, {340, 282}}) {
+  // Up to 96 rows the panel kernel runs, beyond it Eigen's blocked one: both sides of the switch,
+  // widths that are and are not multiples of the panel's four columns.
+  for (auto [m, k] : {std::pair{1, 1}, {7, 3}, {66, 57}, {96, 10}, {97, 90}, {100, 84}, {340, 282}}) {
     Eigen::MatrixXd G(m, m);
     for (int j = 0; j < m; ++j)
       for (int i = 0; i < m; ++i) G(i, j) = U(rng);
@@ -185,6 +187,47 @@ TEST_CASE("the dense front kernels factorise as the definition says, on either i
       Eigen::MatrixXd front = F, update(m - k, m - k);
       front(k - 1, k - 1) = -1.0;
       CHECK_FALSE(sdm::factor_front(front.data(), m, k, update.data(), which));
+    }
+  }
+}
+
+TEST_CASE("the dense solve kernels undo a supernode's triangles, on either instruction set", "[supernodal_cholesky]") {
+  // A supernode's block (L11 lower triangular with a positive diagonal on top of L21), its rows of
+  // three right-hand sides inside a taller column-major array: forward_front leaves x with
+  // L11 x = b and gathered = L21 x; backward_front leaves x with L11^T x = b - L21^T g.
+  std::mt19937 rng(9);
+  std::uniform_real_distribution<double> U(-1.0, 1.0);
+  std::vector<sdm::DenseKernels> kernels{sdm::DenseKernels::baseline};
+  if (sdm::avx2_kernels_available()) kernels.push_back(sdm::DenseKernels::avx2);
+  for (auto [m, k] : {std::pair{1, 1}, {5, 2}, {40, 40}, {97, 61}, {300, 150}}) {
+    Eigen::MatrixXd L(m, k);
+    for (int j = 0; j < k; ++j)
+      for (int i = 0; i < m; ++i) L(i, j) = i < j ? 0.0 : i == j ? 2.0 + U(rng) : U(rng) / std::sqrt(double(k));
+    const int below = m - k, n = k + 11, first = 7;
+    const Eigen::MatrixXd b = Eigen::MatrixXd::Random(k, 3), g = Eigen::MatrixXd::Random(below, 3);
+    const Eigen::MatrixXd L11 = L.topRows(k), L21 = L.bottomRows(below);
+    std::vector<Eigen::MatrixXd> results;
+    for (sdm::DenseKernels which : kernels) {
+      INFO("m " << m << ", k " << k << ", kernels " << (which == sdm::DenseKernels::avx2 ? "avx2" : "baseline"));
+      Eigen::MatrixXd y = Eigen::MatrixXd::Constant(n, 3, 42.0);
+      y.middleRows(first, k) = b;
+      Eigen::MatrixXd gathered(below, 3);
+      sdm::forward_front(L.data(), m, k, &y(first, 0), n, gathered.data(), which);
+      const Eigen::MatrixXd x = y.middleRows(first, k);
+      CHECK((L11 * x - b).norm() <= 1e-13 * b.norm());
+      if (below > 0) CHECK((gathered - L21 * x).norm() <= 1e-13 * (1 + gathered.norm()));
+      CHECK((y.topRows(first).array() == 42.0).all());  // rows outside the supernode untouched
+      CHECK((y.bottomRows(n - first - k).array() == 42.0).all());
+      y.middleRows(first, k) = b;
+      sdm::backward_front(L.data(), m, k, &y(first, 0), n, g.data(), which);
+      const Eigen::MatrixXd z = y.middleRows(first, k);
+      CHECK((L11.transpose() * z - (b - L21.transpose() * g)).norm() <= 1e-13 * (b.norm() + g.norm()));
+      results.push_back(x);
+      results.push_back(z);
+    }
+    if (results.size() == 4) {
+      CHECK((results[0] - results[2]).norm() <= 1e-13 * results[0].norm());
+      CHECK((results[1] - results[3]).norm() <= 1e-13 * results[1].norm());
     }
   }
 }

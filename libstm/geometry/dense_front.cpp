@@ -11,6 +11,8 @@ namespace sdm {
 #ifdef SDM_HAVE_AVX2_KERNELS
 namespace avx2 {
 bool factor_front(double* front, int m, int k, double* update);
+void forward_front(const double* L, int m, int k, double* ys, long ldy, double* gathered);
+void backward_front(const double* L, int m, int k, double* ys, long ldy, const double* gathered);
 }
 #endif
 
@@ -39,6 +41,24 @@ bool factor_front(double* front, int m, int k, double* update, DenseKernels whic
   (void)which;
 #endif
   return baseline::factor_front(front, m, k, update);
+}
+
+void forward_front(const double* L, int m, int k, double* ys, long ldy, double* gathered, DenseKernels which) {
+#ifdef SDM_HAVE_AVX2_KERNELS
+  if (which == DenseKernels::avx2 && avx2_kernels_available()) return avx2::forward_front(L, m, k, ys, ldy, gathered);
+#else
+  (void)which;
+#endif
+  baseline::forward_front(L, m, k, ys, ldy, gathered);
+}
+
+void backward_front(const double* L, int m, int k, double* ys, long ldy, const double* gathered, DenseKernels which) {
+#ifdef SDM_HAVE_AVX2_KERNELS
+  if (which == DenseKernels::avx2 && avx2_kernels_available()) return avx2::backward_front(L, m, k, ys, ldy, gathered);
+#else
+  (void)which;
+#endif
+  baseline::backward_front(L, m, k, ys, ldy, gathered);
 }
 
 }  // namespace sdm

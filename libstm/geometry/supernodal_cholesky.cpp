@@ -348,28 +348,22 @@ bool SupernodalCholesky::factorize(const Eigen::SparseMatrix<double>& A) {
 Eigen::MatrixX3d SupernodalCholesky::solve(const Eigen::MatrixX3d& B) const {
   Eigen::MatrixX3d y(n_, 3);
   for (int i = 0; i < n_; ++i) y.row(perm_[i]) = B.row(i);
-  Eigen::MatrixX3d gathered;
+  std::vector<double> gathered;
+  auto block = [&](const Supernode& s) { return values_.data() + s.value_start; };
   for (const Supernode& s : sn_) {
-    const int k = s.width, m = s.row_end - s.row_start;
-    const Eigen::Map<const Eigen::MatrixXd> L(values_.data() + s.value_start, m, k);
-    auto ys = y.middleRows(s.first, k);
-    L.topRows(k).triangularView<Eigen::Lower>().solveInPlace(ys);
-    if (m > k) {
-      gathered.noalias() = L.bottomRows(m - k) * ys;
-      for (int t = 0; t < m - k; ++t) y.row(rows_[s.row_start + k + t]) -= gathered.row(t);
-    }
+    const int k = s.width, below = s.row_end - s.row_start - k;
+    gathered.resize(size_t(3) * below);
+    forward_front(block(s), k + below, k, &y(s.first, 0), n_, gathered.data());
+    for (int t = 0; t < below; ++t)
+      for (int j = 0; j < 3; ++j) y(rows_[s.row_start + k + t], j) -= gathered[size_t(j) * below + t];
   }
   for (auto it = sn_.rbegin(); it != sn_.rend(); ++it) {
     const Supernode& s = *it;
-    const int k = s.width, m = s.row_end - s.row_start;
-    const Eigen::Map<const Eigen::MatrixXd> L(values_.data() + s.value_start, m, k);
-    auto ys = y.middleRows(s.first, k);
-    if (m > k) {
-      gathered.resize(m - k, 3);
-      for (int t = 0; t < m - k; ++t) gathered.row(t) = y.row(rows_[s.row_start + k + t]);
-      ys.noalias() -= L.bottomRows(m - k).transpose() * gathered;
-    }
-    L.topRows(k).triangularView<Eigen::Lower>().transpose().solveInPlace(ys);
+    const int k = s.width, below = s.row_end - s.row_start - k;
+    gathered.resize(size_t(3) * below);
+    for (int t = 0; t < below; ++t)
+      for (int j = 0; j < 3; ++j) gathered[size_t(j) * below + t] = y(rows_[s.row_start + k + t], j);
+    backward_front(block(s), k + below, k, &y(s.first, 0), n_, gathered.data());
   }
   Eigen::MatrixX3d x(n_, 3);
   for (int i = 0; i < n_; ++i) x.row(i) = y.row(perm_[i]);
