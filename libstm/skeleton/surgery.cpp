@@ -80,6 +80,9 @@ class Surgery {
   // scan k's faces for every one of them.
   std::vector<unsigned> face_mark_;
   unsigned face_marks_ = 0;
+  // Scratch of keeps_cycles and move_faces, kept so that a collapse allocates nothing.
+  mutable std::vector<int> common_;
+  std::vector<int> moving_;
 };
 
 Surgery::Surgery(const Eigen::MatrixX3d& O, const Eigen::MatrixX3d& P, const Eigen::MatrixX3i& F, const InsideMesh& in,
@@ -170,9 +173,9 @@ double Surgery::cost(int i, int j) const {
 // when it goes around a handle: tested on the triangle of the cluster centroids, shrunk a
 // little because single-vertex clusters lie on the surface.
 bool Surgery::keeps_cycles(int i, int j) const {
-  std::vector<int> common;
-  std::set_intersection(nbr_[i].begin(), nbr_[i].end(), nbr_[j].begin(), nbr_[j].end(), std::back_inserter(common));
-  for (int k : common) {
+  common_.clear();
+  std::set_intersection(nbr_[i].begin(), nbr_[i].end(), nbr_[j].begin(), nbr_[j].end(), std::back_inserter(common_));
+  for (int k : common_) {
     if (has_triangle(i, j, k)) continue;
     const Eigen::Vector3d a = centroid(i), b = centroid(j), c = centroid(k);
     const Eigen::Vector3d g = (a + b + c) / 3.0;
@@ -193,7 +196,8 @@ void Surgery::mark_face_neighbours(int k) {
 
 // i's faces go to j; those that held j, or that become copies of one of j's, die.
 void Surgery::move_faces(int i, int j) {
-  for (int f : std::vector<int>(vfaces_[i])) {
+  moving_.assign(vfaces_[i].begin(), vfaces_[i].end());
+  for (int f : moving_) {
     auto& t = faces_[f];
     const bool hj = t[0] == j || t[1] == j || t[2] == j;
     bool kill = hj;
