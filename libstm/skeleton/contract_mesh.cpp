@@ -138,14 +138,15 @@ void Contraction::build_rings() {
 void Contraction::build_pattern() {
   std::vector<int> start(n_ + 1, 0), rows;
   rows.reserve(size_t(n_) * 16);
-  std::vector<int> column;
+  // A row met again in another ring is skipped by its mark, so only the distinct rows are sorted
+  // (sorting every ring's rows with their repeats was most of the set-up).
+  std::vector<int> mark(n_, -1);
   for (int j = 0; j < n_; ++j) {
-    column.clear();
+    const size_t first = rows.size();
     for (int k : ring_[j])
-      for (auto it = std::lower_bound(ring_[k].begin(), ring_[k].end(), j); it != ring_[k].end(); ++it) column.push_back(*it);
-    std::sort(column.begin(), column.end());
-    column.erase(std::unique(column.begin(), column.end()), column.end());
-    rows.insert(rows.end(), column.begin(), column.end());
+      for (auto it = std::lower_bound(ring_[k].begin(), ring_[k].end(), j); it != ring_[k].end(); ++it)
+        if (mark[*it] != j) mark[*it] = j, rows.push_back(*it);
+    std::sort(rows.begin() + first, rows.end());
     start[j + 1] = int(rows.size());
   }
   A_ = Eigen::SparseMatrix<double>(n_, n_);
