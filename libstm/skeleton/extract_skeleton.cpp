@@ -14,6 +14,7 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <future>
 #include <map>
 #include <optional>
 #include <string>
@@ -83,6 +84,7 @@ class PartSkeleton {
   SkeletonGraph choose(std::vector<int>& owner);
 
  private:
+  void prepare_shared();
   void contraction_candidate();
   void medial_candidate();
   SkeletonGraph cut(const Eigen::MatrixX3d& contracted, const char* name, SkeletonStats& cst) const;
@@ -97,7 +99,10 @@ class PartSkeleton {
   const bool use_proxy_;
   Eigen::MatrixX3d XV_;  // the mesh contracted and cut: the part or its proxy
   Eigen::MatrixX3i XF_;
-  const TriangleBvh surface_;  // wide leaves: it serves the poles' ball queries
+  std::optional<TriangleBvh> surface_;  // wide leaves: it serves the poles' ball queries
+  // Set once prepare_shared has built surface_, inside_ and the poles' work (or has failed).
+  std::promise<void> shared_;
+  std::shared_future<void> shared_ready_ = shared_.get_future().share();
   std::optional<MedialPoles> pole_finder_;
   Eigen::MatrixX3d poles_;
   std::optional<SharedLoop> pole_work_;
@@ -113,25 +118,38 @@ PartSkeleton::PartSkeleton(const Part& part, const SkeletonOptions& opt, const P
       genus_(int((2 - part.V.rows() + part.F.rows() / 2) / 2)),
       // Large parts are contracted through a proxy (cotangent weights); parts up to the proxy's
       // size as they are, with the raw contraction options (uniform weights by default).
-      use_proxy_(opt.proxy_max_vertices > 0 && part.V.rows() > opt.proxy_max_vertices),
-      surface_(part.V, part.F, {}, 8) {
-  Stopwatch proxy_time;
+      use_proxy_(opt.proxy_max_vertices > 0 && part.V.rows() > opt.proxy_max_vertices) {
   XV_ = part.V;
   XF_ = part.F;
-  if (use_proxy_) make_proxy(part.V, part.F, opt.proxy_max_vertices, XV_, XF_, &surface_);
+  if (use_proxy_) {
+    surface_.emplace(part.V, part.F, std::vector<int>{}, 8);  // the proxy's projection needs it now
+    Stopwatch proxy_time;
+    make_proxy(part.V, part.F, opt.proxy_max_vertices, XV_, XF_, &*surface_);
+    const double proxy_seconds = proxy_time.seconds();
+    st.proxy_seconds += proxy_seconds;
+    st.contraction_seconds += proxy_seconds;
+  }
   st.proxy_vertices += int(XV_.rows());
-  const double proxy_seconds = proxy_time.seconds();
-  st.proxy_seconds += proxy_seconds;
-  st.contraction_seconds += proxy_seconds;
-  // The medial poles are the medial candidate's contracted shape and, for both candidates, the
-  // radius the skeleton should keep from the surface. Vertices are independent: the two threads
-  // share the work (pole_work_) without changing the result.
-  pole_finder_.emplace(XV_, XF_, use_proxy_ ? nullptr : &surface_);
-  poles_.resize(XV_.rows(), 3);
-  pole_work_.emplace(int(XV_.rows()), 32, [this](int i) { poles_.row(i) = pole_finder_->pole(i); });
-  // Built before the threads start, since both surgeries need it: 2-3 ms at 4000 vertices, against
-  // 40-70 ms for the poles the second thread would have started on meanwhile.
-  inside_.emplace(part.V, part.F);
+}
+
+// What the candidates share besides the contracted shape: the surface's tree, the inside tests
+// and the medial poles (the medial candidate's contracted shape and, for both, the radius the
+// skeleton should keep from the surface). Built on the medial candidate's thread while the
+// contraction starts on the other, which needs none of it before its surgery (it waited 2.5-12 ms
+// for them at 600-3600 vertices, a tenth of its path). Vertices' poles are independent: both
+// threads share their work (pole_work_) without changing the result.
+void PartSkeleton::prepare_shared() {
+  try {
+    if (!surface_) surface_.emplace(part_.V, part_.F, std::vector<int>{}, 8);
+    pole_finder_.emplace(XV_, XF_, use_proxy_ ? nullptr : &*surface_);
+    poles_.resize(XV_.rows(), 3);
+    pole_work_.emplace(int(XV_.rows()), 32, [this](int i) { poles_.row(i) = pole_finder_->pole(i); });
+    inside_.emplace(part_.V, part_.F);
+    shared_.set_value();
+  } catch (...) {
+    shared_.set_exception(std::current_exception());
+    throw;
+  }
 }
 
 // Connectivity surgery of one candidate's contracted shape.
@@ -146,7 +164,7 @@ SkeletonGraph PartSkeleton::cut(const Eigen::MatrixX3d& contracted, const char* 
 // Refinement and measures of one candidate; needs the poles (bent edges, tube error).
 SkeletonCandidate PartSkeleton::finish(SkeletonGraph g, const char* name, SkeletonStats& cst) const {
   Stopwatch t;
-  refine_skeleton(g, XV_, *inside_, surface_, diag_, opt_);
+  refine_skeleton(g, XV_, *inside_, *surface_, diag_, opt_);
   if (opt_.centre_junctions > 0) centre_junctions(g, XV_, poles_, *inside_, opt_.centre_junctions);
   bend_crossing_edges(g, *inside_, poles_);
   const bool automatic = opt_.method == SkeletonMethod::automatic;
@@ -160,6 +178,7 @@ SkeletonCandidate PartSkeleton::finish(SkeletonGraph g, const char* name, Skelet
 // contraction's thread helps with the poles once it is done contracting, then cuts, then waits.
 void PartSkeleton::contraction_candidate() {
   if (opt_.method == SkeletonMethod::medial) {
+    shared_ready_.get();
     pole_work_->work();
     return;
   }
@@ -168,6 +187,7 @@ void PartSkeleton::contraction_candidate() {
   st_.iterations = std::max(st_.iterations, cr.iterations);
   if (!cr.area_ratio.empty()) st_.area_ratio = std::max(st_.area_ratio, cr.area_ratio.back());
   st_.contraction_seconds += t.seconds();
+  shared_ready_.get();
   pole_work_->work();
   SkeletonGraph g = cut(cr.positions, "contraction", contraction_st_);
   pole_work_->wait();
@@ -175,6 +195,7 @@ void PartSkeleton::contraction_candidate() {
 }
 
 void PartSkeleton::medial_candidate() {
+  prepare_shared();
   pole_work_->work();
   pole_work_->wait();
   if (opt_.method == SkeletonMethod::contraction) return;
