@@ -251,9 +251,8 @@ void Surgery::requeue_around(int j) {
   ++stamp_[j];
   for (int k : nbr_[j]) ++stamp_[k];
   for (int k : nbr_[j]) {
-    push(j, k);
     mark_face_neighbours(k);
-    if (face_mark_[j] == face_marks_) queue(k, j);
+    if (face_mark_[j] == face_marks_) queue(j, k), queue(k, j);  // j and k share a face
     for (int l : nbr_[k])
       if (l != j && face_mark_[l] == face_marks_) queue(k, l);
   }
