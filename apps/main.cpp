@@ -72,7 +72,13 @@ int main(int argc, char** argv) {
   for (const Entry& e : kCommands) here.push_back(e.name);
   if (!sdm::cli::runs_here(here, argc, argv)) return sdm::cli::hand_over(argv);
 #endif
-  std::vector<sdm::cli::Command> commands = set_up_commands(app, argc, argv);
+  std::vector<sdm::cli::Command> commands;
+  try {
+    commands = set_up_commands(app, argc, argv);
+  } catch (const std::exception& e) {
+    std::cerr << "sdm: failed: " << e.what() << std::endl;
+    return 1;
+  }
   // An interrupted write leaves no hidden temporary file behind (atomic_file.h).
   sdm::remove_temporaries_on_signal();
   try {
