@@ -13,7 +13,9 @@ namespace avx2 {
 bool factor_front(double* front, int m, int k, double* update);
 void forward_front(const double* L, int m, int k, double* ys, long ldy, double* gathered);
 void backward_front(const double* L, int m, int k, double* ys, long ldy, const double* gathered);
-}
+}  // namespace avx2
+#else
+namespace avx2 = baseline;  // never chosen: avx2_kernels_available() is false in such a build
 #endif
 
 bool avx2_kernels_available() {
@@ -34,31 +36,25 @@ DenseKernels dense_kernels() {
   return chosen;
 }
 
+namespace {
+
+// Whether `which` runs the AVX2 copy: asked for, in this build, and taken by this processor.
+bool use_avx2(DenseKernels which) { return which == DenseKernels::avx2 && avx2_kernels_available(); }
+
+}  // namespace
+
 bool factor_front(double* front, int m, int k, double* update, DenseKernels which) {
-#ifdef SDM_HAVE_AVX2_KERNELS
-  if (which == DenseKernels::avx2 && avx2_kernels_available()) return avx2::factor_front(front, m, k, update);
-#else
-  (void)which;
-#endif
-  return baseline::factor_front(front, m, k, update);
+  return use_avx2(which) ? avx2::factor_front(front, m, k, update) : baseline::factor_front(front, m, k, update);
 }
 
 void forward_front(const double* L, int m, int k, double* ys, long ldy, double* gathered, DenseKernels which) {
-#ifdef SDM_HAVE_AVX2_KERNELS
-  if (which == DenseKernels::avx2 && avx2_kernels_available()) return avx2::forward_front(L, m, k, ys, ldy, gathered);
-#else
-  (void)which;
-#endif
-  baseline::forward_front(L, m, k, ys, ldy, gathered);
+  if (use_avx2(which)) avx2::forward_front(L, m, k, ys, ldy, gathered);
+  else baseline::forward_front(L, m, k, ys, ldy, gathered);
 }
 
 void backward_front(const double* L, int m, int k, double* ys, long ldy, const double* gathered, DenseKernels which) {
-#ifdef SDM_HAVE_AVX2_KERNELS
-  if (which == DenseKernels::avx2 && avx2_kernels_available()) return avx2::backward_front(L, m, k, ys, ldy, gathered);
-#else
-  (void)which;
-#endif
-  baseline::backward_front(L, m, k, ys, ldy, gathered);
+  if (use_avx2(which)) avx2::backward_front(L, m, k, ys, ldy, gathered);
+  else baseline::backward_front(L, m, k, ys, ldy, gathered);
 }
 
 }  // namespace sdm
