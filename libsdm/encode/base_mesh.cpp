@@ -2,6 +2,7 @@
 
 #include "libstm/core/errors.h"
 #include "libstm/core/json_int.h"
+#include "libstm/core/parallel.h"
 #include "libstm/core/stopwatch.h"
 #include "libstm/geometry/capsule_ray.h"
 #include "libstm/layout/segments.h"
@@ -181,6 +182,32 @@ class SegmentCheck {
   std::vector<TriangleBvh> bvh_;
 };
 
+// The segment each base face that its own segment cannot carry moves to: the nearest (by its
+// centroid's distance to the segment's bone) that can carry it; -1 for faces that stay. Faces on
+// both cores: within a round each face's answer reads only the check's trees, set for the round.
+std::vector<int> refit_faces(const Eigen::MatrixX3d& P, const Eigen::MatrixX3i& T, const Layout& layout, const SegmentCheck& check,
+                             const std::vector<int>& face_segment) {
+  std::vector<int> moved_to(size_t(T.rows()), -1);
+  const int S = int(layout.segments.size());
+  parallel_for(int(T.rows()), 64, [&](int f) {
+    if (check.fits(f, face_segment[f], false)) return;
+    const Eigen::Vector3d centroid = (P.row(T(f, 0)) + P.row(T(f, 1)) + P.row(T(f, 2))).transpose() / 3;
+    std::vector<std::pair<double, int>> near;
+    for (int s = 0; s < S; ++s) {
+      if (s == face_segment[f]) continue;
+      const LayoutSegment& seg = layout.segments[s];
+      near.push_back({distance_to_segment(centroid, layout.skeleton.nodes[seg.a], layout.skeleton.nodes[seg.b]), s});
+    }
+    std::sort(near.begin(), near.end());
+    for (const auto& [dist, s] : near)
+      if (check.fits(f, s, true)) {
+        moved_to[size_t(f)] = s;
+        break;
+      }
+  });
+  return moved_to;
+}
+
 // Moves base faces that their segment cannot carry (SegmentCheck) to the nearest segment that can,
 // without conflicting with that segment's faces. Faces no segment can carry stay.
 void reassign_folded_faces(const Mesh& m, const Eigen::MatrixX3d& P, const Layout& layout, std::vector<int>& face_segment) {
@@ -192,24 +219,10 @@ void reassign_folded_faces(const Mesh& m, const Eigen::MatrixX3d& P, const Layou
     std::vector<std::vector<int>> faces_of(S);
     for (int f = 0; f < T.rows(); ++f) faces_of[face_segment[f]].push_back(f);
     for (int s = 0; s < S; ++s) check.set_faces(s, faces_of[s]);
+    const std::vector<int> moved_to = refit_faces(P, T, layout, check, face_segment);
     bool moved = false;
-    for (int f = 0; f < T.rows(); ++f) {
-      if (check.fits(f, face_segment[f], false)) continue;
-      const Eigen::Vector3d centroid = (P.row(T(f, 0)) + P.row(T(f, 1)) + P.row(T(f, 2))).transpose() / 3;
-      std::vector<std::pair<double, int>> near;
-      for (int s = 0; s < S; ++s) {
-        if (s == face_segment[f]) continue;
-        const LayoutSegment& seg = layout.segments[s];
-        near.push_back({distance_to_segment(centroid, layout.skeleton.nodes[seg.a], layout.skeleton.nodes[seg.b]), s});
-      }
-      std::sort(near.begin(), near.end());
-      for (const auto& [dist, s] : near)
-        if (check.fits(f, s, true)) {
-          face_segment[f] = s;
-          moved = true;
-          break;
-        }
-    }
+    for (size_t f = 0; f < moved_to.size(); ++f)
+      if (moved_to[f] >= 0) face_segment[f] = moved_to[f], moved = true;
     if (!moved) break;
   }
 }

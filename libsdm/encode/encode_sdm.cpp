@@ -13,6 +13,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <optional>
 
 namespace sdm {
 namespace {
@@ -38,12 +39,15 @@ struct EncodeScene {
   BaseRegions regions;  // which input faces each base face's texels may take crossings with
 };
 
-EncodeScene encode_scene(const Mesh& mesh, const Layout& layout) {
+// The scene, and the source the base mesh is decimated from (built beside the faces' segments: on a
+// large mesh both take about a second, and the source's remesh runs on one core).
+EncodeScene encode_scene(const Mesh& mesh, const Layout& layout, int base_vertices, std::optional<BaseMeshSource>& source) {
   EncodeScene sc;
   sc.V = vertex_matrix(mesh);
   sc.F = face_matrix(mesh);
-  sc.face_segment = assign_faces(mesh, layout);
   sc.all = TriangleBvh(sc.V, sc.F);
+  run_concurrently([&] { source.emplace(mesh, layout, base_vertices, &sc.all); },
+                   [&] { sc.face_segment = assign_faces(mesh, layout); });
   sc.faces_of.resize(layout.segments.size());
   for (size_t f = 0; f < sc.face_segment.size(); ++f) sc.faces_of[sc.face_segment[f]].push_back(int(f));
   return sc;
@@ -380,9 +384,10 @@ long keep_around(const std::vector<int>& unresolved, const BaseMeshSource& sourc
 // beyond refine_above, the source's vertices nearest them are kept and the base mesh is decimated
 // again (its faces there are then the source's own, on the surface).
 SdmImage encode_sdm(const Mesh& mesh, const Layout& layout, const EncodeOptions& options, EncodeStats* stats) {
-  EncodeScene scene = encode_scene(mesh, layout);
   report_progress(options.progress, "building the base mesh");
-  const BaseMeshSource source(mesh, layout, options.base_vertices, &scene.all);
+  std::optional<BaseMeshSource> base_source;
+  EncodeScene scene = encode_scene(mesh, layout, options.base_vertices, base_source);
+  const BaseMeshSource& source = *base_source;
   const double diag = bounding_box_diagonal(mesh);
   MapCheck mc;
   mc.limit = options.flat_above * diag;

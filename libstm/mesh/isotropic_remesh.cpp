@@ -1,5 +1,8 @@
 #include "libstm/mesh/isotropic_remesh.h"
 
+#include "libstm/core/parallel.h"
+#include "libstm/mesh/collapse_ok.h"
+
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
@@ -53,7 +56,7 @@ void split_long_edges(Mesh& mesh, double high) {
 // an edge longer than `high` (with `relaxed`: longer than both `high` and 1.1 times v0's longest
 // edge), or fold a triangle.
 bool collapse_allowed(Mesh& mesh, Mesh::HalfedgeHandle h, double high2, bool relaxed = false) {
-  if (!mesh.is_collapse_ok(h)) return false;
+  if (!collapse_ok(mesh, h)) return false;
   auto v0 = mesh.from_vertex_handle(h), v1 = mesh.to_vertex_handle(h);
   Vec p0 = P(mesh, v0), p1 = P(mesh, v1);
   if (relaxed)
@@ -172,7 +175,10 @@ void relax_and_project(Mesh& mesh, const SurfaceProjection& project) {
     Vec move = centroid / n - p;
     next[v.idx()] = p + move - normal * normal.dot(move);
   }
-  for (auto v : mesh.vertices()) set_P(mesh, v, project ? project(next[v.idx()]) : next[v.idx()]);
+  // Each vertex projected on its own (the closest point of a 900k-triangle surface: 5 us), on both
+  // cores; the positions are the same whichever thread projects them.
+  if (project) parallel_for(int(next.size()), 256, [&](int i) { next[size_t(i)] = project(next[size_t(i)]); });
+  for (auto v : mesh.vertices()) set_P(mesh, v, next[v.idx()]);
 }
 
 // The vertices the first split would add: one per `high` of every longer edge.

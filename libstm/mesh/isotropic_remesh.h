@@ -9,7 +9,8 @@
 namespace sdm {
 
 // Projects a point that lies near the surface back onto it (e.g. Newton steps on an implicit
-// function, or the closest point of a reference mesh).
+// function, or the closest point of a reference mesh). Called from several threads at once: it
+// must not change shared state.
 using SurfaceProjection = std::function<Eigen::Vector3d(const Eigen::Vector3d&)>;
 
 // Each iteration splits edges longer than 4/3 L, collapses edges shorter than 4/5 L (only where
