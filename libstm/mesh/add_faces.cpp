@@ -153,9 +153,14 @@ void fill_mesh(Mesh& mesh, const Links& l) {
   using VH = Mesh::VertexHandle;
   using HH = Mesh::HalfedgeHandle;
   using FH = Mesh::FaceHandle;
-  mesh.reserve(mesh.n_vertices(), l.edge.size(), l.face_first.size());
-  for (const auto& [from, to] : l.edge) mesh.new_edge(VH(from), VH(to));
-  for (size_t f = 0; f < l.face_first.size(); ++f) mesh.set_halfedge_handle(mesh.new_face(), HH(l.face_first[f]));
+  // One resize of every array and property instead of new_edge's and new_face's one element at a
+  // time (each resizes every property): the same arrays; the 449k-vertex build 0.24-0.26 -> 0.20-0.22 s.
+  mesh.resize(mesh.n_vertices(), l.edge.size(), l.face_first.size());
+  for (size_t e = 0; e < l.edge.size(); ++e) {
+    mesh.set_vertex_handle(HH(int(2 * e)), VH(l.edge[e][1]));
+    mesh.set_vertex_handle(HH(int(2 * e + 1)), VH(l.edge[e][0]));
+  }
+  for (size_t f = 0; f < l.face_first.size(); ++f) mesh.set_halfedge_handle(FH(int(f)), HH(l.face_first[f]));
   for (size_t h = 0; h < l.he.size(); ++h) {
     if (l.he[h].next >= 0) mesh.set_next_halfedge_handle(HH(int(h)), HH(l.he[h].next));
     if (l.he[h].face >= 0) mesh.set_face_handle(HH(int(h)), FH(l.he[h].face));

@@ -11,7 +11,6 @@
 #include <cmath>
 #include <map>
 #include <sstream>
-#include <unordered_map>
 #include <numeric>
 
 namespace sdm {
@@ -263,15 +262,17 @@ void find_parts(const MeshSoup& soup, const std::vector<char>& face_ok, const Ed
   UnionFind uf(soup.triangles.size());
   for (size_t e = 0; e < t.edges(); ++e)
     for (size_t i = t.group[e] + 1; i < t.group[e + 1]; ++i) uf.unite(t.face(t.group[e]), t.face(i));
-  std::unordered_map<int, int> part_of_root;
+  // Parts numbered in the order their first face comes (a table by root: a hash map of the roots
+  // took a quarter of the 449k-vertex validation).
+  std::vector<int> part_of_root(soup.triangles.size(), -1);
   r.face_part.assign(soup.triangles.size(), -1);
+  r.parts = 0;
   for (size_t f = 0; f < soup.triangles.size(); ++f) {
     if (!face_ok[f]) continue;
-    int root = uf.find(int(f));
-    auto it = part_of_root.emplace(root, int(part_of_root.size())).first;
-    r.face_part[f] = it->second;
+    int& part = part_of_root[size_t(uf.find(int(f)))];
+    if (part < 0) part = r.parts++;
+    r.face_part[f] = part;
   }
-  r.parts = int(part_of_root.size());
   std::vector<long> pv(r.parts, 0), pe(r.parts, 0), pf(r.parts, 0), pb(r.parts, 0);
   std::vector<int> vpart(nv, -1);
   for (size_t f = 0; f < soup.triangles.size(); ++f) {
