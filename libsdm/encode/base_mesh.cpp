@@ -7,6 +7,7 @@
 #include "libstm/geometry/capsule_ray.h"
 #include "libstm/layout/segments.h"
 #include "libstm/geometry/triangle_bvh.h"
+#include "libstm/mesh/collapse_ok.h"
 #include "libstm/mesh/isotropic_remesh.h"
 #include "libstm/mesh/spatial_order.h"
 #include "libstm/mesh/mesh_geometry.h"
@@ -303,19 +304,28 @@ constexpr double kBoundaryTolerance = 0.002;
 constexpr int kMultipleChoiceFrom = 20000;
 constexpr int kMultipleChoiceFactor = 3;
 
+// The mesh the decimater runs on: sdm's mesh with the link condition answered by collapse_ok. The
+// decimater, a template over the mesh, calls mesh_.is_collapse_ok for every candidate collapse it
+// weighs, which this hides; OpenMesh 9's own allocates and looks a property up by name on each
+// call (half of the heap's time: DESIGN 6, "The remesh's link condition"). The same answers.
+struct DecimationMesh : Mesh {
+  explicit DecimationMesh(const Mesh& m) : Mesh(m) {}
+  bool is_collapse_ok(HalfedgeHandle h) const { return collapse_ok(*this, h); }
+};
+
 // Decimates m to target_vertices with quadrics, no normal flips and collapses only between
 // neighbouring skeleton nodes (node: m's vertex property of them; it survives the collections). Deterministic: the multiple-choice stage
 // draws its candidates from rand(), seeded here (nothing else in sdm draws from it).
-void decimate_base(Mesh& m, OpenMesh::VPropHandleT<int> node, const Skeleton& skeleton, int target_vertices, double max_edge,
+void decimate_base(DecimationMesh& m, OpenMesh::VPropHandleT<int> node, const Skeleton& skeleton, int target_vertices, double max_edge,
                    const Progress& progress) {
   m.request_face_normals();
   m.update_face_normals();
-  OpenMesh::Decimater::MixedDecimaterT<Mesh> decimater(m);
-  OpenMesh::Decimater::ModQuadricT<Mesh>::Handle quadric;
-  OpenMesh::Decimater::ModNormalFlippingT<Mesh>::Handle flipping;
-  typename ModSkeletonNodesT<Mesh>::Handle nodes;
-  typename ModMaxEdgeLengthT<Mesh>::Handle length;
-  typename ModBoundaryT<Mesh>::Handle boundary;
+  OpenMesh::Decimater::MixedDecimaterT<DecimationMesh> decimater(m);
+  OpenMesh::Decimater::ModQuadricT<DecimationMesh>::Handle quadric;
+  OpenMesh::Decimater::ModNormalFlippingT<DecimationMesh>::Handle flipping;
+  typename ModSkeletonNodesT<DecimationMesh>::Handle nodes;
+  typename ModMaxEdgeLengthT<DecimationMesh>::Handle length;
+  typename ModBoundaryT<DecimationMesh>::Handle boundary;
   decimater.add(quadric);
   decimater.add(boundary);
   decimater.module(boundary).set_tolerance(kBoundaryTolerance * bounding_box_diagonal(m));
@@ -338,7 +348,7 @@ void decimate_base(Mesh& m, OpenMesh::VPropHandleT<int> node, const Skeleton& sk
       const size_t n = m.n_vertices(), goal = std::max(coarse, n / 2);
       decimater.set_samples(n > 4 * coarse ? 2 : 10);
       const Stopwatch round;
-      const size_t done = decimater.McDecimaterT<Mesh>::decimate(n - goal);
+      const size_t done = decimater.McDecimaterT<DecimationMesh>::decimate(n - goal);
       m.garbage_collection();
       // Each round halves the vertices and takes about half as long as the one before, so what is
       // left takes about as long as this round did (plus the heap's last stretch).
@@ -350,7 +360,7 @@ void decimate_base(Mesh& m, OpenMesh::VPropHandleT<int> node, const Skeleton& sk
       if (2 * done < n - goal) break;  // the candidates ran out of legal collapses: the heap finishes
     }
   }
-  decimater.DecimaterT<Mesh>::decimate_to(size_t(target_vertices));
+  decimater.DecimaterT<DecimationMesh>::decimate_to(size_t(target_vertices));
   m.garbage_collection();
 }
 
@@ -378,7 +388,7 @@ BaseMesh BaseMeshSource::decimate(const std::vector<char>& keep, const Progress&
   const Layout& layout = impl_->layout;
   const BaseSource& src = impl_->src;
   // Halfedge collapses keep the surviving vertices where they were, so m's points are the source's.
-  Mesh m = src.mesh;
+  DecimationMesh m(src.mesh);
   OpenMesh::VPropHandleT<int> node;  // skeleton node of each base vertex
   m.add_property(node);
   m.request_vertex_status();
