@@ -3,7 +3,6 @@
 #include "apps/commands.h"
 #include "libstm/core/errors.h"
 #include "libstm/core/stopwatch.h"
-#include "libstm/mesh/drop_small_parts.h"
 #include "libstm/mesh/fill_holes.h"
 #include "libstm/mesh/mesh_geometry.h"
 #include "libstm/skeleton/extract_skeleton.h"
@@ -48,12 +47,10 @@ LayoutForMesh layout_for(const sdm::Mesh& mesh, const LayoutSource& source) {
 }
 
 Mesh load_mesh_min_part(const std::string& path, double min_part, bool fill) {
-  sdm::Mesh mesh = sdm::load_mesh(path);
-  if (min_part > 0) {
-    sdm::DroppedParts kept = sdm::drop_small_parts(mesh, min_part);
-    for (const auto& d : kept.dropped) progress("--min-part: dropped " + d);
-    mesh = std::move(kept.mesh);
-  }
+  // Dropped before validation: a speck it would refuse (a stray flat triangle) does not stop the model.
+  std::vector<std::string> dropped;
+  sdm::Mesh mesh = sdm::load_mesh(path, nullptr, nullptr, nullptr, min_part, &dropped);
+  for (const auto& d : dropped) progress("--min-part: dropped " + d);
   if (!fill) return mesh;
   const size_t before = mesh.n_vertices();
   const int loops = int(sdm::boundary_loops(sdm::face_matrix(mesh), int(before)).size());

@@ -33,8 +33,8 @@ struct LayoutForMesh {
 /// the skeleton or computing the layout throws.
 LayoutForMesh layout_for(const Mesh& mesh, const LayoutSource& source);
 
-// load_mesh, then drop_small_parts(min_part) when min_part > 0, saying on stderr what it dropped,
-// then, with fill, every hole closed (fill_holes), saying how many.
+// load_mesh with min_part (the parts smaller than that dropped before validation), saying on stderr
+// what it dropped, then, with fill, every hole closed (fill_holes), saying how many.
 Mesh load_mesh_min_part(const std::string& path, double min_part, bool fill = false);
 // Adds --fill-holes to a command: an open mesh's holes closed first, so that the output is closed
 // (by default an open mesh stays open: the skeleton sees the holes filled, the output keeps them).

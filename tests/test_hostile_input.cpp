@@ -373,6 +373,17 @@ TEST_CASE("A speck beside the model is named with its size and place, and --min-
   const auto larger = run_sdm("stm " + speck + " --size 2048 -o " + out);
   INFO(larger.output);
   CHECK(larger.exit_code == 0);
+  // A scan's stray triangle: flat, so validation refuses it (no volume); --min-part drops it first.
+  const std::string stray = cap.dir / "stray.obj";
+  const size_t tetra = faces.find("f " + std::to_string(nv + 1) + " ");  // the speck's first face
+  REQUIRE(tetra != std::string::npos);
+  write_file(stray, vertices + faces.substr(0, faces.find('\n', tetra) + 1));  // the capsule and that face
+  const auto flat = run_sdm("stm " + stray + " -o " + out);
+  expect_refused(flat, "parts enclosing no volume");
+  const auto kept = run_sdm("stm " + stray + " --min-part 0.001 -o " + out);
+  INFO(kept.output);
+  CHECK(kept.exit_code == 0);
+  CHECK(kept.output.find("dropped a part of 1 faces") != std::string::npos);
 }
 
 TEST_CASE("The capsule round trip at scales 1e-9 and 1e9 is as accurate as at scale 1", "[hostile]") {

@@ -6,48 +6,58 @@
 #include <cmath>
 
 namespace sdm {
+namespace {
 
-DroppedParts drop_small_parts(const Mesh& mesh, double fraction) {
+std::string part_line(int faces, const Eigen::Vector3d& lo, const Eigen::Vector3d& hi) {
+  const Eigen::Vector3d c = 0.5 * (lo + hi);
+  return "a part of " + std::to_string(faces) + " faces, " + number((hi - lo).norm()) + " across, at (" + number(c.x()) + ", " +
+         number(c.y()) + ", " + number(c.z()) + ")";
+}
+
+void check_fraction(double fraction) {
   if (!(fraction >= 0) || !std::isfinite(fraction)) throw InputError("--min-part must be a fraction >= 0, got " + number(fraction));
-  UnionFind parts(mesh.n_vertices());
-  for (auto f : mesh.faces()) {
-    auto fv = mesh.cfv_begin(f);
-    const int a = fv->idx();
-    for (++fv; fv.is_valid(); ++fv) parts.unite(a, fv->idx());
-  }
-  const int nv = int(mesh.n_vertices());
-  std::vector<Eigen::Vector3d> lo(nv, Eigen::Vector3d::Constant(INFINITY)), hi(nv, Eigen::Vector3d::Constant(-INFINITY));
-  std::vector<int> faces(nv, 0);
-  for (auto v : mesh.vertices()) {
-    const int r = parts.find(v.idx());
-    lo[r] = lo[r].cwiseMin(point(mesh, v)), hi[r] = hi[r].cwiseMax(point(mesh, v));
-  }
-  for (auto f : mesh.faces()) faces[parts.find(mesh.cfv_begin(f)->idx())]++;
-  const double limit = fraction * bounding_box_diagonal(mesh);
-  DroppedParts out;
-  std::vector<Mesh::VertexHandle> vh(nv);
-  for (auto v : mesh.vertices()) {
-    const int r = parts.find(v.idx());
-    if ((hi[r] - lo[r]).norm() >= limit) vh[v.idx()] = out.mesh.add_vertex(mesh.point(v));
-    else if (r == v.idx()) {
-      const Eigen::Vector3d c = 0.5 * (lo[r] + hi[r]);
-      out.dropped.push_back("a part of " + std::to_string(faces[r]) + " faces, " + number((hi[r] - lo[r]).norm()) + " across, at (" +
-                            number(c.x()) + ", " + number(c.y()) + ", " + number(c.z()) + ")");
+}
+
+}  // namespace
+
+std::vector<std::string> drop_small_soup_parts(MeshSoup& soup, double fraction) {
+  check_fraction(fraction);
+  const int nv = int(soup.points.size());
+  auto in_range = [&](const std::array<int, 3>& t) { return t[0] >= 0 && t[0] < nv && t[1] >= 0 && t[1] < nv && t[2] >= 0 && t[2] < nv; };
+  UnionFind parts(size_t(std::max(nv, 1)));
+  for (const auto& t : soup.triangles)
+    if (in_range(t)) parts.unite(t[0], t[1]), parts.unite(t[0], t[2]);
+  std::vector<Eigen::Vector3d> lo(size_t(nv), Eigen::Vector3d::Constant(INFINITY)), hi(size_t(nv), Eigen::Vector3d::Constant(-INFINITY));
+  std::vector<int> faces(size_t(nv), 0);
+  Eigen::Vector3d all_lo = Eigen::Vector3d::Constant(INFINITY), all_hi = Eigen::Vector3d::Constant(-INFINITY);
+  for (const auto& t : soup.triangles) {
+    if (!in_range(t)) continue;
+    const int r = parts.find(t[0]);
+    ++faces[size_t(r)];
+    for (int v : t) {
+      const Eigen::Vector3d& p = soup.points[size_t(v)];
+      lo[size_t(r)] = lo[size_t(r)].cwiseMin(p), hi[size_t(r)] = hi[size_t(r)].cwiseMax(p);
+      all_lo = all_lo.cwiseMin(p), all_hi = all_hi.cwiseMax(p);
     }
   }
-  if (out.mesh.n_vertices() == 0) throw InputError("--min-part " + number(fraction) + " drops every part of the mesh");
-  const bool uv = mesh.has_halfedge_texcoords2D();
-  if (uv) out.mesh.request_halfedge_texcoords2D();
-  for (auto f : mesh.faces()) {
-    std::vector<Mesh::VertexHandle> corners;
-    for (auto v : mesh.fv_range(f)) corners.push_back(vh[v.idx()]);
-    if (!corners[0].is_valid()) continue;
-    const auto nf = out.mesh.add_face(corners);
-    if (!uv || !nf.is_valid()) continue;
-    auto h = mesh.cfh_begin(f);
-    for (auto g = out.mesh.fh_begin(nf); g.is_valid(); ++g, ++h) out.mesh.set_texcoord2D(*g, mesh.texcoord2D(*h));
+  const double limit = fraction * (all_hi - all_lo).norm();
+  // (NaN sizes compare false: such parts stay.)
+  auto dropped = [&](int r) { return (hi[size_t(r)] - lo[size_t(r)]).norm() < limit; };
+  std::vector<std::string> lines;
+  for (int r = 0; r < nv; ++r)
+    if (faces[size_t(r)] > 0 && parts.find(r) == r && dropped(r)) lines.push_back(part_line(faces[size_t(r)], lo[size_t(r)], hi[size_t(r)]));
+  if (lines.empty()) return lines;
+  size_t kept = 0;
+  for (size_t f = 0; f < soup.triangles.size(); ++f) {
+    if (in_range(soup.triangles[f]) && dropped(parts.find(soup.triangles[f][0]))) continue;
+    if (!soup.uv.empty())
+      for (size_t c = 0; c < 3; ++c) soup.uv[3 * kept + c] = soup.uv[3 * f + c];
+    soup.triangles[kept++] = soup.triangles[f];
   }
-  return out;
+  if (kept == 0) throw InputError("--min-part " + number(fraction) + " drops every part of the mesh");
+  soup.triangles.resize(kept);
+  if (!soup.uv.empty()) soup.uv.resize(3 * kept);
+  return lines;
 }
 
 }  // namespace sdm

@@ -1,7 +1,7 @@
 #pragma once
 // Dropping specks (issue 15): a tiny separate part beside a model (a stray tetrahedron 1e-3 of its
 // size) gets a rectangle too small for any texel of the atlas, so the layout refuses the whole
-// model. `--min-part F` drops such parts before the pipeline runs, and says what it dropped.
+// model. `--min-part F` drops such parts as the file is loaded, and says what it dropped.
 #include "libstm/mesh/mesh.h"
 
 #include <string>
@@ -9,14 +9,12 @@
 
 namespace sdm {
 
-struct DroppedParts {
-  Mesh mesh;                          // the parts kept (uv kept where the input had them)
-  std::vector<std::string> dropped;   // one line per dropped part: faces, size and place
-};
-
-// Keeps the vertex-connected parts whose bounding-box diagonal is at least `fraction` of the whole
-// mesh's, in their vertex and face order. Throws InputError when no part is that large (a
-// fraction of 1 or more) or `fraction` is negative or not finite.
-DroppedParts drop_small_parts(const Mesh& mesh, double fraction);
+/// Drops the vertex-connected parts whose bounding-box diagonal is under `fraction` of the whole
+/// soup's, before the soup is validated (load_mesh's min_part): their triangles and uv are removed, their points left unused (build_mesh leaves them out), so that a speck
+/// validation would refuse (a stray flat triangle of a scan) no longer stops the model. Triangles
+/// with indices out of range, and parts with non-finite coordinates, stay for validation to name.
+/// Returns one line per dropped part (faces, size and place). Throws InputError when no part is
+/// that large (a fraction of 1 or more) or `fraction` is negative or not finite.
+std::vector<std::string> drop_small_soup_parts(MeshSoup& soup, double fraction);
 
 }  // namespace sdm

@@ -4,6 +4,7 @@
 #include "libstm/core/errors.h"
 #include "libstm/mesh/add_faces.h"
 #include "libstm/mesh/check_mesh_file.h"
+#include "libstm/mesh/drop_small_parts.h"
 #include "libstm/mesh/gltf_io.h"
 #include "libstm/mesh/read_binary_ply.h"
 #include "libstm/mesh/read_plain_text.h"
@@ -408,8 +409,13 @@ MeshSoup mesh_to_soup(const Mesh& mesh) {
   return soup;
 }
 
-Mesh load_mesh(const std::string& path, std::string* texture, std::vector<Eigen::Vector3f>* colors, Image* texture_image) {
+Mesh load_mesh(const std::string& path, std::string* texture, std::vector<Eigen::Vector3f>* colors, Image* texture_image,
+               double min_part, std::vector<std::string>* dropped) {
   MeshSoup soup = read_mesh_soup(path);
+  if (min_part > 0) {
+    std::vector<std::string> lines = drop_small_soup_parts(soup, min_part);
+    if (dropped) *dropped = std::move(lines);
+  }
   EdgeTable table;
   MeshReport report = validate_mesh(soup, &table);
   if (!report.usable()) throw InputError(report.refusal(path));

@@ -56,8 +56,10 @@ MeshSoup mesh_to_soup(const Mesh& mesh);
 // `texture` receives the material's texture path when there is one; `colors`, when given, the
 // colours of the built mesh's vertices (in its vertex order, RGB in [0, 1]), or nothing when the
 // file has no vertex colours; `texture_image`, the texture a glTF file embeds (empty otherwise).
+// With `min_part` > 0, the parts smaller than that fraction of the diagonal are dropped before the
+// mesh is validated (drop_small_parts.h), and `dropped` receives a line for each.
 Mesh load_mesh(const std::string& path, std::string* texture = nullptr, std::vector<Eigen::Vector3f>* colors = nullptr,
-               Image* texture_image = nullptr);
+               Image* texture_image = nullptr, double min_part = 0, std::vector<std::string>* dropped = nullptr);
 
 // Validates and builds a mesh from arrays (V: n x 3 positions, F: m x 3 vertex indices, uv: empty or
 // 3m x 2, per corner in F's order), as load_mesh does for a file: vertex i of the result is V's row
