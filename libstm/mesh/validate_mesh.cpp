@@ -338,6 +338,18 @@ std::vector<double> part_volumes(const MeshSoup& soup, const std::vector<int>& f
   return volume;
 }
 
+// The --min-part that drops every part of diagonal up to `largest_flat` and keeps the part of
+// diagonal `largest_solid`, as a round number (1, 2 or 5 times a power of ten) above
+// largest_flat / whole; 0 when there is none below half of the solid part's share.
+double speck_fraction(double largest_flat, double largest_solid, double whole) {
+  if (!(whole > 0) || !(largest_flat > 0)) return 0;
+  const double need = largest_flat / whole, keep = largest_solid / whole;
+  for (double decade = std::pow(10.0, std::floor(std::log10(need))); decade < 1; decade *= 10)
+    for (double m : {1.0, 2.0, 5.0})
+      if (m * decade > need) return m * decade < 0.5 * keep ? m * decade : 0;
+  return 0;
+}
+
 // A part whose signed volume is nought (its holes capped) is flat (both sides of one sheet, folded
 // onto itself, or an open sheet): no capsule sees its surface from inside, and an encode of it is
 // garbage with a success code (issue 15: 0 % of texels on their own surface). Relative to the
@@ -355,14 +367,19 @@ void check_volumes(const MeshSoup& soup, const std::vector<char>& face_ok, const
       for (int v : soup.triangles[f]) lo[face_part[f]] = lo[face_part[f]].cwiseMin(soup.points[v]), hi[face_part[f]] = hi[face_part[f]].cwiseMax(soup.points[v]);
   long flat = 0;
   std::string example;
+  double largest_flat = 0, largest_solid = 0;  // diagonals
   for (int p = 0; p < r.parts; ++p) {
     const double d = (hi[p] - lo[p]).norm();
-    if (std::abs(volume[p]) <= 1e-9 * d * d * d && !flat++)
+    const bool is_flat = std::abs(volume[p]) <= 1e-9 * d * d * d;
+    (is_flat ? largest_flat : largest_solid) = std::max(is_flat ? largest_flat : largest_solid, d);
+    if (is_flat && !flat++)
       example = "part " + std::to_string(p) + " (" + std::to_string(r.faces_per_part[p]) + " faces) has volume " + number(volume[p]) +
                 " within a box of diagonal " + number(d);
   }
-  add(r, "parts enclosing no volume (flat: both sides of one sheet, or an open sheet)", flat, example, true,
-      "give the part a thickness (e.g. 'solidify' in Blender); a surface mapped from a skeleton needs an inside");
+  std::string fix = "give the part a thickness (e.g. 'solidify' in Blender); a surface mapped from a skeleton needs an inside";
+  const double min_part = speck_fraction(largest_flat, largest_solid, (r.bbox_max - r.bbox_min).norm());
+  if (flat && min_part > 0) fix += "; or, if it is a speck beside the model (a scan's stray triangle), drop it with --min-part " + number(min_part);
+  add(r, "parts enclosing no volume (flat: both sides of one sheet, or an open sheet)", flat, example, true, fix);
 }
 
 // An empty report with what the checks read from r (counts and bounding box).
