@@ -9,9 +9,10 @@
 
 namespace sdm {
 
-/// Drops the vertex-connected parts whose bounding-box diagonal is under `fraction` of the whole
-/// soup's, before the soup is validated (load_mesh's min_part): their triangles and uv are removed, their points left unused (build_mesh leaves them out), so that a speck
-/// validation would refuse (a stray flat triangle of a scan) no longer stops the model. Triangles
+/// Drops the vertex-connected parts whose bounding-box diagonal is under `fraction` of the diagonal
+/// of all the faces' box, before the soup is validated (load_mesh's min_part): their triangles and
+/// uv are removed, their points left unused (build_mesh leaves them out), so that a speck validation
+/// would refuse (a stray flat triangle of a scan) no longer stops the model. Triangles
 /// with indices out of range, and parts with non-finite coordinates, stay for validation to name.
 /// Returns one line per dropped part (faces, size and place). Throws InputError when no part is
 /// that large (a fraction of 1 or more) or `fraction` is negative or not finite.

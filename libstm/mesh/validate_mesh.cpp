@@ -368,16 +368,20 @@ void check_volumes(const MeshSoup& soup, const std::vector<char>& face_ok, const
   long flat = 0;
   std::string example;
   double largest_flat = 0, largest_solid = 0;  // diagonals
+  Eigen::Vector3d all_lo = Eigen::Vector3d::Constant(INFINITY), all_hi = Eigen::Vector3d::Constant(-INFINITY);
   for (int p = 0; p < r.parts; ++p) {
     const double d = (hi[p] - lo[p]).norm();
     const bool is_flat = std::abs(volume[p]) <= 1e-9 * d * d * d;
-    (is_flat ? largest_flat : largest_solid) = std::max(is_flat ? largest_flat : largest_solid, d);
+    double& largest = is_flat ? largest_flat : largest_solid;
+    largest = std::max(largest, d);
+    all_lo = all_lo.cwiseMin(lo[p]), all_hi = all_hi.cwiseMax(hi[p]);
     if (is_flat && !flat++)
       example = "part " + std::to_string(p) + " (" + std::to_string(r.faces_per_part[p]) + " faces) has volume " + number(volume[p]) +
                 " within a box of diagonal " + number(d);
   }
   std::string fix = "give the part a thickness (e.g. 'solidify' in Blender); a surface mapped from a skeleton needs an inside";
-  const double min_part = speck_fraction(largest_flat, largest_solid, (r.bbox_max - r.bbox_min).norm());
+  // The faces' box, as drop_small_soup_parts measures it (r's box also holds unused points).
+  const double min_part = speck_fraction(largest_flat, largest_solid, (all_hi - all_lo).norm());
   if (flat && min_part > 0) fix += "; or, if it is a speck beside the model (a scan's stray triangle), drop it with --min-part " + number(min_part);
   add(r, "parts enclosing no volume (flat: both sides of one sheet, or an open sheet)", flat, example, true, fix);
 }
