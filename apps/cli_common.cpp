@@ -46,18 +46,60 @@ LayoutForMesh layout_for(const sdm::Mesh& mesh, const LayoutSource& source) {
   return r;
 }
 
-Mesh load_mesh_min_part(const std::string& path, double min_part, bool fill) {
-  // Dropped before validation: a speck it would refuse (a stray flat triangle) does not stop the model.
-  std::vector<std::string> dropped;
-  sdm::Mesh mesh = sdm::load_mesh(path, nullptr, nullptr, nullptr, min_part, &dropped);
-  for (const auto& d : dropped) progress("--min-part: dropped " + d);
-  if (!fill) return mesh;
-  const size_t before = mesh.n_vertices();
-  const int loops = int(sdm::boundary_loops(sdm::face_matrix(mesh), int(before)).size());
-  if (loops == 0) return mesh;
-  mesh = sdm::fill_holes(mesh);
-  progress("--fill-holes: closed " + std::to_string(loops) + " hole(s) with " + std::to_string(mesh.n_vertices() - before) + " vertices");
-  return mesh;
+InputSettings& input_settings() {
+  static InputSettings settings;
+  return settings;
+}
+
+void add_repair_options(CLI::App* app) {
+  InputSettings& s = input_settings();
+  app->add_flag("--no-repair", s.no_repair,
+                "Refuse a mesh with defects instead of repairing it (coincident vertices, duplicated faces, non-manifold\n"
+                "edges and vertices, inconsistent orientation: by default each is repaired and named on stderr)");
+  app->add_option("--weld-tolerance", s.weld_tolerance,
+                  "Weld boundary vertices closer than this fraction of the bounding-box diagonal (0: exact duplicates only)")
+      ->capture_default_str()
+      ->check(CLI::Range(0.0, 0.01));
+}
+
+namespace {
+nlohmann::json& repairs_seen() {
+  static nlohmann::json seen = nlohmann::json::array();
+  return seen;
+}
+}  // namespace
+
+nlohmann::json input_repairs() { return repairs_seen(); }
+
+sdm::LoadedMesh load_input(const std::string& path, double min_part, bool fill) {
+  // Specks are dropped before validation: one it would refuse (a stray flat triangle) does not stop the model.
+  sdm::LoadOptions options;
+  options.min_part = min_part;
+  options.repair = !input_settings().no_repair;
+  options.repair_options.weld_tolerance = input_settings().weld_tolerance;
+  sdm::LoadedMesh m = sdm::load_mesh(path, options);
+  for (const auto& d : m.report.dropped) progress("--min-part: dropped " + d);
+  for (const auto& line : sdm::repair_lines(m.report.repair)) progress(path + ": " + line);
+  if (m.report.repair.changed()) {
+    nlohmann::json j = m.report.repair.to_json();
+    j["file"] = path;
+    repairs_seen().push_back(j);
+  }
+  if (!fill) return m;
+  const size_t before = m.mesh.n_vertices();
+  const int loops = int(sdm::boundary_loops(sdm::face_matrix(m.mesh), int(before)).size());
+  if (loops == 0) return m;
+  m.mesh = sdm::fill_holes(m.mesh);
+  m.colors.clear();
+  progress("--fill-holes: closed " + std::to_string(loops) + " hole(s) with " + std::to_string(m.mesh.n_vertices() - before) + " vertices");
+  return m;
+}
+
+Mesh load_mesh_min_part(const std::string& path, double min_part, bool fill) { return load_input(path, min_part, fill).mesh; }
+
+void print_json(nlohmann::json j) {
+  if (j.is_object() && !repairs_seen().empty()) j["repair"] = repairs_seen();
+  std::cout << j.dump(2) << std::endl;
 }
 
 void add_fill_holes_option(CLI::App* app, bool& value) {

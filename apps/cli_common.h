@@ -1,6 +1,7 @@
 #pragma once
 // What several subcommands share beyond commands.h: obtaining the layout of a mesh.
 #include "libstm/layout/layout.h"
+#include "libstm/mesh/load_mesh.h"
 #include "libstm/mesh/mesh.h"
 
 #include <CLI/CLI.hpp>
@@ -33,9 +34,24 @@ struct LayoutForMesh {
 /// the skeleton or computing the layout throws.
 LayoutForMesh layout_for(const Mesh& mesh, const LayoutSource& source);
 
-// load_mesh with min_part (the parts smaller than that dropped before validation), saying on stderr
-// what it dropped, then, with fill, every hole closed (fill_holes), saying how many.
-Mesh load_mesh_min_part(const std::string& path, double min_part, bool fill = false);
+/// How this run reads its meshes: repair on or off (--no-repair) and its weld tolerance, shared by
+/// every input of the command (add_repair_options binds them).
+struct InputSettings {
+  bool no_repair = false;
+  double weld_tolerance = sdm::kDefaultWeldTolerance;
+};
+InputSettings& input_settings();
+/// Adds --no-repair and --weld-tolerance to a command that reads meshes.
+void add_repair_options(CLI::App* app);
+
+/// Every command's mesh input: load_mesh with the run's InputSettings and `min_part` (the parts
+/// smaller than that dropped before validation), saying on stderr what it dropped and repaired
+/// (recorded for print_json), then, with fill, every hole closed (fill_holes), saying how many.
+sdm::LoadedMesh load_input(const std::string& path, double min_part = 0, bool fill = false);
+/// load_input's mesh alone.
+Mesh load_mesh_min_part(const std::string& path, double min_part = 0, bool fill = false);
+/// What repair did to each input this run read: [{"file", "changed", "weld_distance", "steps"}].
+nlohmann::json input_repairs();
 // Adds --fill-holes to a command: an open mesh's holes closed first, so that the output is closed
 // (by default an open mesh stays open: the skeleton sees the holes filled, the output keeps them).
 void add_fill_holes_option(CLI::App* app, bool& value);

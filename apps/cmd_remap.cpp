@@ -40,10 +40,12 @@ Command add_remap_command(CLI::App& parent) {
       ->capture_default_str();
   app->add_flag("--json", o->json, "Print one JSON object instead of text");
   add_max_memory_option(app, o->max_memory);
+  add_repair_options(app);
   return {app, [o]() {
             if (o->layout.empty()) check_atlas_memory(o->size, 60, o->max_memory);
-            std::string material;
-            const sdm::Mesh mesh = sdm::load_mesh(o->mesh, &material);
+            sdm::LoadedMesh loaded = load_input(o->mesh);
+            const std::string material = loaded.texture;
+            const sdm::Mesh mesh = std::move(loaded.mesh);
             const std::string texture_path = o->texture.empty() ? material : o->texture;
             if (texture_path.empty())
               throw sdm::InputError("'" + o->mesh + "' names no texture in its material: pass --texture TEX.png");

@@ -1,3 +1,4 @@
+#include "apps/cli_common.h"
 #include "apps/commands.h"
 #include "apps/memory_budget.h"
 #include "libstm/mesh/isotropic_remesh.h"
@@ -46,8 +47,9 @@ Command add_remesh_command(CLI::App& parent) {
   app->add_option("--factor", o->factor, "Scale of the default target edge length")->capture_default_str()->check(CLI::Range(0.1, 10.0));
   app->add_option("--iterations", o->iterations, "Remeshing iterations")->capture_default_str()->check(CLI::Range(1, 100));
   add_max_memory_option(app, o->max_memory);
+  add_repair_options(app);
   return {app, [o]() {
-            const sdm::Mesh input = sdm::load_mesh(o->mesh);
+            const sdm::Mesh input = load_mesh_min_part(o->mesh);
             const double area = sdm::surface_area(input);
             // Default: the edge of an equilateral mesh with as many vertices over the same area.
             const double edge = o->edge > 0 ? o->edge : sdm::equilateral_edge_length(area, double(input.n_vertices())) * o->factor;

@@ -1,3 +1,4 @@
+#include "apps/cli_common.h"
 #include "apps/commands.h"
 #include "apps/memory_budget.h"
 #include "libstm/core/limits.h"
@@ -56,6 +57,7 @@ void declare_render_options(CLI::App* app, RenderArgs* o) {
       ->capture_default_str();
   add_max_memory_option(app, o->max_memory);
   app->add_flag("--json", o->json, "Print one JSON object describing the render");
+  add_repair_options(app);
 }
 
 // Before anything is drawn: the contact sheet must fit a PNG side (kMaxImageSide) and the views,
@@ -89,6 +91,11 @@ const char* const kEmbeddedTexture = "(the texture embedded in the mesh file)";
 sdm::Mesh load_any_mesh(const std::string& path, std::string* material_texture, sdm::Image* embedded) {
   sdm::MeshSoup soup = sdm::read_mesh_soup(path);
   sdm::MeshReport report = sdm::validate_mesh(soup);
+  if (!input_settings().no_repair && sdm::repair_may_help(report)) {
+    const sdm::RepairReport repair = sdm::repair_soup(soup, {input_settings().weld_tolerance});
+    for (const auto& line : sdm::repair_lines(repair)) progress(path + ": " + line);
+    if (repair.changed()) report = sdm::validate_mesh(soup);
+  }
   if (report.usable()) sdm::orient_outward(soup, report);
   sdm::Mesh mesh;
   try {

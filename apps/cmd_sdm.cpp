@@ -258,6 +258,7 @@ Command add_encode_command(CLI::App& parent) {
   app->add_option("--skeleton", o->skeleton, "Use this skeleton (from 'sdm skeleton') instead of extracting one");
   app->add_option("--png", o->png, "Also write a false-colour picture of the map (.png)");
   add_min_part_option(app, o->min_part);
+  add_repair_options(app);
   add_fill_holes_option(app, o->fill_holes);
   add_max_memory_option(app, o->max_memory);
   app->add_option("--precision", o->precision, kPrecisionHelp)->capture_default_str();
@@ -387,6 +388,7 @@ Command add_roundtrip_command(CLI::App& parent) {
                   "Also draw the decoded mesh coloured by its distance to the input (.png, four views; grey at 0, yellow at "
                   "0.15 %, red from 0.5 % of the diagonal)");
   add_min_part_option(app, o->min_part);
+  add_repair_options(app);
   add_fill_holes_option(app, o->fill_holes);
   add_max_memory_option(app, o->max_memory);
   app->add_flag("--strict", o->strict,
@@ -470,8 +472,9 @@ Command add_compare_command(CLI::App& parent) {
   app->add_option("other", o->other, "Mesh to measure against it")->required();
   app->add_option("--samples", o->samples, "Points sampled on each surface")->capture_default_str()->check(CLI::Range(1000, 10000000));
   app->add_flag("--json", o->json, "Print one JSON object");
+  add_repair_options(app);
   return {app, [o]() {
-            const sdm::Mesh a = sdm::load_mesh(o->reference), b = sdm::load_mesh(o->other);
+            const sdm::Mesh a = load_mesh_min_part(o->reference), b = load_mesh_min_part(o->other);
             const sdm::SurfaceDistance d = sdm::surface_distance(a, b, o->samples);
             const double rms = d.rms / d.diagonal, hd = d.hausdorff / d.diagonal;
             if (o->json)

@@ -1,3 +1,4 @@
+#include "apps/cli_common.h"
 #include "apps/commands.h"
 #include "libstm/skeleton/extract_skeleton.h"
 #include "libstm/mesh/mesh.h"
@@ -21,6 +22,7 @@ Command add_skeleton_command(CLI::App& parent) {
   app->add_option("-o,--output", o->out, "Output skeleton JSON file")->required();
   app->add_option("--obj", o->obj, "Also write the skeleton as an OBJ polyline");
   app->add_flag("--json", o->json, "Print the summary as one JSON object");
+  add_repair_options(app);
   app->add_option("--method", o->method,
                   "Contracted shape for the surgery: auto (both candidates, the better kept), contraction (Laplacian "
                   "contraction only, the paper's method) or medial (medial poles only)")
@@ -37,7 +39,7 @@ Command add_skeleton_command(CLI::App& parent) {
   app->add_option("--medial-smoothing", o->sk.medial_smoothing, "Umbrella smoothing steps of the medial poles before their surgery");
   app->add_option("--sampling-weight", o->sk.sampling_weight, "Weight of the sampling term of the collapse cost");
   return {app, [o]() {
-            const sdm::Mesh mesh = sdm::load_mesh(o->mesh);
+            const sdm::Mesh mesh = load_mesh_min_part(o->mesh);
             if (o->uniform) o->sk.contraction = sdm::uniform_contraction();
             o->sk.method = o->method == "contraction" ? sdm::SkeletonMethod::contraction
                            : o->method == "medial"    ? sdm::SkeletonMethod::medial

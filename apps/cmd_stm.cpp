@@ -55,6 +55,7 @@ Command add_stm_command(CLI::App& parent) {
   app->add_option("--uv-obj", o->uv_obj, "Also write the mesh with its STM coordinates as uv (OBJ; seam vertices duplicated)");
   app->add_option("--atlas-png", o->atlas_png, "Also draw the atlas: rectangles and each segment's triangles in its colour (PNG)");
   add_min_part_option(app, o->min_part);
+  add_repair_options(app);
   add_fill_holes_option(app, o->fill_holes);
   add_max_memory_option(app, o->max_memory);
   app->add_flag("--json", o->json, "Print one JSON object instead of text");

@@ -1,3 +1,4 @@
+#include "apps/cli_common.h"
 #include "apps/commands.h"
 #include "apps/memory_budget.h"
 #include "libsdm/decode/decode_sdm.h"
@@ -130,9 +131,11 @@ void check_output_paths(const TransferArgs& o) {
 TransferInputs read_inputs(const TransferArgs& o) {
   check_output_paths(o);
   TransferInputs in;
-  std::string material;
-  sdm::Image embedded;  // a glTF source's own texture
-  in.source = sdm::load_mesh(o.source, &material, &in.source_colors, &embedded);
+  sdm::LoadedMesh loaded = load_input(o.source);
+  const std::string material = loaded.texture;
+  sdm::Image embedded = std::move(loaded.texture_image);  // a glTF source's own texture
+  in.source = std::move(loaded.mesh);
+  in.source_colors = std::move(loaded.colors);
   in.texture_path = o.texture.empty() ? material : o.texture;
   const bool colored = !in.source_colors.empty();
   if (in.texture_path.empty() && !embedded.pixels.empty() && in.source.has_halfedge_texcoords2D()) {
@@ -147,7 +150,7 @@ TransferInputs read_inputs(const TransferArgs& o) {
   } else {
     in.texture_path.clear();
   }
-  in.target = sdm::load_mesh(o.target);
+  in.target = load_mesh_min_part(o.target);
   // Both skeletons at once: an extraction keeps a second core busy only while its medial candidate
   // runs (FAUST 007 and 024: 0.95-1.08 -> 0.63-0.69 s for the two). Each line says whose it is. One after the
   // other for large meshes, whose extractions' memory would add up.
@@ -443,6 +446,7 @@ void declare_options(CLI::App* app, TransferArgs& o) {
   add_max_memory_option(app, o.max_memory);
   app->add_flag("--force", o.force, "Write the result even when the registered source fits the target poorly, its branches disagree in length or meet the core at other places, or left and right are a tie");
   app->add_flag("--json", o.json, "Print one JSON object instead of text");
+  add_repair_options(app);
 }
 
 }  // namespace

@@ -20,6 +20,7 @@ struct Command {
 
 Command add_info_command(CLI::App& parent);
 Command add_convert_command(CLI::App& parent);
+Command add_repair_command(CLI::App& parent);
 Command add_remesh_command(CLI::App& parent);
 Command add_render_command(CLI::App& parent);
 Command add_encode_command(CLI::App& parent);
@@ -45,6 +46,8 @@ inline void check_strict(const sdm::MeshReport& r, const std::string& path) {
                             " (refused by --strict). Fix: " + f.fix);
 }
 
-inline void print_json(const nlohmann::json& j) { std::cout << j.dump(2) << std::endl; }
+// Prints a command's JSON summary on stdout; an object also gets "repair": what repair did to each
+// input mesh this run read (load_input in cli_common.h), when it did anything.
+void print_json(nlohmann::json j);
 
 }  // namespace sdm::cli

@@ -23,6 +23,7 @@ struct Entry {
 const Entry kCommands[] = {
     {"info", sdm::cli::add_info_command},
     {"convert", sdm::cli::add_convert_command},
+    {"repair", sdm::cli::add_repair_command},
     {"remesh", sdm::cli::add_remesh_command},
     {"primitive", sdm::cli::add_primitive_command},
     {"skeleton", sdm::cli::add_skeleton_command},

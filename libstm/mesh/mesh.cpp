@@ -18,6 +18,7 @@
 #include <algorithm>
 #include <cstdlib>
 #include <cstdio>
+#include <unistd.h>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
@@ -269,6 +270,32 @@ void add_polygons(const std::vector<std::vector<int>>& polygons, const std::vect
   }
 }
 
+// The byte-order mark some editors put before the text of a UTF-8 file.
+constexpr const char* kUtf8Bom = "\xEF\xBB\xBF";
+
+// A copy of a text mesh without its byte-order mark, for OpenMesh's readers (which would take the
+// mark for part of the first line's keyword and lose that line), removed when it goes out of scope;
+// empty when the file has no mark. A textured OBJ's material is then looked up beside the copy
+// (not found: the texture must be given with --texture).
+struct WithoutBom {
+  std::string path;
+  explicit WithoutBom(const std::string& from) {
+    std::ifstream in(from, std::ios::binary);
+    char head[3] = {0, 0, 0};
+    if (!in.read(head, 3) || std::string(head, 3) != kUtf8Bom) return;
+    const fs::path dir = fs::temp_directory_path() / ("sdm-bom-" + std::to_string(::getpid()));
+    std::error_code ec;
+    fs::create_directories(dir, ec);
+    path = (dir / fs::path(from).filename()).string();
+    std::ofstream out(path, std::ios::binary);
+    out << in.rdbuf();
+  }
+  ~WithoutBom() {
+    std::error_code ec;
+    if (!path.empty()) fs::remove_all(fs::path(path).parent_path(), ec);
+  }
+};
+
 // The plain OBJ or OFF the fast readers take (read_plain_text.h), or false for OpenMesh's path.
 bool read_plain(const std::string& path, const std::string& ext, MeshSoup& soup) {
   if (ext != ".obj" && ext != ".off" && ext != ".ply") return false;
@@ -276,6 +303,7 @@ bool read_plain(const std::string& path, const std::string& ext, MeshSoup& soup)
   std::error_code ec;
   std::string text(size_t(fs::file_size(path, ec)), '\0');
   if (ec || !in.read(text.data(), std::streamsize(text.size()))) return false;
+  if (text.compare(0, 3, kUtf8Bom) == 0) text.erase(0, 3);  // an editor's byte-order mark: not part of the first line
   if (ext == ".ply") {
     BinaryPly ply;
     if (!read_binary_ply(text, ply)) return false;
@@ -312,7 +340,16 @@ MeshSoup read_mesh_soup(const std::string& path) {
   // (coordinates finite and within float range, corners and counts within the file); anything
   // else goes through check_mesh_file and OpenMesh, with their messages.
   if (MeshSoup plain; read_plain(path, ext, plain)) return plain;
-  check_mesh_file(path, ext, fs::file_size(path, ec));  // before any reader trusts the file
+  const WithoutBom copy(path);
+  const std::string& read_path = copy.path.empty() ? path : copy.path;
+  try {
+    check_mesh_file(read_path, ext, fs::file_size(read_path, ec));  // before any reader trusts the file
+  } catch (const InputError& e) {
+    std::string message = e.what();
+    if (!copy.path.empty())
+      for (size_t at = message.find(copy.path); at != std::string::npos; at = message.find(copy.path)) message.replace(at, copy.path.size(), path);
+    throw InputError(message);
+  }
 
   SoupImporter importer;
   OpenMesh::IO::Options opt = OpenMesh::IO::Options::FaceTexCoord;
@@ -321,13 +358,13 @@ MeshSoup read_mesh_soup(const std::string& path) {
   omerr().disable();
   omlog().disable();
   omout().disable();
-  bool ok = OpenMesh::IO::IOManager().read(path, importer, opt);
-  if (!ok && ext != ".stl") scan_text_points(path, ext, importer.points);  // a NaN may be why
+  bool ok = OpenMesh::IO::IOManager().read(read_path, importer, opt);
+  if (!ok && ext != ".stl") scan_text_points(read_path, ext, importer.points);  // a NaN may be why
   if (!ok) throw InputError("cannot read mesh " + path + ": the " + ext.substr(1) + " reader could not parse it");
   if (importer.points.empty())
     throw InputError("mesh " + path + " has no vertices: the file is empty or not a " + ext.substr(1) + " mesh");
 
-  scan_text_points(path, ext, importer.points);
+  scan_text_points(read_path, ext, importer.points);
 
   MeshSoup soup;
   soup.points = std::move(importer.points);
@@ -407,28 +444,6 @@ MeshSoup mesh_to_soup(const Mesh& mesh) {
     soup.triangles.push_back(t);
   }
   return soup;
-}
-
-Mesh load_mesh(const std::string& path, std::string* texture, std::vector<Eigen::Vector3f>* colors, Image* texture_image,
-               double min_part, std::vector<std::string>* dropped) {
-  MeshSoup soup = read_mesh_soup(path);
-  if (min_part > 0) {
-    std::vector<std::string> lines = drop_small_soup_parts(soup, min_part);
-    if (dropped) *dropped = std::move(lines);
-  }
-  EdgeTable table;
-  MeshReport report = validate_mesh(soup, &table);
-  if (!report.usable()) throw InputError(report.refusal(path));
-  if (orient_outward(soup, report) > 0) table = EdgeTable();  // its sides' directions changed
-  if (texture) *texture = soup.texture;
-  if (texture_image) *texture_image = std::move(soup.texture_image);
-  if (colors) {
-    colors->clear();
-    const std::vector<char> used = used_points(soup);
-    for (size_t i = 0; i < soup.colors.size(); ++i)
-      if (used[i]) colors->push_back(soup.colors[i]);
-  }
-  return build_mesh(soup, table.edges() ? &table : nullptr);
 }
 
 Mesh mesh_from_arrays(const Eigen::MatrixX3d& V, const Eigen::MatrixX3i& F, const Eigen::MatrixX2d& uv, const std::string& what) {

@@ -382,6 +382,7 @@ void check_volumes(const MeshSoup& soup, const std::vector<char>& face_ok, const
   std::string fix = "give the part a thickness (e.g. 'solidify' in Blender); a surface mapped from a skeleton needs an inside";
   // The faces' box, as drop_small_soup_parts measures it (r's box also holds unused points).
   const double min_part = speck_fraction(largest_flat, largest_solid, (all_hi - all_lo).norm());
+  if (flat) r.speck_min_part = min_part;
   if (flat && min_part > 0) fix += "; or, if it is a speck beside the model (a scan's stray triangle), drop it with --min-part " + number(min_part);
   add(r, "parts enclosing no volume (flat: both sides of one sheet, or an open sheet)", flat, example, true, fix);
 }

@@ -31,6 +31,7 @@ struct MeshReport {
   std::vector<int> face_part;          // part of each triangle
   std::vector<double> part_volume;     // signed, holes capped; empty when some face is in no part
   std::vector<Finding> findings;
+  double speck_min_part = 0;           // the --min-part that drops every flat part and keeps the solid ones, or 0
 
   bool usable() const;                          // no fatal finding
   std::string refusal(const std::string& path) const;  // the message for a refused input
