@@ -464,7 +464,7 @@ int run_transfer_bench(const BenchOptions& o) {
 
 }  // namespace
 
-// ---- Loading large meshes (issue 16) ----
+// ---- Loading large meshes (docs/BENCHMARKS.md, "Loading large meshes") ----
 
 // The process's peak resident memory (getrusage's ru_maxrss, kilobytes on Linux), in bytes.
 size_t peak_rss_bytes() {
@@ -512,7 +512,7 @@ int run_load_bench(const BenchOptions& o) {
   return 0;
 }
 
-// ---- A mesh through the whole pipeline (issue 16) ----
+// ---- A mesh through the whole pipeline (docs/BENCHMARKS.md, "Pipeline stages by mesh size") ----
 
 // Per file: load, skeleton, layout (--size atlas), encode (same size) and decode at level 3, the
 // fastest of `repeat` runs each (in-memory, as the commands run them without their checks), the

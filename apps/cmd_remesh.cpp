@@ -15,7 +15,7 @@ namespace sdm::cli {
 namespace {
 
 // An edge length beyond a quarter of the model's diagonal collapses it to a speck (exit 0 with
-// garbage, issue 15); a tiny one asks for more triangles than memory holds (about A / (sqrt(3)/4
+// garbage, before the check); a tiny one asks for more triangles than memory holds (about A / (sqrt(3)/4
 // L^2) triangles, 300 bytes each with the remesher's working copies).
 void check_edge_length(const sdm::Mesh& input, double area, double edge, const std::string& max_memory) {
   const double diagonal = sdm::bounding_box_diagonal(input);

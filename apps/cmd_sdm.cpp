@@ -127,7 +127,7 @@ std::string point_text(const Eigen::Vector3d& p) {
   return s.str();
 }
 
-// The quality gate of encode and roundtrip (issue 15). A surface that crosses itself has two sheets
+// The quality gate of encode and roundtrip. A surface that crosses itself has two sheets
 // where a map holds one per ray (a Spot with its head pushed through its body encoded silently to
 // 1.2 % RMS): named on stderr, refused under --strict.
 sdm::SelfIntersections check_self_intersections(const sdm::Mesh& mesh, bool strict) {
@@ -160,7 +160,7 @@ sdm::SurfaceCoverage check_carried(const sdm::Mesh& input, const sdm::Mesh& deco
   return c;
 }
 
-// Where a round trip's worst error is (issue 17): the point of the Hausdorff distance, and the
+// Where a round trip's worst error is: the point of the Hausdorff distance, and the
 // segment and base face of the decoded vertex nearest it.
 struct WorstError {
   Eigen::Vector3d position = Eigen::Vector3d::Zero();
@@ -241,7 +241,7 @@ void add_min_carried_option(CLI::App* app, double& floor) {
 
 Command add_encode_command(CLI::App& parent) {
   struct Opts {
-    std::string mesh, out, layout, skeleton, png, max_memory, precision = "10";  // BENCHMARKS: float's accuracy, 3.6-6x smaller at 1024
+    std::string mesh, out, layout, skeleton, png, max_memory, precision = "10";  // BENCHMARKS: float's accuracy, 3.6-6.1x smaller at 1024
     int size = 1024;
     double min_part = 0, min_carried = 0.9, face_error = sdm::EncodeOptions().flat_above;
     bool fill_holes = false;
@@ -428,7 +428,7 @@ Command add_roundtrip_command(CLI::App& parent) {
             const double psnr = 20 * std::log10(1.0 / rms);
             const SurfaceTopology top = topology_of(out), input_top = topology_of(mesh);
             const WorstError worst = locate_worst(dist, out, trace);
-            const double edge_ratio = longest_edge(out) / longest_edge(mesh);  // issue 17: at most 1
+            const double edge_ratio = longest_edge(out) / longest_edge(mesh);  // the bound: at most 1
             if (!o->png.empty()) write_error_png(mesh, out, dist.diagonal, o->png);
             const nlohmann::json worst_json = {{"position", {worst.position.x(), worst.position.y(), worst.position.z()}},
                                                {"segment", worst.segment}, {"base_face", worst.base_face},

@@ -1,5 +1,5 @@
 #pragma once
-// The memory budget (issue 15): a command estimates what its options will allocate (decode's
+// The memory budget: a command estimates what its options will allocate (decode's
 // --lod, an atlas's --size, render's --width/--height/--views) and refuses beyond the budget up
 // front, naming the estimate, instead of growing until the machine kills it.
 #include <CLI/CLI.hpp>

@@ -1,5 +1,5 @@
 #!/bin/bash
-# Skeleton extraction against CGAL's mean-curvature-flow skeletonizer (issue 16), whole process
+# Skeleton extraction against CGAL's mean-curvature-flow skeletonizer, whole process
 # against whole process: `sdm skeleton MESH -o S.json` and scripts/cgal_skeleton (read, extract with
 # CGAL's defaults, write), run in turn, each the fastest of REPEAT runs, on every closed mesh of a
 # folder.

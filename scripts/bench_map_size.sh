@@ -1,5 +1,5 @@
 #!/bin/bash
-# Map size against error (issue 14; docs/BENCHMARKS.md "SDM file size against error"): for each
+# Map size against error (docs/BENCHMARKS.md, "Map size against error, beside Draco"): for each
 # mesh, `sdm roundtrip` at atlas sizes 256-2048 and each precision (the map written to a file and
 # read back; bytes of that file), level 3; then Draco (Debian `draco`, benchmark only) at 8-14
 # quantisation bits, measured with `sdm compare` (the same sampling as roundtrip). Prints a

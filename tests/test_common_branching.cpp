@@ -197,7 +197,7 @@ sdm::Skeleton stick_body(bool head, bool prongs) {
 // A target whose extraction lost the head (4 ends) against a source with a head and a forked hand
 // (6 ends): pruning the two prongs leaves the hand an end, and sliding the head from the shoulders
 // onto that hand would make the head continue the arm and the branchings "equal" (a jittered FAUST
-// 085 against 024, session 24: the head's texture went to a hand). A branch slides only onto a node
+// 085 against 024: the head's texture went to a hand). A branch slides only onto a node
 // that stays a junction, so this is a difference of major branchings.
 TEST_CASE("a branch does not slide onto a hand whose prongs are pruned", "[common_branching]") {
   const sdm::Skeleton a = stick_body(true, true), b = stick_body(false, false);

@@ -1,4 +1,4 @@
-// Compact maps (issue 14, format 3): the base mesh in binary, texels no base face reads left out,
+// Compact maps (format 3): the base mesh in binary, texels no base face reads left out,
 // the residual against the decoder's prediction quantised; old files still decode.
 #include "libsdm/decode/decode_sdm.h"
 #include "libsdm/encode/base_mesh.h"
@@ -166,7 +166,7 @@ TEST_CASE("Every precision of format 3 decodes within the float map's error; for
   CHECK(rms_of(e.mesh, old) <= 1.5 * exact + 2e-5);
 }
 
-TEST_CASE("Spot at level 3 within 0.02 % RMS in a map of at most 150 KB (issue 14)", "[compact]") {
+TEST_CASE("Spot at level 3 within 0.02 % RMS in a map of at most 150 KB", "[compact]") {
   test_util::TempDir dir;
   const Encoded e = encode(load_mesh(std::string(SDM_EXAMPLES) + "/spot/spot_triangulated.obj"), 512);
   const std::string path = dir / "spot.exr";
@@ -211,7 +211,7 @@ TEST_CASE("sdm roundtrip goes through the file, reports its bytes and where the 
   CHECK(test_util::run_sdm("roundtrip " + mesh + " --precision 12").exit_code == 2);
 }
 
-// Format 4 (issue 17): base faces the map cannot carry are placed on their flat triangle. A capsule
+// Format 4: base faces the map cannot carry are placed on their flat triangle. A capsule
 // in a 20^2 atlas has a few texels per rectangle; the encoder's check places the faces it carries
 // poorly flat. The file says version 4 only when the map has flat faces (a version 3 reader would
 // decode them on their rays), they survive the file, and they bring the decode closer.

@@ -90,7 +90,7 @@ SurfaceDistance acceptance_round_trip(const std::string& name, const Mesh& mesh,
     for (const auto& f : r.findings) CHECK(f.kind.find("degenerate") != std::string::npos);
   } else {
     CHECK(r.findings.empty());
-    CHECK(longest_edge(out) <= longest_edge(mesh));  // issue 17: no decoded edge longer than the input's longest
+    CHECK(longest_edge(out) <= longest_edge(mesh));  // no decoded edge longer than the input's longest
   }
   CHECK(r.genus_per_part == in.genus_per_part);
   return d;
@@ -133,11 +133,11 @@ TEST_CASE("Acceptance round trip of Spot at 1024 and level 3", "[decode_sdm]") {
   CHECK(r.genus_per_part == std::vector<int>{0});
 }
 
-// Real bodies that no one here made (issue 17). A bilinear lookup mixed one texel encoded for
+// Real bodies that no one here made. A bilinear lookup mixed one texel encoded for
 // another base face of the same segment (FAUST 085's hanging hand, whose reference triangle overlaps
 // the hip's on the capsule) into a point of the hip: a spike 6 cm long, Hausdorff 2.75 % (the TOSCA
 // man 2.46 %). The decoder now reads only texels encoded for the point's base face or a face that
-// shares a corner with it: 0.55 % and 0.62 % (RMS 0.016 % and 0.027 %), within the issue's 0.05 %
+// shares a corner with it: 0.55 % and 0.62 % (RMS 0.016 % and 0.027 %), within the bounds of 0.05 %
 // and 1 %.
 TEST_CASE("Acceptance round trip of real bodies at 1024 and level 3", "[decode_sdm]") {
   for (const char* name : {"tr_reg_085.off", "8_man_02.off"}) {
@@ -155,10 +155,10 @@ TEST_CASE("Acceptance round trip of real bodies at 1024 and level 3", "[decode_s
 // Hausdorff 4.3 %); crossings are taken only with faces the base face stands for (base_regions.h):
 // 0.13 % and 2.6 %; with the decoder's rays through the flat points 0.09 % and 1.9 %. Plates seen
 // edge-on by every capsule near them (their rays graze the surface) and base faces across the
-// rotor's rims kept them over issue 17's 0.05 % and 1 % (rotor 0.31 % and 2.7 %), until the
+// rotor's rims kept them over the bounds of 0.05 % and 1 % (rotor 0.31 % and 2.7 %), until the
 // encoder checked its map and placed such faces flat or made the base mesh finer there (format 4):
 // anchor 0.023 % / 0.57 %, rotor 0.018 % / 0.31 %, no decoded edge longer than the input's.
-TEST_CASE("The round trips of CAD parts meet the issue's bounds", "[decode_sdm]") {
+TEST_CASE("The round trips of CAD parts meet the bounds of 0.05 % and 1 %", "[decode_sdm]") {
   for (const char* name : {"anchor_dense.off", "rotor.off"}) {
     const std::string path = faust::humans_dir() + "/../cgal/" + name;
     if (!std::ifstream(path).good()) {

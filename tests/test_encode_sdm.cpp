@@ -175,7 +175,7 @@ TEST_CASE("Capsule and cylinder round trip at 512 within 0.05 percent RMS", "[en
 
 TEST_CASE("No base mesh edge is longer than 8 times the input's longest (level 3 keeps the input's edges)", "[encode_sdm]") {
   // Quadric decimation ran base faces 1.7 long along the crossed cylinders' flat tubes, 14 times the
-  // input's longest edge (issue 17).
+  // input's longest edge.
   const Mesh mesh = make_primitive("crossed-cylinders");
   double longest = 0;
   for (auto e : mesh.edges()) longest = std::max(longest, double(mesh.calc_edge_length(e)));
@@ -227,7 +227,7 @@ TEST_CASE("A large mesh's base mesh (multiple-choice collapses first) is closed,
 // a top base face that misses the top meets the bottom 0.06 away, well within the face's reach
 // (0.7): BaseRegions must refuse the bottom's faces to the top's base faces and accept the top's.
 // (On CAD parts such crossings made the encoder put points on the plates' other sides: anchor_dense
-// RMS 0.305 -> 0.132 %, Hausdorff 4.29 -> 2.60 % once refused; BENCHMARKS.)
+// RMS 0.305 -> 0.132 %, Hausdorff 4.29 -> 2.60 % once refused; DESIGN 6.4.)
 TEST_CASE("BaseRegions: a base face takes crossings on its own side of a thin plate only", "[encode_sdm]") {
   Mesh box;
   std::vector<Mesh::VertexHandle> v;

@@ -295,7 +295,7 @@ TEST_CASE("real meshes: cycles equal genus and every sample inside and no branch
   }
 }
 
-TEST_CASE("Two small tunnels through a thick bar: one cycle each, every sample inside (issue 17)", "[skeleton]") {
+TEST_CASE("Two small tunnels through a thick bar: one cycle each, every sample inside", "[skeleton]") {
   // Each tunnel's radius (0.15) is under a fifth of the bar's thickness (1.6).
   const sdm::Mesh m = sdm::make_primitive("two-tunnels");
   const sdm::Skeleton s = sdm::extract_skeleton(m);
@@ -305,11 +305,11 @@ TEST_CASE("Two small tunnels through a thick bar: one cycle each, every sample i
   CHECK(outside_samples(s, m) == 0);
 }
 
-TEST_CASE("The contraction converges on every closed mesh of ../shared/models (issue 17)", "[skeleton]") {
+TEST_CASE("The contraction converges on every closed mesh of ../shared/models", "[skeleton]") {
   // With the cotangents clamped at 1e4 and alone, the area ratio stalled at 0.16-0.54 on the bodies
   // and at 0.017 on bunny00; with vertices pinned once their one-ring had shrunk by 1e8, the FAUST
   // bodies stopped at 3.0-3.9e-4 (the torso's sheet held by its pinned rim) and the double torus,
-  // stopped for stagnation under 1e-3, at 9.1e-4. The issue asks 1e-4; measured now: 6e-7 or less.
+  // stopped for stagnation under 1e-3, at 9.1e-4. The target is 1e-4; measured now: 6e-7 or less.
   const std::vector<test_util::SharedMesh> meshes = test_util::closed_shared_meshes();
   if (meshes.empty()) WARN("no meshes in ../shared/models: skipped");
   for (const auto& sm : meshes) {

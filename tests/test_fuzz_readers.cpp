@@ -1,4 +1,4 @@
-// Bounded mutation fuzzing of every reader (issue 15): small valid seeds (a tetrahedron in each
+// Bounded mutation fuzzing of every reader: small valid seeds (a tetrahedron in each
 // mesh format, a capsule's skeleton, layout and SDM header) are mutated (tokens replaced by hostile
 // values, lines dropped or repeated, files cut short, bytes flipped, JSON leaves replaced or
 // removed) and fed to the readers and the stage that consumes them, in-process. A reader may

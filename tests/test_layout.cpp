@@ -341,16 +341,16 @@ TEST_CASE("layout: the paper's shapes and Spot with extracted skeletons cover th
     sdm::LayoutOptions o;  // 1024^2, margin 4
     const auto L = sdm::compute_layout(mesh, sk, o);
     const auto c = sdm::stm_coordinates(mesh, L);
-    // Printed for every shape: the figures the issue asks for.
+    // Printed for every shape: the figures of Table II (docs/BENCHMARKS.md).
     std::printf("layout %-18s edges %2zu segments %2zu coverage %.3f (inner %.3f) L2 stretch %.3f\n", name.c_str(), sk.edges.size(),
                 L.segments.size(), L.coverage, L.coverage_inner, c.stretch);
     INFO(name << ": coverage " << L.coverage << " stretch " << c.stretch);
-    CHECK(L.coverage >= std::max(0.95, paper));  // issue 17: 95 % on the paper's shapes
+    CHECK(L.coverage >= std::max(0.95, paper));  // 95 % on the paper's shapes (Table II)
     CHECK(L.coverage <= 1.0);
     check_packing(L);
     CHECK(c.stretch >= 1.0);
     // Spot's head is one junction with six short limbs (horns, ears, snout, neck): 1.93 before the
-    // assignment's second pass, 1.19 now; issue 17 asks 2 for every layout.
+    // assignment's second pass, 1.19 now; the bound is 2 for every layout.
     CHECK(c.stretch < (name == "spot" ? 2.0 : 1.5));
     // Every vertex lies inside the rectangle of each segment that maps it.
     for (auto f : mesh.faces()) {
@@ -406,10 +406,10 @@ std::pair<double, double> stretch_and_p99(const sdm::Mesh& m) {
 
 }  // namespace
 
-TEST_CASE("layout stretch of every closed mesh of ../shared/models is bounded (issue 17)", "[layout]") {
+TEST_CASE("layout stretch of every closed mesh of ../shared/models is bounded", "[layout]") {
   // Before the assignment's second pass the L2 stretch was over 2 on bunny00 (14.0), the CAD parts
   // (6.0, 16.1) and every body (3.3-20.9): a few faces folded or mapped almost flat under their
-  // segment's rectangle. Issue 17 asks L2 <= 2 and p99 <= 4; bunny00's and anchor_dense's p99 were
+  // segment's rectangle. The bounds are L2 <= 2 and p99 <= 4; bunny00's and anchor_dense's p99 were
   // 4.83 and 4.21 with the second pass alone (faces past a joint folded by every cap), 3.82 and 3.80
   // with the capsules extended at such joints (assign_faces, segments.h).
   const std::vector<test_util::SharedMesh> meshes = test_util::closed_shared_meshes();

@@ -58,7 +58,7 @@ Measured measure(const std::string& name, const sdm::Mesh& a, const sdm::Skeleto
 // 22 %). 007 -> 024 turned and scaled, and 024 -> 007 with the arm bent, pass since 2026-11-26 (the
 // extraction still changes under a 1e-7 relative perturbation of the coordinates: DESIGN 6; where
 // the error is: [faust_measure] with SDM_MEASURE_PARTS, SDM_MEASURE_COLOURS=PREFIX,
-// SDM_MEASURE_ROTATIONS). The issue asks 1 %, 2.5 % and
+// SDM_MEASURE_ROTATIONS). The target is 1 %, 2.5 % and
 // 1 %: the thresholds hold what is reached, with a margin (before register_bodies, the transfer
 // matched the extracted skeletons and put 007 -> 024 6.4 % off, 024 -> 007 19.2 %).
 TEST_CASE("register_bodies: FAUST 007 onto 024 from the extracted skeletons", "[register_bodies]") {
@@ -216,7 +216,7 @@ TEST_CASE("register_bodies: candidate matches against the FAUST ground truth", "
 }
 
 
-// The four FAUST pairs of the issue in one run, with where the error is (hidden: run with
+// The FAUST ground-truth pairs in one run, with where the error is (hidden: run with
 // [faust_measure]; DESIGN 6 and BENCHMARKS quote it).
 TEST_CASE("register_bodies: FAUST pairs measured", "[.][faust_measure]") {
   if (!faust::have("tr_reg_007.off") || !faust::have("tr_reg_024.off")) return;
@@ -300,7 +300,7 @@ std::vector<int> ends_nearest(const sdm::Mesh& mesh, const sdm::Skeleton& s, con
 
 }  // namespace
 
-// The places where the limbs meet the torso (BodyRegistration::attachment, DESIGN 6 session 19) see
+// The places where the limbs meet the torso (BodyRegistration::attachment, DESIGN 6.5) see
 // a match that crosses one pair of limbs and keeps the others, which twist and fit barely do: 007 ->
 // 024 with the hands pinned crossed and the head and feet pinned straight lays them further apart
 // than with every end pinned straight (which end is which from SMPL's vertex ids: the top of the

@@ -1,4 +1,4 @@
-// Texture transfer between different bodies as a user runs it (issue 18's band test): the source
+// Texture transfer between different bodies as a user runs it (the band test): the source
 // is written as a PLY whose vertex colours paint five bands (head, left hand, right hand, left
 // foot, right foot: geodesic balls around annotated landmark vertices), `sdm transfer` carries
 // them onto another body (--vertex-colors), and on the target each band must lie on the same part
@@ -14,7 +14,7 @@
 // heads at the top of the head on the symmetry plane (the crown: both lie along z, head up).
 // A part is the surface within 1.6 band radii of its landmark (along edges), except the gorilla's
 // head: its muzzle juts forward and down from the crown, its front 0.16-0.19 of the diagonal away
-// along the surface though 0.09-0.13 in space (session 17: the 62 vertices of the man's head band
+// along the surface though 0.09-0.13 in space (the 62 vertices of the man's head band
 // that fell outside 0.16 lay there, on the face's symmetry plane), so its head part reaches 0.19.
 #include "test_util.h"
 #include "faust_pairs.h"
@@ -216,7 +216,7 @@ void check_parts(const Body& src, const Body& tgt) {
 }  // namespace
 
 // From the files' own coordinates (an OBJ as written by a user's tool), FAUST 024 and the TOSCA man
-// crossed their hands either way (session 19): the candidate that turned parts least crossed the
+// crossed their hands either way under the rule before the candidate score: the candidate that turned parts least crossed the
 // hands, its limbs meeting the torso 1.9 times as far apart as the right match's, which turned
 // parts 10 % more. The score weighs the three measures together now (choose_candidate).
 TEST_CASE("sdm transfer: FAUST 024 and the TOSCA man keep left and right from the files' own coordinates", "[transfer_bands]") {
@@ -279,12 +279,11 @@ TEST_CASE("sdm transfer: head, hands and feet land on head, hands and feet, FAUS
   check_bands(kBodies[1], kBodies[4]);
 }
 
-// The TOSCA man onto FAUST 007 crossed the hands silently (session 18): its right match changed the
+// The TOSCA man onto FAUST 007 crossed the hands silently under an older rule: its right match changed the
 // distances between the extremities most, as 007's raised foot touches its other knee and the foot's
 // tip landed there, and was left out before twist and fit were compared. The raised foot's band
-// spilled onto the knee it touches (79.5 % on the foot in session 18, 89.1 % once the target's points
-// took faces facing their way, session 23); since the correspondence's islands are mended (session
-// 24, mend_islands) every band lands on its part, as from the gorilla and FAUST 085 (82.9 and 85.0 %
+// spilled onto the knee it touches (79.5 % on the foot at first, 89.1 % once the target's points
+// took faces facing their way); since the correspondence's islands are mended (mend_islands) every band lands on its part, as from the gorilla and FAUST 085 (82.9 and 85.0 %
 // before).
 TEST_CASE("sdm transfer: the TOSCA man, the gorilla and FAUST 085 onto FAUST 007 keep the raised foot", "[transfer_bands]") {
   for (const Body* src : {&kBodies[4], &kBodies[3], &kBodies[2]}) {
@@ -303,7 +302,7 @@ TEST_CASE("sdm transfer: the TOSCA man, the gorilla and FAUST 085 onto FAUST 007
 // The TOSCA man onto FAUST 024: both skeletons fork a foot and the man's head slides to another
 // junction, so every candidate pairs limbs with other limbs (the attachments 9.1 % apart) while
 // the non-rigid fit still lays the surfaces 0.5 % apart. Right or refused, never the scramble it wrote.
-// Since session 24 the refusal first tries the models' other extraction candidates: with 024's
+// The refusal now first tries the models' other extraction candidates: with 024's
 // contraction skeleton every band lands on its part (100 %).
 TEST_CASE("sdm transfer: limbs matched to other limbs are refused, not written", "[transfer_bands]") {
   if (!faust::have(kBodies[4].file) || !faust::have(kBodies[1].file)) return;
@@ -314,7 +313,7 @@ TEST_CASE("sdm transfer: limbs matched to other limbs are refused, not written",
 // medial skeleton joins head, arms and legs within 0.5 % of its length, and the reduction slid 085's
 // head to its hips to agree with it, pairing legs with arms. No skeleton is slid to agree with one
 // whose junctions nearly coincide (common_branching), and the gorilla's other candidate was then
-// refused (limbs meeting the torso 5.7 % apart: session 24). Since session 25 every pair of the two
+// refused (limbs meeting the torso 5.7 % apart). Now every pair of the two
 // models' candidates is registered and the closest fit kept: both other candidates (0.292 % RMS,
 // attachments 3.0 % apart) lay every band on its part (95.1 % for the worst, measured).
 TEST_CASE("sdm transfer: FAUST 085 onto the TOSCA gorilla takes the pair of candidates that fits", "[transfer_bands]") {
@@ -350,7 +349,7 @@ TEST_CASE("sdm bench --transfer registers all three pairs", "[transfer_bands]") 
 
 // The other directions, measured (hidden: run with [bands_measure]); see docs/BENCHMARKS.md.
 TEST_CASE("band transfer on the other pairs, measured", "[.][bands_measure]") {
-  // ... and across the data sets: the TOSCA man and FAUST 007 (session 18).
+  // ... and across the data sets: the TOSCA man and FAUST 007.
   for (auto [s, t] : {std::pair<int, int>{2, 0}, {1, 2}, {2, 1}, {4, 0}, {0, 4}}) {
     if (!faust::have(kBodies[s].file) || !faust::have(kBodies[t].file)) continue;
     const Bands r = transfer_bands(kBodies[s], kBodies[t]);
@@ -466,8 +465,8 @@ TEST_CASE("band transfer with the target written otherwise or moved, measured", 
 }
 
 // Every ordered pair of the five bodies (hidden: run with [bands_all]), each with its candidate
-// matches' measures as `sdm transfer` reports them (session 19: the table DESIGN 6 chose the
-// candidate score by).
+// matches' measures as `sdm transfer` reports them (the measures DESIGN 6.5 chose the candidate
+// score by).
 TEST_CASE("band transfer on every pair of the five bodies, with the candidates, measured", "[.][bands_all]") {
   for (int s = 0; s < 5; ++s)
     for (int t = 0; t < 5; ++t) {

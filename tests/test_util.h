@@ -27,7 +27,7 @@ struct TempDir {
   std::string operator/(const std::string& name) const { return (path / name).string(); }
 };
 
-// The closed meshes of ../shared/models (what issue 17 measures on), with their genus (the CGAL
+// The closed meshes of ../shared/models (what the round trips and layouts are measured on), with their genus (the CGAL
 // meshes' README); only those this checkout has (the tests skip, with a warning, when none).
 struct SharedMesh {
   std::string name, path;

@@ -58,7 +58,7 @@ class ModSkeletonNodesT : public OpenMesh::Decimater::ModBaseT<MeshT> {
 
 // Forbids collapses that would make an edge longer than a limit. The decoder's default level cuts
 // every base edge into 8, so base edges up to 8 times the input's longest edge decode to pieces no
-// longer than the input's longest on the flat face (issue 17: quadric decimation of the paper's
+// longer than the input's longest on the flat face (quadric decimation of the paper's
 // crossed cylinders ran base faces 1.7 long along the flat tubes, and level 3 left edges of 0.22
 // where the input's longest is 0.12). The limit is 7 times: the surface bulges out of a flat face,
 // and its decoded pieces are longer than the flat ones (at 8 times, with the decoder's rays through
@@ -81,7 +81,7 @@ class ModMaxEdgeLengthT : public OpenMesh::Decimater::ModBaseT<MeshT> {
   double max_sq_ = INFINITY;
 };
 
-// Keeps an open mesh's boundary loops where they are (issue 16): a boundary vertex may only move
+// Keeps an open mesh's boundary loops where they are: a boundary vertex may only move
 // along its loop, onto a neighbour on the loop, and only when the loop's new edge passes within
 // `tolerance` of it. The decoder places points of a base boundary edge on the rays through the
 // flat edge, so the distance between the base loop and the input's is the error at the holes.
@@ -253,8 +253,8 @@ double needle_share(const Mesh& mesh) {
 // input face. Decimating the needles themselves kept base faces the length of the part (a prism with
 // 3000-gon caps: RMS 1.2 % at level 3, against 0.007 % from the remesh). A large closed mesh is
 // remeshed because collapsing its own vertices one by one is the encode's cost: 449k vertices, encode
-// stage 11.0-12.6 -> 6.9-7.4 s, the map's check at level 3 RMS 0.0067 -> 0.0074 % (BENCHMARKS
-// "Large meshes and CGAL", session 14).
+// stage 11.0-12.6 -> 6.9-7.4 s, the map's check at level 3 RMS 0.0067 -> 0.0074 % (DESIGN 6.4,
+// "Encoding large meshes").
 constexpr int kRemeshSourceFrom = 100000;
 
 struct BaseSource {
@@ -295,11 +295,11 @@ constexpr double kBoundaryTolerance = 0.002;
 // no heap; 2 candidates while over 4 times that size, where every edge is far shorter than the
 // base mesh's, then OpenMesh's 10) down to kMultipleChoiceFactor times the target, and the greedy
 // heap finishes. The heap alone re-checks every neighbour's collapses after each collapse: 523k
-// vertices to 4000 took 33 s of a 1024 encode's 37 s; now 8.3-10.8 s (BENCHMARKS "Large meshes
-// through the pipeline"), the round trip as close (RMS 0.0156 -> 0.0142 %). From 20k vertices down
+// vertices to 4000 took 33 s of a 1024 encode's 37 s; now 8.3-10.8 s (DESIGN 6.4,
+// "Encoding large meshes"), the round trip as close (RMS 0.0156 -> 0.0142 %). From 20k vertices down
 // to 3 times the target (was: from 100k, to 8 times): the 29,686-vertex bunny's encode 3.2 -> 2.7 s,
 // RMS 0.0072 -> 0.0070 %, Hausdorff 0.236 -> 0.246 % (bunny00: 0.0065 / 0.212 -> 0.0066 / 0.235 %),
-// the map 1-2 % larger (session 15, with the encoder's check of its map). Smaller meshes keep the
+// the map 1-2 % larger (measured with the encoder's check of its map). Smaller meshes keep the
 // heap alone.
 constexpr int kMultipleChoiceFrom = 20000;
 constexpr int kMultipleChoiceFactor = 3;

@@ -280,7 +280,7 @@ FaceErrors decoded_errors(const SdmImage& im, const TriangleBvh& input, double l
     double& e = err.distance[size_t(i < nv ? out.point_face[size_t(i)] : out.triangle_face[size_t(i - nv)])];
     e = std::max(e, d[size_t(i)]);
   }
-  // Issue 17 asks no decoded edge longer than the input's longest.
+  // The bound: no decoded edge longer than the input's longest.
   for (int t = 0; t < nt; ++t)
     for (int k = 0; k < 3; ++k)
       if ((P[size_t(T(t, k))] - P[size_t(T(t, (k + 1) % 3))]).norm() > longest) err.long_edge[size_t(out.triangle_face[size_t(t)])] = 1;

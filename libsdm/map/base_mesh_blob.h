@@ -1,5 +1,5 @@
 #pragma once
-// The base mesh of an SDM header in binary (format version 3, issue 14). The JSON object that
+// The base mesh of an SDM header in binary (format version 3). The JSON object that
 // base_mesh_to_json writes ("triangles", "face_segment", "corner_uv", "corner_d") printed 17
 // digits per number: Spot's took 196 KB, over the whole 150 KB a compact map may take. Here each
 // distinct corner record (vertex, u, v, d) is stored once (the corners of one vertex in one segment

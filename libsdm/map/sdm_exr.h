@@ -4,12 +4,12 @@
 // own segment, plus optional vector channels. The layout JSON (skeleton, frames, rectangles)
 // travels in the header, so a decoder needs nothing else.
 //
-// Format version 2 (issue 14) names the channels so that image tools show the map: the displacement
+// Format version 2 names the channels so that image tools show the map: the displacement
 // is the luminance channel "Y" and the mask the alpha channel "A" (an RGBA reader, a thumbnailer or
 // Blender shows a grey image of D where the surface is; version 1's "D" and "A" sort to "A, D" and
 // showed black), the vector channels are the layer "vector.X/Y/Z". Version 1 files still read.
 //
-// Format version 3 (issue 14: compact maps) keeps the channels and adds: the base mesh in binary
+// Format version 3 (compact maps) keeps the channels and adds: the base mesh in binary
 // (attribute "sdm_base_mesh": CBOR, deflated, with the displacement of every corner, so the decoder
 // places corners exactly); texels no base face reads written as 0 (D and A), so compression removes
 // them; and a quantised precision: Y holds the displacement's residual against the decoder's own
@@ -22,7 +22,7 @@
 
 namespace sdm {
 
-// Format version 4 (issue 17) adds the base mesh's flat faces (base_mesh.h), which a reader of
+// Format version 4 adds the base mesh's flat faces (base_mesh.h), which a reader of
 // version 3 would decode on their rays; a map without them is still written as version 3.
 constexpr int kSdmFormatVersion = 4;
 

@@ -22,7 +22,7 @@ namespace sdm {
 // index, so the result is deterministic. Normals are made outward per connected part
 // (face_orientation). Throws InputError when the skeleton has no edge, vertex_node does not match
 // the mesh, or a face has no segment in reach.
-// A second pass (issue 17) then looks again at every face that its segment, mapping it with the
+// A second pass then looks again at every face that its segment, mapping it with the
 // segment's radius (segment_geometry of the first pass: what the layout's rectangle uses), folds
 // over or stretches by 2 or more: such a face goes to whichever segment at a node within two
 // skeleton edges of its nodes maps it with the least stretch, a folded map counting twice its
@@ -33,11 +33,11 @@ namespace sdm {
 // Where the second pass still leaves a face past a joint (a node of degree 2 or more) folded over
 // by its segment's cap with a stretch of 2 or more, every segment end at that joint is *extended*:
 // its capsule runs on as a cylinder for kCapExtension radii before the cap starts, and the second
-// pass runs again with those capsules (issue 17). The paper's cap is a hemisphere about the node;
+// pass runs again with those capsules. The paper's cap is a hemisphere about the node;
 // at a bend or where a fat part narrows, the faces around a joint lie beyond both segments' ends and
 // face the node, so every cap folds them (bunny00: 62 % of the faces in the top 1 % of stretch), and
 // a cylinder that runs on maps them the right way round. An extension lengthens the rectangle, so
-// only joints with such faces get one (DESIGN 6: all joints cost 22-26 % of the texels per unit
+// only joints with such faces get one (DESIGN 6.3: all joints cost 22-26 % of the texels per unit
 // length on the paper's shapes, which need none).
 // `extensions_used`, when given, receives the extensions (per edge, in radii at edges[e][0] and
 // edges[e][1]; all 0 when no joint needed one).

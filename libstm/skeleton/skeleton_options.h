@@ -16,7 +16,7 @@ inline ContractOptions uniform_contraction() {
   return o;
 }
 
-// The contraction of a part's isotropic proxy (issue 17): cotangent weights as Au et al., clamped at
+// The contraction of a part's isotropic proxy: cotangent weights as Au et al., clamped at
 // 5 (angles above 11 degrees), with the uniform Laplacian added, W_L growing without a practical cap
 // and all 20 iterations run. With the clamp at 1e4 and the cotangents alone, the near-degenerate
 // triangles of the contracting shape got weights in the thousands, the area grew again from the

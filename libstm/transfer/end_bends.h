@@ -1,5 +1,5 @@
 #pragma once
-// Front and back from the ends of two skeletons on one graph (issue 18). A foot bends forward at
+// Front and back from the ends of two skeletons on one graph. A foot bends forward at
 // the ankle, whichever way the leg points, so the ends of a body bend the same way relative to its
 // core on two models matched the right way round, and the other way on a match with left and right
 // swapped: that match can only be laid by turning the core half around (front for back), and its

@@ -45,18 +45,18 @@ constexpr int kCandidateFactor = 4;
 // turns parts as little or less (FAUST 024 -> TOSCA man from the OFF coordinates: 10 % less) but
 // lays the places where the limbs meet the torso 1.4-1.9 times as far apart, while between a mirror
 // and the right match the attachments differ by chance (as much as 1.42 times), so they weigh least.
-// Measured (session 20, DESIGN 6) on the 20 ordered pairs of the five shared bodies written four
+// Measured (DESIGN 6.5, "One score for the candidates") on the 20 ordered pairs of the five shared bodies written four
 // ways (the source as float PLY and as the OFF's own digits; the source, or the target, moved by
 // 1e-7 of the diagonal) with every candidate forced in turn and checked against landmarks: the least
 // score is right in 58 of the 63 runs where a candidate is right, each at least 3.7 % below every
-// candidate that maps the ends otherwise (session 19's rule: 54 right; powers 1 and 1/2: 58, margins
+// candidate that maps the ends otherwise (the rule before, below: 54 right; powers 1 and 1/2: 58, margins
 // down to 0.8 %; 1 and 1: 57). Of the five left, one is within kScoreTie (refused) and four are
 // mirrors that twist and fit favour by 13-40 %.
 double candidate_score(const BodyRegistration& r, size_t i) {
   return r.candidate_twist[i] * std::pow(r.candidate_rms[i], 0.75) * std::sqrt(std::max(r.candidate_attachment[i], 1e-3));
 }
 
-// The candidate register_bodies keeps: the least score. Up to session 19 the least twist, unless a
+// The candidate register_bodies keeps: the least score. Before the score, the least twist, unless a
 // closer fit within 7 % of its twist and 1.3 times its attachment misfit: it crossed the hands of
 // FAUST 024 and the TOSCA man (either way) read from their OFF files, the least twist there being a
 // crossing whose attachments lay 1.9 times as far apart.
@@ -250,7 +250,7 @@ std::vector<int> end_chain_of(const SharedSkeletons& sh) {
 // A candidate of exchanged_branches takes those of the first candidate without exchanged branches,
 // so that it differs only in which ends it pairs: its own resampling runs its first edges across
 // the torso and hands chest vertices to an arm (measured on it, the right match's attachments lay
-// 4.3 % apart and a mirror's 2.5 %: jittered FAUST 007 -> 024, session 19).
+// 4.3 % apart and a mirror's 2.5 %: jittered FAUST 007 -> 024).
 struct EndAttachments {
   std::map<int, Eigen::Vector3d> a, b;
 };

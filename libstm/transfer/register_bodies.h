@@ -1,7 +1,7 @@
 #pragma once
 // The source bent onto a target of another body with the same skeleton branching (another person,
 // the same person in another pose, an animal of the same kind): the correspondence behind texture
-// transfer between different models (paper 1 and 5; issue 18). Both extracted skeletons are reduced
+// transfer between different models (paper 1 and 5). Both extracted skeletons are reduced
 // to their common branching, and every candidate match of them (match_candidates: which limb is
 // left and which right, which side is the front, only the surfaces tell) drives a short articulated
 // registration of the source onto the target (articulated_registration: per-node rigid motions, the

@@ -1,5 +1,5 @@
 #pragma once
-// Shared by the libFuzzer targets (issue 15; `make fuzz`): each target writes the fuzzer's bytes
+// Shared by the libFuzzer targets (`make fuzz`): each target writes the fuzzer's bytes
 // to a file, as a user's input arrives, and runs the reader and the stage that consumes its result.
 // InputError is a correct answer to any input; any other exception aborts, so libFuzzer reports
 // it with the input that caused it, as it does a crash, a sanitizer report, a leak, a timeout or an

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# The installed package works for a project outside the tree (issue 14): `cmake --install` into a
+# The installed package works for a project outside the tree: `cmake --install` into a
 # fresh prefix, then a consumer configured with find_package(sdm) and one built from pkg-config
 # alone, each built and run (consumer/main.cpp checks its decoded capsule against the analytic one).
 # Usage: check_install.sh BUILD_DIR
