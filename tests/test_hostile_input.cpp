@@ -1,4 +1,4 @@
-// Hostile and odd input (issue 15): crafted mesh headers, companion files (layout, skeleton, SDM
+// Hostile and odd input: crafted mesh headers, companion files (layout, skeleton, SDM
 // header) and outputs. Every case is refused by name with exit code 2 (1 for a failing disk),
 // within a small memory limit, and leaves no file behind. The inputs are made here, small.
 #include "libsdm/map/sdm_exr.h"
@@ -373,12 +373,18 @@ TEST_CASE("A speck beside the model is named with its size and place, and --min-
   const auto larger = run_sdm("stm " + speck + " --size 2048 -o " + out);
   INFO(larger.output);
   CHECK(larger.exit_code == 0);
-  // A scan's stray triangle: flat, so validation refuses it (no volume); --min-part drops it first.
+  // A scan's stray triangle: flat, so validation refuses it as it is (no volume); repair drops it
+  // and names it (a fragment far smaller than the model), and --min-part drops it first.
   const std::string stray = cap.dir / "stray.obj";
   const size_t tetra = faces.find("f " + std::to_string(nv + 1) + " ");  // the speck's first face
   REQUIRE(tetra != std::string::npos);
   write_file(stray, vertices + faces.substr(0, faces.find('\n', tetra) + 1));  // the capsule and that face
-  const auto flat = run_sdm("stm " + stray + " -o " + out);
+  const auto repaired = run_sdm("stm " + stray + " -o " + out + " --json");
+  INFO(repaired.output);
+  CHECK(repaired.exit_code == 0);
+  CHECK(repaired.output.find("repaired: 1 faces dropped: small parts beside the model") != std::string::npos);
+  CHECK(repaired.output.find("\"repair\"") != std::string::npos);
+  const auto flat = run_sdm("stm " + stray + " --no-repair -o " + out);
   expect_refused(flat, "parts enclosing no volume");
   // The refusal names the --min-part that drops the speck and keeps the capsule; that value works.
   const std::string hint = "drop it with --min-part ";

@@ -1,4 +1,4 @@
-// Open meshes go through the pipeline (issue 16): the skeleton is extracted with the holes filled,
+// Open meshes go through the pipeline: the skeleton is extracted with the holes filled,
 // the output keeps the holes (same number of boundary loops), `--fill-holes` closes them instead.
 // Inputs: a capsule with a hole cut into each cap and one into its side (three loops; the analytic
 // surface x^2 + y^2 = 1, |z| <= 1, with hemispheres, tells whether the skeleton lies inside), and
@@ -23,7 +23,7 @@
 
 // Measured 2026-11-26 (Release): the open capsule at 512, level 3, RMS 0.0039 % and Hausdorff
 // 0.10 % of the diagonal; the CAD part at 1024 RMS 0.060 % and Hausdorff 2.5 % (its sharp edges, as
-// on the closed CAD parts: issue 17). The thresholds hold these with a margin.
+// on the closed CAD parts). The thresholds hold these with a margin.
 constexpr double kOpenRms = 0.0002, kOpenHausdorff = 0.005, kSharkRms = 0.001, kSharkHausdorff = 0.04;
 
 namespace {
@@ -183,7 +183,7 @@ std::pair<double, double> correspondence_error(const sdm::Mesh& source, const st
 // source's, so 007 is carried and 024 registered as another body. Measured 2026-11-26: carried
 // 0.002 % mean; registered 2.86 %, p90 6.1 % (the closed 024: 2.04 %, 4.2 %; the same holes with the
 // vertices numbered otherwise gave 2.03-2.93 %: the extraction still depends on the vertex order,
-// DESIGN 6). The thresholds hold today's accuracy between bodies, not the issue's 1 %.
+// DESIGN 6). The thresholds hold today's accuracy between bodies.
 TEST_CASE("sdm transfer onto FAUST bodies with holes", "[open_mesh]") {
   if (!faust::have("tr_reg_007.off") || !faust::have("tr_reg_024.off")) {
     WARN("no FAUST meshes at " << faust::humans_dir() << ": skipped");
@@ -220,12 +220,12 @@ TEST_CASE("sdm transfer onto FAUST bodies with holes", "[open_mesh]") {
 }
 
 // A scan-like stand-in: bunny00 of ../shared with five holes (3 % of the diagonal around five spread
-// vertices), through the whole command at the issue's setting (map 1024, level 3). Measured
+// vertices), through the whole command at the round-trip table's setting (map 1024, level 3). Measured
 // 2026-11-26: RMS 0.0166 %, Hausdorff 0.76 % (the closed bunny00: 0.015 %, 0.76 %), 5 loops out;
 // skeleton without cycles or edges outside. The same mesh with its vertices numbered in the order
 // the faces use them gave 0.022 % and 1.68 %, written with 9 digits 0.0167 % and 0.885 %: the
-// outcome still depends on the numbering and the last digits (issue 17).
-TEST_CASE("bunny00 with five holes round-trips within the issue's bounds with its five loops", "[open_mesh]") {
+// outcome still depends on the numbering and the last digits.
+TEST_CASE("bunny00 with five holes round-trips within the real meshes' bounds with its five loops", "[open_mesh]") {
   const std::string path = faust::humans_dir() + "/../cgal/bunny00.off";
   if (!std::filesystem::exists(path)) {
     WARN("no " << path << ": skipped");

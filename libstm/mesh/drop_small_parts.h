@@ -1,5 +1,5 @@
 #pragma once
-// Dropping specks (issue 15): a tiny separate part beside a model (a stray tetrahedron 1e-3 of its
+// Dropping specks: a tiny separate part beside a model (a stray tetrahedron 1e-3 of its
 // size) gets a rectangle too small for any texel of the atlas, so the layout refuses the whole
 // model. `--min-part F` drops such parts as the file is loaded, and says what it dropped.
 #include "libstm/mesh/mesh.h"

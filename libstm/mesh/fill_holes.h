@@ -1,5 +1,5 @@
 #pragma once
-// Closing the holes of an open mesh (issue 16): scans and cut models have boundary loops, and the
+// Closing the holes of an open mesh: scans and cut models have boundary loops, and the
 // skeleton's contraction and inside tests need a surface that bounds a volume. Each loop gets a
 // patch of concentric rings of triangles with edges about as long as the loop's own, whose inner
 // vertices are then placed by a membrane fairing (uniform Laplacian = 0, the loop held; Liepa 2003,

@@ -99,7 +99,7 @@ ImplicitShape crossed_cylinders_shape() {
 
 // A thick bar along x (radius 0.8, length 3.2, ends rounded) with two small round tunnels through
 // it along y (radius 0.15, at x = -0.7 and 0.7), their rims rounded: genus 2, each tunnel under a
-// fifth of the bar's thickness (issue 17: a bone with two small tunnels got a skeleton without cycles).
+// fifth of the bar's thickness (a bone with two small tunnels must keep a skeleton cycle per tunnel).
 ImplicitShape two_tunnels_shape() {
   auto f = [](const Vec& p) {
     const double bar = rounded_cylinder_sdf(p, Vec::Zero(), 0, 0.8, 1.6, 0.2);

@@ -25,7 +25,7 @@ namespace sdm {
 //                                      (total length 4). Every vertex lies on that surface.
 //   two-tunnels        [4000, genus 2] a thick bar along x (radius 0.8, length 3.2, ends rounded)
 //                                      with two small tunnels along y (radius 0.15, at x = +-0.7):
-//                                      the skeleton must keep one cycle per tunnel (issue 17).
+//                                      the skeleton must keep one cycle per tunnel.
 // The blended shapes are smooth implicit surfaces (smooth unions of distance fields), polygonised
 // and isotropically remeshed, their vertices projected onto the implicit surface; the donut,
 // cylinder and capsule are surfaces of revolution sampled exactly.

@@ -1,5 +1,5 @@
 #pragma once
-// Fast readers for the plain majority of text meshes (issue 16: OpenMesh's OBJ reader, then the
+// Fast readers for the plain majority of text meshes (OpenMesh's OBJ reader, then the
 // double-precision rescan of the coordinates, took 2.3 s for a 523k-vertex OBJ). They parse with
 // std::from_chars over the whole file in memory and take only what the pipeline reads from such
 // files: positions and polygons. Anything else (OBJ uv, materials, vertex colours, a fourth

@@ -1,5 +1,5 @@
 #pragma once
-// Self-intersections of a triangle mesh (issue 15): a Spot whose head is pushed through its body
+// Self-intersections of a triangle mesh: a Spot whose head is pushed through its body
 // encoded silently to 1.2 % RMS, because a displacement map holds one surface per ray and the two
 // sheets inside each other cannot both be carried. The encoder names such input instead.
 //

@@ -25,8 +25,8 @@ struct SurfaceDistance {
 // the RMS and mean are over the area-uniform samples only.
 SurfaceDistance surface_distance(const Mesh& a, const Mesh& b, int samples = 100000);
 
-// How much of a reference surface another one carries (the quality gate of encode and roundtrip,
-// issue 15): every vertex of `reference`, weighted by its area (a third of its faces'), measured
+// How much of a reference surface another one carries (the quality gate of encode and
+// roundtrip): every vertex of `reference`, weighted by its area (a third of its faces'), measured
 // against the triangles of `carrier`.
 struct SurfaceCoverage {
   double share = 0;      // area share of the reference's vertices within `tolerance` of the carrier

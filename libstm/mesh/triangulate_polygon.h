@@ -1,5 +1,5 @@
 #pragma once
-// Triangulating one polygon of an input file (issue 15). A fan from the first corner gives a
+// Triangulating one polygon of an input file. A fan from the first corner gives a
 // 1000-gon cap one vertex of valence 1000 and 998 needles: the base mesh's decimation checks every
 // collapse around that vertex against all its faces (57 s to encode a prism with 1000-gon caps,
 // more than 120 s at 3000), and a fan of a non-convex polygon folds triangles over each other.

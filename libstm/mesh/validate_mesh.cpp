@@ -352,7 +352,7 @@ double speck_fraction(double largest_flat, double largest_solid, double whole) {
 
 // A part whose signed volume is nought (its holes capped) is flat (both sides of one sheet, folded
 // onto itself, or an open sheet): no capsule sees its surface from inside, and an encode of it is
-// garbage with a success code (issue 15: 0 % of texels on their own surface). Relative to the
+// garbage with a success code (0 % of texels on their own surface). Relative to the
 // part's own bounding box, so that it holds at any scale. Only for usable input.
 void check_volumes(const MeshSoup& soup, const std::vector<char>& face_ok, const EdgeTable& t, MeshReport& r) {
   if (!r.usable() || r.parts == 0) return;
