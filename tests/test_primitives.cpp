@@ -33,7 +33,8 @@ struct Expected {
 };
 const std::map<std::string, Expected> kExpected = {
     {"ypsilon", {0, 480}},           {"bottle", {1, 1530}},  {"donut", {1, 1728}}, {"triple-torus", {3, 2256}},
-    {"crossed-cylinders", {0, 3660}}, {"cylinder", {0, 1200}}, {"capsule", {0, 1200}}, {"two-tunnels", {2, 4000}}};
+    {"crossed-cylinders", {0, 3660}}, {"cylinder", {0, 1200}}, {"capsule", {0, 1200}}, {"two-tunnels", {2, 4000}},
+    {"mushroom", {0, 3000}}};
 
 }  // namespace
 

@@ -96,8 +96,13 @@ struct Attempt {
   std::vector<std::array<int, 2>> inner;
 };
 
-bool try_scale(const std::vector<Eigen::Vector2d>& sizes, double s, int S, int m, Attempt& out) {
+// Calls `take(attempt)` for every strategy that packs the rectangles at scale s, in a fixed order,
+// until it returns false; returns whether any packed.
+template <class Take>
+bool each_packing(const std::vector<Eigen::Vector2d>& sizes, double s, int S, int m, Take&& take) {
   const size_t n = sizes.size();
+  Attempt out;
+  bool any = false;
   std::vector<std::array<int, 2>> inner(n), outer(n);
   for (size_t i = 0; i < n; ++i) {
     inner[i] = {int(std::floor(s * sizes[i].x())), int(std::floor(s * sizes[i].y()))};
@@ -130,7 +135,8 @@ bool try_scale(const std::vector<Eigen::Vector2d>& sizes, double s, int S, int m
         for (Score score : scores)
           if (guillotine(outer, order, S, {o, orient, split, score}, out.placed, out.rotated)) {
             out.inner = inner;
-            return true;
+            any = true;
+            if (!take(out)) return true;
           }
   }
   // Few rectangles leave the sorted orders few chances: also try fixed pseudo-random orders
@@ -144,11 +150,24 @@ bool try_scale(const std::vector<Eigen::Vector2d>& sizes, double s, int S, int m
       for (Score score : scores)
         if (guillotine(outer, order, S, {0, Orient::Free, split, score}, out.placed, out.rotated)) {
           out.inner = inner;
-          return true;
+          any = true;
+          if (!take(out)) return true;
         }
   }
-  return false;
+  return any;
 }
+
+// The first packing at scale s, into `out`.
+bool try_scale(const std::vector<Eigen::Vector2d>& sizes, double s, int S, int m, Attempt& out) {
+  return each_packing(sizes, s, S, m, [&](const Attempt& a) {
+    out = a;
+    return false;
+  });
+}
+
+// The most a rectangle's side grows: a layout's reader refuses rectangles over twice their
+// capsule's size at the layout's scale (a tampered radius), so growth stays under that.
+constexpr double kMaxGrowth = 1.95;
 
 // Grows the placed outer boxes into free space (see the header); inner = outer - 2 margin.
 void grow(std::vector<Box>& box, int S, int m, double max_aniso) {
@@ -167,7 +186,7 @@ void grow(std::vector<Box>& box, int S, int m, double max_aniso) {
         // (on inner sizes: the margins do not grow)
         const double other = along_x ? double(B.h - 2 * m) / (start[i].h - 2 * m) : double(B.w - 2 * m) / (start[i].w - 2 * m);
         const int cur = (along_x ? B.w : B.h) - 2 * m, base = (along_x ? start[i].w : start[i].h) - 2 * m;
-        int room = int(std::floor(max_aniso * other * base + 1e-9)) - cur;
+        int room = int(std::floor(std::min(max_aniso * other, kMaxGrowth) * base + 1e-9)) - cur;
         // Free space: the atlas border and every other box in the way.
         if (dir == 0) room = std::min(room, S - (B.x + B.w));
         if (dir == 1) room = std::min(room, S - (B.y + B.h));
@@ -200,6 +219,33 @@ void grow(std::vector<Box>& box, int S, int m, double max_aniso) {
       }
     if (!changed) break;
   }
+}
+
+// How many of the packings that fit at the final scale are grown to find the fullest: the first
+// packing alone left a strip of 18 % of the atlas on the scanned Stanford bunny (14 rectangles,
+// coverage 0.83) that another packing at the same scale lets its neighbours fill (DESIGN 6.3,
+// "Packing: the fullest of several packings").
+constexpr int kGrownPackings = 48;
+
+// Of the first kGrownPackings packings at scale s, the one that covers most of the atlas once
+// grown (the first of equals), with its inner sizes updated.
+Attempt best_grown(const std::vector<Eigen::Vector2d>& sizes, double s, int S, int m, double max_aniso) {
+  Attempt best;
+  long best_area = -1;
+  int tried = 0;
+  each_packing(sizes, s, S, m, [&](const Attempt& a) {
+    Attempt g = a;
+    grow(g.placed, S, m, max_aniso);
+    long area = 0;
+    for (const Box& b : g.placed) area += long(b.w) * b.h;
+    if (area > best_area) best_area = area, best = std::move(g);
+    return ++tried < kGrownPackings;
+  });
+  for (size_t i = 0; i < sizes.size(); ++i) {
+    const Box& b = best.placed[i];
+    best.inner[i] = best.rotated[i] ? std::array<int, 2>{b.h - 2 * m, b.w - 2 * m} : std::array<int, 2>{b.w - 2 * m, b.h - 2 * m};
+  }
+  return best;
 }
 
 }  // namespace
@@ -271,14 +317,7 @@ Packing pack_rectangles(const std::vector<Eigen::Vector2d>& sizes_in, int atlas_
   if (!found)
     throw InputError("the " + std::to_string(sizes.size()) + " rectangles do not fit into a " + std::to_string(atlas_size) +
                      "^2 atlas with a margin of " + std::to_string(margin) + " texels; use a larger --size or a smaller margin");
-  if (max_anisotropy > 1) {
-    grow(best.placed, atlas_size, margin, max_anisotropy);
-    for (size_t i = 0; i < sizes.size(); ++i) {
-      const Box& b = best.placed[i];
-      best.inner[i] = best.rotated[i] ? std::array<int, 2>{b.h - 2 * margin, b.w - 2 * margin}
-                                      : std::array<int, 2>{b.w - 2 * margin, b.h - 2 * margin};
-    }
-  }
+  if (max_anisotropy > 1) best = best_grown(sizes, lo, atlas_size, margin, max_anisotropy);
   Packing p;
   p.scale = lo;
   p.rects.resize(sizes.size());

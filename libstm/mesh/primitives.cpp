@@ -109,6 +109,19 @@ ImplicitShape two_tunnels_shape() {
   return {f, Vec(-1.6, -0.8, -0.8), Vec(1.6, 0.8, 0.8), 0.15};
 }
 
+// A mushroom: a thin cap (a spherical shell of radius 1 and thickness 0.16, above z = 0.35, its
+// rim rounded) over a stem (a capsule of radius 0.2 from z = -1.1 up into the cap), joined
+// smoothly: a sheet-like part over a tube, the hard case of a thin cap for the capsules.
+ImplicitShape mushroom_shape() {
+  auto f = [](const Vec& p) {
+    const double shell = std::abs(p.norm() - 1.0) - 0.08, above = 0.35 - p.z();
+    const double cap = -smooth_min(-shell, -above, 0.06);  // the shell cut above the plane, rim rounded
+    const double stem = capsule_sdf(p, Vec(0, 0, -1.1), Vec(0, 0, 0.9), 0.2);
+    return smooth_min(cap, stem, 0.15);
+  };
+  return {f, Vec(-1.08, -1.08, -1.3), Vec(1.08, 1.08, 1.08), 0.08};
+}
+
 // ---------------------------------------------------------------------------------------------
 // Polygonisation: marching tetrahedra on a regular grid, each cube split into the six Kuhn
 // tetrahedra around its main diagonal. The same split in every cube makes neighbouring cubes'
@@ -402,7 +415,8 @@ struct Entry {
   int default_vertices;
 };
 const Entry kEntries[] = {{"ypsilon", 480},         {"bottle", 1530},   {"donut", 1728},  {"triple-torus", 2256},
-                          {"crossed-cylinders", 3660}, {"cylinder", 1200}, {"capsule", 1200}, {"two-tunnels", 4000}};
+                          {"crossed-cylinders", 3660}, {"cylinder", 1200}, {"capsule", 1200}, {"two-tunnels", 4000},
+                          {"mushroom", 3000}};
 
 }  // namespace
 
@@ -431,6 +445,7 @@ Mesh make_primitive(const std::string& name, int resolution) {
   if (n == "triple-torus") return implicit_primitive(triple_torus_shape(), target);
   if (n == "crossed-cylinders") return implicit_primitive(crossed_cylinders_shape(), target);
   if (n == "two-tunnels") return implicit_primitive(two_tunnels_shape(), target);
+  if (n == "mushroom") return implicit_primitive(mushroom_shape(), target);
   if (n == "donut") return revolved_primitive(donut, 4 * M_PI * M_PI * 1.0 * 0.4, target);
   if (n == "cylinder") return revolved_primitive(cylinder, 2 * M_PI * 2.0 + 2 * M_PI, target);
   return revolved_primitive(capsule, 2 * M_PI * 2.0 + 4 * M_PI, target);

@@ -26,6 +26,8 @@ namespace sdm {
 //   two-tunnels        [4000, genus 2] a thick bar along x (radius 0.8, length 3.2, ends rounded)
 //                                      with two small tunnels along y (radius 0.15, at x = +-0.7):
 //                                      the skeleton must keep one cycle per tunnel.
+//   mushroom           [3000, genus 0] a thin cap (spherical shell of radius 1, 0.16 thick, above
+//                                      z = 0.35) over a stem (radius 0.2, down to z = -1.3).
 // The blended shapes are smooth implicit surfaces (smooth unions of distance fields), polygonised
 // and isotropically remeshed, their vertices projected onto the implicit surface; the donut,
 // cylinder and capsule are surfaces of revolution sampled exactly.
