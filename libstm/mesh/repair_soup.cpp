@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 #include <numeric>
 
 namespace sdm {
@@ -59,42 +60,52 @@ void rename_corners(MeshSoup& soup, const std::vector<int>& rep) {
     for (int& v : t) v = rep[size_t(v)];
 }
 
-// Exact weld: every used point onto the lowest-numbered point with the same coordinates. Returns the
+// The bits of a coordinate, -0 and +0 alike.
+uint64_t coordinate_bits(double x) {
+  uint64_t u = 0;
+  x = x == 0 ? 0.0 : x;
+  std::memcpy(&u, &x, sizeof u);
+  return u;
+}
+
+// Exact weld: every used point onto the lowest-numbered point with the same coordinates. The
+// points sorted by a hash of their coordinates (a sort of integers: a third of the time of sorting
+// them by coordinates), equal coordinates then found within each run of equal hashes. Returns the
 // number of points welded away.
 long weld_exact(MeshSoup& soup, std::string& example) {
   std::vector<char> used(soup.points.size(), 0);
   for (const auto& t : soup.triangles)
     for (int v : t) used[size_t(v)] = 1;
-  std::vector<int> order;
-  for (size_t i = 0; i < used.size(); ++i)
-    if (used[i]) order.push_back(int(i));
   const auto& p = soup.points;
-  auto less = [&](int a, int b) {
-    const auto &x = p[size_t(a)], &y = p[size_t(b)];
-    if (x[0] != y[0]) return x[0] < y[0];
-    if (x[1] != y[1]) return x[1] < y[1];
-    if (x[2] != y[2]) return x[2] < y[2];
-    return a < b;
-  };
-  std::sort(order.begin(), order.end(), less);
+  std::vector<std::pair<uint64_t, int>> order;
+  order.reserve(p.size());
+  for (size_t i = 0; i < used.size(); ++i) {
+    if (!used[i]) continue;
+    uint64_t h = 0x9E3779B97F4A7C15ull;
+    for (int c = 0; c < 3; ++c) h = (h ^ coordinate_bits(p[i][c])) * 0xFF51AFD7ED558CCDull, h ^= h >> 29;
+    order.push_back({h, int(i)});
+  }
+  std::sort(order.begin(), order.end());
   std::vector<int> rep(p.size());
   std::iota(rep.begin(), rep.end(), 0);
   long welded = 0;
-  for (size_t i = 1, first = 0; i < order.size(); ++i) {
-    if (p[size_t(order[i])] != p[size_t(order[first])]) {
-      first = i;
-      continue;
-    }
-    rep[size_t(order[i])] = order[first];
-    if (!welded++) example = "vertex " + std::to_string(order[i]) + " onto vertex " + std::to_string(order[first]);
+  for (size_t run = 0, end = 0; run < order.size(); run = end) {
+    for (end = run + 1; end < order.size() && order[end].first == order[run].first;) ++end;
+    for (size_t i = run + 1; i < end; ++i)  // runs hold one point but where coordinates repeat
+      for (size_t j = run; j < i; ++j) {
+        const int a = order[j].second, b = order[i].second;
+        if (rep[size_t(a)] != a || p[size_t(a)] != p[size_t(b)]) continue;
+        rep[size_t(b)] = a;
+        if (!welded++) example = "vertex " + std::to_string(b) + " onto vertex " + std::to_string(a);
+        break;
+      }
   }
   if (welded) rename_corners(soup, rep);
   return welded;
 }
 
 // The points on an edge that one face alone uses (the rim of a crack or a hole).
-std::vector<int> boundary_points(const MeshSoup& soup) {
-  const EdgeTable t = edge_table(soup);
+std::vector<int> boundary_points(const MeshSoup& soup, const EdgeTable& t) {
   std::vector<char> on(soup.points.size(), 0);
   for (size_t e = 0; e < t.edges(); ++e)
     if (t.uses(e) == 1) on[size_t(t.lo[t.group[e]])] = on[size_t(t.hi[t.group[e]])] = 1;
@@ -106,9 +117,9 @@ std::vector<int> boundary_points(const MeshSoup& soup) {
 
 // Boundary points within `tol` of each other welded (onto the lowest-numbered of each cluster),
 // through a grid of cells `tol` wide: each point meets the points of the 27 cells around its own.
-long weld_boundary(MeshSoup& soup, double tol, std::string& example) {
+long weld_boundary(MeshSoup& soup, const EdgeTable& table, double tol, std::string& example) {
   if (!(tol > 0)) return 0;
-  const std::vector<int> rim = boundary_points(soup);
+  const std::vector<int> rim = boundary_points(soup, table);
   if (rim.size() < 2) return 0;
   using Key = std::array<int64_t, 3>;
   auto key = [&](int v) {
@@ -142,9 +153,16 @@ long weld_boundary(MeshSoup& soup, double tol, std::string& example) {
   return welded;
 }
 
-// Drops the triangles with a repeated corner, then the repeats of a triangle (the same three
-// corners in either orientation; the first kept). Reports each with an example in input numbers.
-void drop_degenerate_and_duplicated(MeshSoup& soup, std::vector<int>& source, RepairReport& r) {
+// The corner of triangle t that is neither a nor b.
+int third_corner(const std::array<int, 3>& t, int a, int b) {
+  for (int v : t)
+    if (v != a && v != b) return v;
+  return t[0];
+}
+
+// Drops the triangles with a repeated corner (collapsed by a weld or so in the file). Returns
+// whether it dropped any.
+bool drop_collapsed(MeshSoup& soup, std::vector<int>& source, RepairReport& r) {
   std::vector<char> keep(soup.triangles.size(), 1);
   long repeated = 0;
   std::string example;
@@ -155,34 +173,36 @@ void drop_degenerate_and_duplicated(MeshSoup& soup, std::vector<int>& source, Re
       if (!repeated++) example = "face " + std::to_string(source[f]);
     }
   }
-  note(r, "faces dropped: a repeated corner (collapsed by the weld or in the file)", repeated, example);
-  std::vector<std::pair<std::array<int, 3>, int>> sorted;
-  for (size_t f = 0; f < soup.triangles.size(); ++f) {
-    if (!keep[f]) continue;
-    auto k = soup.triangles[f];
-    std::sort(k.begin(), k.end());
-    sorted.push_back({k, int(f)});
-  }
-  std::sort(sorted.begin(), sorted.end());
-  long duplicated = 0;
-  for (size_t i = 1, g = 0; i < sorted.size(); ++i) {
-    if (sorted[i].first != sorted[g].first) {
-      g = i;
-      continue;
+  if (!repeated) return false;
+  for (auto& step : r.steps)
+    if (step.kind.rfind("faces dropped: a repeated corner", 0) == 0) {
+      step.count += repeated;  // a second weld's: one step
+      repeated = 0;
     }
-    keep[size_t(sorted[i].second)] = 0;
-    if (!duplicated++)
-      example = "face " + std::to_string(source[size_t(sorted[i].second)]) + " repeats face " + std::to_string(source[size_t(sorted[g].second)]);
-  }
-  note(r, "faces dropped: duplicates of another face", duplicated, example);
-  if (repeated || duplicated) keep_faces(soup, source, keep);
+  note(r, "faces dropped: a repeated corner (collapsed by the weld or in the file)", repeated, example);
+  keep_faces(soup, source, keep);
+  return true;
 }
 
-// The corner of triangle t that is neither a nor b.
-int third_corner(const std::array<int, 3>& t, int a, int b) {
-  for (int v : t)
-    if (v != a && v != b) return v;
-  return t[0];
+// Drops the repeats of a triangle (the same three corners in either orientation; the first kept),
+// found as faces of one edge with the same third corner. Returns whether it dropped any.
+bool drop_duplicated(MeshSoup& soup, std::vector<int>& source, const EdgeTable& t, RepairReport& r) {
+  std::vector<char> keep(soup.triangles.size(), 1);
+  long duplicated = 0;
+  std::string example;
+  for (size_t e = 0; e < t.edges(); ++e)
+    for (size_t i = t.group[e]; i + 1 < t.group[e + 1]; ++i)
+      for (size_t j = i + 1; j < t.group[e + 1]; ++j) {
+        const int f = t.face(i), g = t.face(j);
+        const int first = std::min(f, g), repeat = std::max(f, g);
+        if (!keep[size_t(repeat)] || !keep[size_t(first)]) continue;
+        if (third_corner(soup.triangles[size_t(f)], t.lo[i], t.hi[i]) != third_corner(soup.triangles[size_t(g)], t.lo[j], t.hi[j])) continue;
+        keep[size_t(repeat)] = 0;
+        if (!duplicated++) example = "face " + std::to_string(source[size_t(repeat)]) + " repeats face " + std::to_string(source[size_t(first)]);
+      }
+  note(r, "faces dropped: duplicates of another face", duplicated, example);
+  if (duplicated) keep_faces(soup, source, keep);
+  return duplicated > 0;
 }
 
 // Pairs the faces of one edge used more than twice (entries [b, e) of the table). Sorted by the
@@ -229,8 +249,7 @@ struct Peeled {
 
 // The glued partner of every face side (3 f + c, from corner c to c + 1), or -1 on a border;
 // `peeled` receives the sides left over at crowded edges.
-std::vector<int> glue_sides(const MeshSoup& soup, RepairReport& r, std::vector<Peeled>& peeled_sides) {
-  const EdgeTable t = edge_table(soup);
+std::vector<int> glue_sides(const MeshSoup& soup, const EdgeTable& t, RepairReport& r, std::vector<Peeled>& peeled_sides) {
   std::vector<int> mate(3 * soup.triangles.size(), -1);
   long crowded = 0, peeled = 0;
   std::string example;
@@ -322,7 +341,7 @@ UnionFind fan_sets(const MeshSoup& soup, const std::vector<int>& mate) {
 // vertex. Returns the number of faces so cut.
 long detach_peeled(const MeshSoup& soup, std::vector<int>& mate, const std::vector<Peeled>& peeled) {
   long cut = 0;
-  for (int pass = 0; pass < 8; ++pass) {
+  for (int pass = 0; pass < 8 && !peeled.empty(); ++pass) {
     UnionFind fans = fan_sets(soup, mate);
     long now = 0;
     for (const auto& [s, k] : peeled) {
@@ -420,13 +439,18 @@ RepairReport repair_soup(MeshSoup& soup, const RepairOptions& options) {
   const long isolated = long(std::count(used.begin(), used.end(), char(0)));
   std::string example;
   note(r, "coincident vertices welded (exact)", weld_exact(soup, example), example);
+  drop_collapsed(soup, r.face_source, r);
   r.weld_distance = options.weld_tolerance * diagonal_of_used(soup);
-  if (long n = weld_boundary(soup, r.weld_distance, example))
+  EdgeTable table = edge_table(soup);  // one table for the rest, made again only where faces change
+  if (long n = weld_boundary(soup, table, r.weld_distance, example)) {
     note(r, "boundary vertices welded (within " + number(r.weld_distance) + ", " + number(options.weld_tolerance) + " of the diagonal)", n,
          example);
-  drop_degenerate_and_duplicated(soup, r.face_source, r);
+    drop_collapsed(soup, r.face_source, r);
+    table = edge_table(soup);
+  }
+  if (drop_duplicated(soup, r.face_source, table, r)) table = edge_table(soup);
   std::vector<Peeled> peeled;
-  std::vector<int> mate = glue_sides(soup, r, peeled);
+  std::vector<int> mate = glue_sides(soup, table, r, peeled);
   const std::vector<char> flip = orient_parts(soup, mate, r);
   note(r, "peeled faces cut from their neighbours too (still joined to the edge's pair around both ends)", detach_peeled(soup, mate, peeled), "");
   split_fans(soup, mate, flip, r);
