@@ -223,23 +223,28 @@ void grow(std::vector<Box>& box, int S, int m, double max_aniso) {
 
 // How many of the packings that fit at the final scale are grown to find the fullest: the first
 // packing alone left a strip of 18 % of the atlas on the scanned Stanford bunny (14 rectangles,
-// coverage 0.83) that another packing at the same scale lets its neighbours fill (DESIGN 6.3,
-// "Packing: the fullest of several packings").
-constexpr int kGrownPackings = 48;
+// coverage 0.83) that other packings at the same scale let their neighbours fill (0.98; DESIGN
+// 6.3, "Packing: the fullest of several packings").
+constexpr int kGrownPackings = 48;  // at least
+// More for few rectangles, whose growth is cheap (it compares every pair of rectangles each round):
+// as many as keep (packings x rectangles^2) within this.
+constexpr double kGrowthBudget = 1e6;
 
-// Of the first kGrownPackings packings at scale s, the one that covers most of the atlas once
-// grown (the first of equals), with its inner sizes updated.
+// Of the first packings at scale s (as many as the two constants above allow), the one that
+// covers most of the atlas once grown (the first of equals), with its inner sizes updated.
 Attempt best_grown(const std::vector<Eigen::Vector2d>& sizes, double s, int S, int m, double max_aniso) {
   Attempt best;
   long best_area = -1;
   int tried = 0;
+  const double n = double(sizes.size());
+  const int packings = std::max(kGrownPackings, int(kGrowthBudget / (n * n)));
   each_packing(sizes, s, S, m, [&](const Attempt& a) {
     Attempt g = a;
     grow(g.placed, S, m, max_aniso);
     long area = 0;
     for (const Box& b : g.placed) area += long(b.w) * b.h;
     if (area > best_area) best_area = area, best = std::move(g);
-    return ++tried < kGrownPackings;
+    return ++tried < packings;
   });
   for (size_t i = 0; i < sizes.size(); ++i) {
     const Box& b = best.placed[i];

@@ -121,6 +121,8 @@ long weld_boundary(MeshSoup& soup, const EdgeTable& table, double tol, std::stri
   if (!(tol > 0)) return 0;
   const std::vector<int> rim = boundary_points(soup, table);
   if (rim.size() < 2) return 0;
+  for (int v : rim)  // cells numbered in 64 bits: a model far from the origin for its size keeps exact welds only
+    if (soup.points[size_t(v)].cwiseAbs().maxCoeff() / tol > 1e15) return 0;
   using Key = std::array<int64_t, 3>;
   auto key = [&](int v) {
     const Eigen::Vector3d& x = soup.points[size_t(v)];
@@ -389,7 +391,7 @@ void split_fans(MeshSoup& soup, const std::vector<int>& mate, const std::vector<
     v = p <= -2 ? originals + (-2 - p) : index[size_t(v)];
   }
   note(r, "non-manifold vertices split (one copy per fan of faces)", split,
-       split ? example + " (" + std::to_string(copies.size()) + " copies in all)" : "");
+       split ? example + " (" + std::to_string(copies.size()) + " vertices added in all)" : "");
   const bool uv = soup.uv.size() == 3 * nf;
   for (size_t f = 0; f < nf; ++f)
     if (flip[f]) {

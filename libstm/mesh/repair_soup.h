@@ -1,6 +1,6 @@
 #pragma once
 // Repair of a triangle soup before validation: the defects every mesh tool mends without asking
-// (DESIGN, "Mesh repair"). Each step is a topological decision made on the soup, never a move
+// (DESIGN 6.1, "Mesh repair"). Each step is a topological decision made on the soup, never a move
 // of a point, so the repaired surface is the input surface:
 //  1. coincident vertices welded: exactly equal coordinates first (a soup OBJ, an exporter's split
 //     normals), then boundary vertices within a tolerance relative to the model's diagonal (a
