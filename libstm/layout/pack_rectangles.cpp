@@ -225,10 +225,10 @@ void grow(std::vector<Box>& box, int S, int m, double max_aniso) {
 // packing alone left a strip of 18 % of the atlas on the scanned Stanford bunny (14 rectangles,
 // coverage 0.83) that other packings at the same scale let their neighbours fill (0.98; DESIGN
 // 6.3, "Packing: the fullest of several packings").
-constexpr int kGrownPackings = 48;  // at least
+constexpr int kGrownPackings = 8;  // at least
 // More for few rectangles, whose growth is cheap (it compares every pair of rectangles each round):
 // as many as keep (packings x rectangles^2) within this.
-constexpr double kGrowthBudget = 1e6;
+constexpr double kGrowthBudget = 2e5;
 
 // Of the first packings at scale s (as many as the two constants above allow), the one that
 // covers most of the atlas once grown (the first of equals), with its inner sizes updated.

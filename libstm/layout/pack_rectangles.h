@@ -30,7 +30,7 @@ struct Packing {
 // sides, in rounds, rectangles in input order) as long as its two growth factors (final / packed
 // inner size along each side) stay within max_anisotropy of each other and under 1.9: leftover
 // strips become texels of their neighbours at a bounded, uniform distortion of those segments'
-// maps. Of the packings that fit at the final scale (at least the first 48, more for few
+// maps. Of the packings that fit at the final scale (at least the first 8, more for few
 // rectangles), the one that covers most once grown is kept.
 // Throws InputError when sizes are not positive and finite, or when not even a 1-texel inner
 // rectangle per input fits.
