@@ -51,15 +51,26 @@ InputSettings& input_settings() {
   return settings;
 }
 
-void add_repair_options(CLI::App* app) {
-  InputSettings& s = input_settings();
-  app->add_flag("--no-repair", s.no_repair,
-                "Refuse a mesh with defects instead of repairing it (coincident vertices, duplicated faces, non-manifold\n"
-                "edges and vertices, inconsistent orientation: by default each is repaired and named on stderr)");
-  app->add_option("--weld-tolerance", s.weld_tolerance,
+sdm::LoadOptions load_options(double min_part) {
+  sdm::LoadOptions options;
+  options.min_part = min_part;
+  options.repair = !input_settings().no_repair;
+  options.repair_options.weld_tolerance = input_settings().weld_tolerance;
+  return options;
+}
+
+void add_weld_tolerance_option(CLI::App* app) {
+  app->add_option("--weld-tolerance", input_settings().weld_tolerance,
                   "Weld boundary vertices closer than this fraction of the bounding-box diagonal (0: exact duplicates only)")
       ->capture_default_str()
       ->check(CLI::Range(0.0, 0.01));
+}
+
+void add_repair_options(CLI::App* app) {
+  app->add_flag("--no-repair", input_settings().no_repair,
+                "Refuse a mesh with defects instead of repairing it (coincident vertices, duplicated faces, non-manifold\n"
+                "edges and vertices, inconsistent orientation: by default each is repaired and named on stderr)");
+  add_weld_tolerance_option(app);
 }
 
 namespace {
@@ -69,15 +80,9 @@ nlohmann::json& repairs_seen() {
 }
 }  // namespace
 
-nlohmann::json input_repairs() { return repairs_seen(); }
-
 sdm::LoadedMesh load_input(const std::string& path, double min_part, bool fill) {
   // Specks are dropped before validation: one it would refuse (a stray flat triangle) does not stop the model.
-  sdm::LoadOptions options;
-  options.min_part = min_part;
-  options.repair = !input_settings().no_repair;
-  options.repair_options.weld_tolerance = input_settings().weld_tolerance;
-  sdm::LoadedMesh m = sdm::load_mesh(path, options);
+  sdm::LoadedMesh m = sdm::load_mesh(path, load_options(min_part));
   for (const auto& d : m.report.dropped) progress("--min-part: dropped " + d);
   for (const auto& line : sdm::repair_lines(m.report.repair)) progress(path + ": " + line);
   if (m.report.repair.changed()) {

@@ -41,6 +41,10 @@ struct InputSettings {
   double weld_tolerance = sdm::kDefaultWeldTolerance;
 };
 InputSettings& input_settings();
+/// The load options of this run's InputSettings (repair on or off, the weld tolerance), `min_part` set.
+sdm::LoadOptions load_options(double min_part = 0);
+/// Adds --weld-tolerance (bound to the InputSettings) to a command.
+void add_weld_tolerance_option(CLI::App* app);
 /// Adds --no-repair and --weld-tolerance to a command that reads meshes.
 void add_repair_options(CLI::App* app);
 
@@ -50,8 +54,6 @@ void add_repair_options(CLI::App* app);
 sdm::LoadedMesh load_input(const std::string& path, double min_part = 0, bool fill = false);
 /// load_input's mesh alone.
 Mesh load_mesh_min_part(const std::string& path, double min_part = 0, bool fill = false);
-/// What repair did to each input this run read: [{"file", "changed", "weld_distance", "steps"}].
-nlohmann::json input_repairs();
 // Adds --fill-holes to a command: an open mesh's holes closed first, so that the output is closed
 // (by default an open mesh stays open: the skeleton sees the holes filled, the output keeps them).
 void add_fill_holes_option(CLI::App* app, bool& value);

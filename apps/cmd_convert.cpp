@@ -57,10 +57,7 @@ Command add_repair_command(CLI::App& parent) {
   app->add_option("mesh", o->mesh, "Input mesh (.obj, .off, .ply, .stl, .glb, .gltf)")->required();
   app->add_option("-o,--output", o->out, "Repaired mesh; the format follows the extension")->required();
   app->add_flag("--json", o->json, "Print one JSON object: the repairs and the repaired mesh's validation");
-  app->add_option("--weld-tolerance", input_settings().weld_tolerance,
-                  "Weld boundary vertices closer than this fraction of the bounding-box diagonal (0: exact duplicates only)")
-      ->capture_default_str()
-      ->check(CLI::Range(0.0, 0.01));
+  add_weld_tolerance_option(app);
   return {app, [o]() {
             const sdm::LoadReport r = convert(o->mesh, o->out, false);
             if (!r.repair.changed()) progress("nothing to repair");

@@ -2,7 +2,6 @@
 #include "apps/commands.h"
 #include "libstm/mesh/load_mesh.h"
 #include "libstm/mesh/mesh.h"
-#include "libstm/mesh/repair_soup.h"
 #include "libstm/mesh/validate_mesh.h"
 
 #include <iomanip>
@@ -64,19 +63,15 @@ Command add_info_command(CLI::App& parent) {
                 "vertices, holes)");
   add_repair_options(app);
   return {app, [o]() {
-            const sdm::MeshSoup soup = sdm::read_mesh_soup(o->mesh);
-            const sdm::MeshReport r = sdm::validate_mesh(soup);
-            sdm::MeshReport final_report = r;
-            sdm::RepairReport repair;
-            sdm::MeshSoup repaired = soup;
-            if (!o->strict && !input_settings().no_repair) {
-              sdm::LoadOptions options;
-              options.repair_options.weld_tolerance = input_settings().weld_tolerance;
-              sdm::LoadReport lr = sdm::repair_and_validate(repaired, options);
-              repair = std::move(lr.repair);
-              final_report = std::move(lr.validation);
-            }
-            if (final_report.usable()) sdm::orient_outward(repaired, final_report);  // names a part that was inside out
+            sdm::MeshSoup soup = sdm::read_mesh_soup(o->mesh);
+            sdm::LoadOptions options = load_options();
+            if (o->strict) options.repair = false;
+            sdm::LoadReport lr = sdm::repair_and_validate(soup, options);
+            sdm::MeshReport& final_report = lr.validation;
+            if (final_report.usable()) sdm::orient_outward(soup, final_report);  // names a part that was inside out
+            const sdm::RepairReport& repair = lr.repair;
+            // The file as it is: the report the pipeline goes on with when nothing was repaired.
+            const sdm::MeshReport& r = repair.changed() ? lr.as_read : final_report;
             if (o->json) {
               auto j = r.to_json();
               j["file"] = o->mesh;

@@ -90,12 +90,9 @@ const char* const kEmbeddedTexture = "(the texture embedded in the mesh file)";
 
 sdm::Mesh load_any_mesh(const std::string& path, std::string* material_texture, sdm::Image* embedded) {
   sdm::MeshSoup soup = sdm::read_mesh_soup(path);
-  sdm::MeshReport report = sdm::validate_mesh(soup);
-  if (!input_settings().no_repair && sdm::repair_may_help(report)) {
-    const sdm::RepairReport repair = sdm::repair_soup(soup, {input_settings().weld_tolerance});
-    for (const auto& line : sdm::repair_lines(repair)) progress(path + ": " + line);
-    if (repair.changed()) report = sdm::validate_mesh(soup);
-  }
+  sdm::LoadReport loaded = sdm::repair_and_validate(soup, load_options());  // the pipeline's repair, without its refusal
+  for (const auto& line : sdm::repair_lines(loaded.repair)) progress(path + ": " + line);
+  sdm::MeshReport& report = loaded.validation;
   if (report.usable()) sdm::orient_outward(soup, report);
   sdm::Mesh mesh;
   try {

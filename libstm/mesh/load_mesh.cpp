@@ -3,8 +3,6 @@
 #include "libstm/core/errors.h"
 #include "libstm/mesh/drop_small_parts.h"
 
-#include <cstdlib>
-
 namespace sdm {
 
 bool repair_may_help(const MeshReport& report) {
@@ -29,13 +27,13 @@ bool only_flat_parts_refused(const MeshReport& report) {
 // refusal would suggest); anything larger keeps the refusal.
 void drop_flat_fragments(MeshSoup& soup, LoadReport& r, EdgeTable& t) {
   if (!only_flat_parts_refused(r.validation) || !(r.validation.speck_min_part > 0)) return;
+  const size_t before = soup.triangles.size();
   const std::vector<std::string> lines = drop_small_soup_parts(soup, r.validation.speck_min_part);
-  long faces = 0;
-  for (const auto& l : lines) faces += std::atol(l.c_str() + std::string("a part of ").size());  // drop_small_parts' line
+  std::string named;  // every part, as --min-part names the parts it drops
+  for (const auto& l : lines) named += (named.empty() ? "" : "; ") + l;
   r.repair.steps.push_back({"faces dropped: small parts beside the model, flat ones among them (no inside to map; parts under " +
                                 number(r.validation.speck_min_part) + " of the diagonal)",
-                            faces, lines.empty() ? "" : lines.front()});
-  r.dropped.insert(r.dropped.end(), lines.begin(), lines.end());
+                            long(before - soup.triangles.size()), named});
   r.validation = validate_mesh(soup, &t);
 }
 
@@ -47,13 +45,11 @@ LoadReport repair_and_validate(MeshSoup& soup, const LoadOptions& options, EdgeT
   EdgeTable scratch;
   EdgeTable& t = table ? *table : scratch;
   r.validation = validate_mesh(soup, &t);
+  r.as_read = r.validation;
   if (options.repair && repair_may_help(r.validation)) {
-    r.as_read = r.validation;
     r.repair = repair_soup(soup, options.repair_options);
     if (r.repair.changed()) r.validation = validate_mesh(soup, &t);
     drop_flat_fragments(soup, r, t);
-  } else {
-    r.as_read = r.validation;
   }
   return r;
 }
@@ -75,9 +71,7 @@ LoadedMesh load_mesh(const std::string& path, const LoadOptions& options) {
   out.texture = soup.texture;
   out.texture_image = std::move(soup.texture_image);
   if (!soup.colors.empty()) {
-    std::vector<char> used(soup.points.size(), 0);
-    for (const auto& t : soup.triangles)
-      for (int v : t) used[size_t(v)] = 1;
+    const std::vector<char> used = used_points(soup);
     for (size_t i = 0; i < soup.colors.size(); ++i)
       if (used[i]) out.colors.push_back(soup.colors[i]);
   }

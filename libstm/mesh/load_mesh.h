@@ -22,7 +22,7 @@ struct LoadOptions {
 /// What happened on the way: the specks dropped, the repairs, and the validation the pipeline
 /// went on with (of the repaired soup when it was repaired).
 struct LoadReport {
-  std::vector<std::string> dropped;  ///< one line per part --min-part dropped
+  std::vector<std::string> dropped;  ///< one line per part --min-part dropped (flat fragments: in `repair`)
   RepairReport repair;               ///< empty steps when nothing was repaired (or repair was off)
   MeshReport validation;
   MeshReport as_read;                ///< the validation of the soup as read (before repair)

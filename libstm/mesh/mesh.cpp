@@ -384,17 +384,12 @@ MeshSoup read_mesh_soup(const std::string& path) {
   return soup;
 }
 
-namespace {
-
-// Per soup point, whether a triangle uses it: build_mesh keeps those points only, in order.
 std::vector<char> used_points(const MeshSoup& soup) {
   std::vector<char> used(soup.points.size(), 0);
   for (const auto& t : soup.triangles)
     for (int v : t) used[v] = 1;
   return used;
 }
-
-}  // namespace
 
 Mesh build_mesh(const MeshSoup& soup, const EdgeTable* table) {
   Mesh mesh;

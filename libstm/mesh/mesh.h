@@ -43,6 +43,10 @@ MeshSoup read_mesh_soup(const std::string& path);
 
 struct EdgeTable;
 
+// Per soup point, whether a triangle uses it (corners must be in range): build_mesh keeps those
+// points only, in order.
+std::vector<char> used_points(const MeshSoup& soup);
+
 // Builds the halfedge mesh from a soup that passed validation (see validate_mesh.h).
 // Texture coordinates, when present, are stored per halfedge. `table`, when given, is the soup's
 // edge table as validate_mesh made it (the soup unchanged since), saving building it again.

@@ -70,12 +70,9 @@ uint64_t coordinate_bits(double x) {
 
 // Exact weld: every used point onto the lowest-numbered point with the same coordinates. The
 // points sorted by a hash of their coordinates (a sort of integers: a third of the time of sorting
-// them by coordinates), equal coordinates then found within each run of equal hashes. Returns the
-// number of points welded away.
-long weld_exact(MeshSoup& soup, std::string& example) {
-  std::vector<char> used(soup.points.size(), 0);
-  for (const auto& t : soup.triangles)
-    for (int v : t) used[size_t(v)] = 1;
+// them by coordinates), equal coordinates then found within each run of equal hashes. `used`: the
+// soup's used_points. Returns the number of points welded away.
+long weld_exact(MeshSoup& soup, const std::vector<char>& used, std::string& example) {
   const auto& p = soup.points;
   std::vector<std::pair<uint64_t, int>> order;
   order.reserve(p.size());
@@ -253,14 +250,13 @@ struct Peeled {
 // `peeled` receives the sides left over at crowded edges.
 std::vector<int> glue_sides(const MeshSoup& soup, const EdgeTable& t, RepairReport& r, std::vector<Peeled>& peeled_sides) {
   std::vector<int> mate(3 * soup.triangles.size(), -1);
-  long crowded = 0, peeled = 0;
+  long crowded = 0;
   std::string example;
   for (size_t e = 0; e < t.edges(); ++e) {
     const size_t b = t.group[e], uses = t.uses(e);
     if (uses == 2) mate[size_t(t.halfedge[b])] = t.halfedge[b + 1], mate[size_t(t.halfedge[b + 1])] = t.halfedge[b];
     if (uses <= 2) continue;
     const long left = pair_around_edge(soup, t, b, b + uses, mate);
-    peeled += left;
     int kept = -1;
     for (size_t i = b; i < b + uses; ++i)
       if (mate[size_t(t.halfedge[i])] >= 0) kept = t.halfedge[i];
@@ -271,7 +267,7 @@ std::vector<int> glue_sides(const MeshSoup& soup, const EdgeTable& t, RepairRepo
                 std::to_string((long(uses) - left) / 2) + " pair(s) kept, " + std::to_string(left) + " face(s) peeled off";
   }
   note(r, "non-manifold edges split (faces paired around the edge, the rest peeled off as a sheet)", crowded, example);
-  note(r, "faces peeled off non-manifold edges (their edge now a border)", peeled, "");
+  note(r, "faces peeled off non-manifold edges (their edge now a border)", long(peeled_sides.size()), "");
   return mate;
 }
 
@@ -285,7 +281,7 @@ bool same_direction(const MeshSoup& soup, int s, int m) {
 std::vector<char> orient_parts(const MeshSoup& soup, std::vector<int>& mate, RepairReport& r) {
   const size_t nf = soup.triangles.size();
   std::vector<char> flip(nf, 0), seen(nf, 0);
-  std::vector<int> part, queue;
+  std::vector<int> part;
   long flipped = 0, cut = 0;
   std::string flip_example, cut_example;
   for (size_t seed = 0; seed < nf; ++seed) {
@@ -309,8 +305,9 @@ std::vector<char> orient_parts(const MeshSoup& soup, std::vector<int>& mate, Rep
     for (int f : part) n += size_t(flip[size_t(f)]);
     const bool invert = 2 * n > part.size();
     for (int f : part) flip[size_t(f)] = char(flip[size_t(f)] ^ invert);
-    if (long k = long(invert ? part.size() - n : n); k > 0 && !flipped) flip_example = std::to_string(k) + " in the part of face " + std::to_string(seed);
-    flipped += long(invert ? part.size() - n : n);
+    const long turned = long(invert ? part.size() - n : n);
+    if (turned > 0 && !flipped) flip_example = std::to_string(turned) + " in the part of face " + std::to_string(seed);
+    flipped += turned;
   }
   note(r, "faces flipped to agree with the rest of their part", flipped, flip_example);
   note(r, "edges cut where a part cannot be oriented (one-sided)", cut, cut_example);
@@ -434,13 +431,10 @@ RepairReport repair_soup(MeshSoup& soup, const RepairOptions& options) {
   r.point_source.resize(soup.points.size());
   std::iota(r.point_source.begin(), r.point_source.end(), 0);
   if (!repairable(soup)) return r;
-  const size_t input_points = soup.points.size();
-  std::vector<char> used(input_points, 0);
-  for (const auto& t : soup.triangles)
-    for (int v : t) used[size_t(v)] = 1;
+  const std::vector<char> used = used_points(soup);
   const long isolated = long(std::count(used.begin(), used.end(), char(0)));
   std::string example;
-  note(r, "coincident vertices welded (exact)", weld_exact(soup, example), example);
+  note(r, "coincident vertices welded (exact)", weld_exact(soup, used, example), example);
   drop_collapsed(soup, r.face_source, r);
   r.weld_distance = options.weld_tolerance * diagonal_of_used(soup);
   EdgeTable table = edge_table(soup);  // one table for the rest, made again only where faces change
