@@ -66,6 +66,7 @@ Command add_info_command(CLI::App& parent) {
             sdm::MeshSoup soup = sdm::read_mesh_soup(o->mesh);
             sdm::LoadOptions options = load_options();
             if (o->strict) options.repair = false;
+            options.report_as_read = true;  // the file as it is, in full, before its repair
             sdm::LoadReport lr = sdm::repair_and_validate(soup, options);
             sdm::MeshReport& final_report = lr.validation;
             if (final_report.usable()) sdm::orient_outward(soup, final_report);  // names a part that was inside out

@@ -250,3 +250,130 @@ TEST_CASE("an OBJ that starts with a byte-order mark keeps its first vertex", "[
     require_closed_manifold(s, 1);
   }
 }
+
+namespace {
+
+// A bipyramid of `n` sides and radius 1 about the z axis, its lower apex at `at`, its upper one
+// 2 h above; `top`, when given, an existing point there, shared with the body it belongs to.
+void add_bipyramid(sdm::MeshSoup& s, int n, double h, const Eigen::Vector3d& at, int top = -1) {
+  const int apex = int(s.points.size());
+  s.points.push_back(at);
+  if (top < 0) top = int(s.points.size()), s.points.push_back(at + Eigen::Vector3d(0, 0, 2 * h));
+  const int ring = int(s.points.size());
+  for (int i = 0; i < n; ++i) {
+    const double a = 2 * M_PI * i / n;
+    s.points.push_back(at + Eigen::Vector3d(std::cos(a), std::sin(a), h));
+  }
+  for (int i = 0; i < n; ++i) {
+    const int p = ring + i, q = ring + (i + 1) % n;
+    s.triangles.push_back({apex, q, p});
+    s.triangles.push_back({top, p, q});
+  }
+}
+
+// Every field repair_soup writes, equal between the repair with hints and the one without.
+void require_same_repair(const sdm::MeshSoup& in) {
+  sdm::MeshSoup full = in, hinted = in;
+  const sdm::RepairReport a = sdm::repair_soup(full);
+  const sdm::TopologyScan scan = sdm::scan_topology(in);
+  const sdm::RepairReport b = sdm::repair_soup(hinted, {}, sdm::repair_hints(scan));
+  REQUIRE(a.steps.size() == b.steps.size());
+  for (size_t i = 0; i < a.steps.size(); ++i) {
+    INFO(a.steps[i].kind);
+    REQUIRE(a.steps[i].kind == b.steps[i].kind);
+    REQUIRE(a.steps[i].count == b.steps[i].count);
+    REQUIRE(a.steps[i].example == b.steps[i].example);
+  }
+  REQUIRE(a.face_source == b.face_source);
+  REQUIRE(a.point_source == b.point_source);
+  REQUIRE(full.triangles == hinted.triangles);
+  REQUIRE(full.points == hinted.points);
+}
+
+}  // namespace
+
+TEST_CASE("validation counts the fans of vertices in few faces and in many alike", "[repair_soup][validate]") {
+  // Bipyramids hanging from one point, vertex 0 (the first one's lower apex): a fan of n faces
+  // each there (n = 8: 16 or 24 faces, a walk over bit sets; n = 24: 48 or 72, the sorted path).
+  for (int n : {8, 24}) {
+    for (int bodies : {2, 3}) {
+      sdm::MeshSoup s;
+      add_bipyramid(s, n, 1.0, Eigen::Vector3d::Zero());
+      for (int b = 1; b < bodies; ++b) add_bipyramid(s, n, 1.0 + b, Eigen::Vector3d(0, 0, -2.0 * (1.0 + b)), 0);
+      INFO("n " << n << ", bodies " << bodies);
+      const sdm::TopologyScan scan = sdm::scan_topology(s);
+      REQUIRE(scan.nonmanifold_vertices == std::vector<int>{0});
+      const sdm::MeshReport r = sdm::validate_mesh(s);
+      REQUIRE_THAT(r.to_json().dump(), Catch::Contains("vertex 0 where " + std::to_string(bodies) + " fans of faces meet"));
+      require_same_repair(s);
+      sdm::MeshSoup fixed = s;
+      sdm::repair_soup(fixed, {}, sdm::repair_hints(scan));
+      require_closed_manifold(fixed, bodies);
+    }
+  }
+}
+
+TEST_CASE("repair from validation's scan does what the full repair does", "[repair_soup]") {
+  SECTION("a pinched vertex, a duplicate and a flipped face together") {
+    sdm::MeshSoup s = capsule_soup();
+    add_bipyramid(s, 6, 0.2, s.points[0] - Eigen::Vector3d(0, 0, 0.4), 0);  // hangs from the capsule's vertex 0
+    s.triangles.push_back(s.triangles[30]);
+    std::swap(s.triangles[50][1], s.triangles[50][2]);
+    require_same_repair(s);
+  }
+  SECTION("a non-manifold edge") {
+    sdm::MeshSoup s = capsule_soup();
+    const auto t = s.triangles[5];
+    add_reflected_through_edge(s, t[0], t[1]);
+    require_same_repair(s);
+  }
+  SECTION("a soup") {
+    const sdm::MeshSoup mesh = capsule_soup();
+    sdm::MeshSoup s;
+    for (const auto& t : mesh.triangles) {
+      const int n = int(s.points.size());
+      for (int v : t) s.points.push_back(mesh.points[size_t(v)]);
+      s.triangles.push_back({n, n + 1, n + 2});
+    }
+    require_same_repair(s);
+  }
+}
+
+TEST_CASE("a face and its reverse back to back beside a pinched mesh are dropped too", "[repair_soup][load_mesh]") {
+  // The scan sees the pinched vertex and repairs at once; the pair, whose edges are each used twice
+  // in opposite directions, only shows to the full validation after it, and is repaired then.
+  sdm::MeshSoup s = capsule_soup();
+  const size_t capsule_faces = s.triangles.size();
+  add_bipyramid(s, 6, 0.2, s.points[0] - Eigen::Vector3d(0, 0, 0.4), 0);
+  const size_t bodies = s.triangles.size();
+  const int n = int(s.points.size());
+  for (const Eigen::Vector3d& p : {Eigen::Vector3d(5, 0, 0), Eigen::Vector3d(5.01, 0, 0), Eigen::Vector3d(5, 0.01, 0)}) s.points.push_back(p);
+  s.triangles.push_back({n, n + 1, n + 2});
+  s.triangles.push_back({n, n + 2, n + 1});
+  const sdm::LoadReport r = sdm::repair_and_validate(s, sdm::LoadOptions{});
+  INFO(r.validation.to_json().dump());
+  REQUIRE(r.validation.usable());
+  REQUIRE(r.repair.count("non-manifold vertices split (one copy per fan of faces)") == 1);
+  REQUIRE(r.repair.count("faces dropped: duplicates of another face") == 1);
+  REQUIRE(s.triangles.size() == bodies);  // the lone triangle left of the pair went as a flat fragment
+  REQUIRE(r.validation.parts == 2);
+  REQUIRE(r.repair.face_source.size() == s.triangles.size());
+  for (size_t f = 0; f < capsule_faces; ++f) REQUIRE(r.repair.face_source[f] == int(f));
+}
+
+TEST_CASE("the edge table without some faces equals the table made anew", "[repair_soup]") {
+  sdm::MeshSoup s = capsule_soup(200);
+  std::vector<char> keep(s.triangles.size(), 1);
+  for (size_t f = 0; f < keep.size(); f += 7) keep[f] = 0;
+  std::vector<int> index(keep.size(), -1);
+  sdm::MeshSoup fewer = s;
+  fewer.triangles.clear();
+  for (size_t f = 0; f < keep.size(); ++f)
+    if (keep[f]) index[f] = int(fewer.triangles.size()), fewer.triangles.push_back(s.triangles[f]);
+  const sdm::EdgeTable a = sdm::without_faces(sdm::edge_table(s), index), b = sdm::edge_table(fewer);
+  REQUIRE(a.lo == b.lo);
+  REQUIRE(a.hi == b.hi);
+  REQUIRE(a.halfedge == b.halfedge);
+  REQUIRE(a.forward == b.forward);
+  REQUIRE(a.group == b.group);
+}

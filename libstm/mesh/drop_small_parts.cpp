@@ -20,7 +20,7 @@ void check_fraction(double fraction) {
 
 }  // namespace
 
-std::vector<std::string> drop_small_soup_parts(MeshSoup& soup, double fraction) {
+std::vector<std::string> drop_small_soup_parts(MeshSoup& soup, double fraction, std::vector<int>* kept_faces) {
   check_fraction(fraction);
   const int nv = int(soup.points.size());
   auto in_range = [&](const std::array<int, 3>& t) { return t[0] >= 0 && t[0] < nv && t[1] >= 0 && t[1] < nv && t[2] >= 0 && t[2] < nv; };
@@ -48,8 +48,10 @@ std::vector<std::string> drop_small_soup_parts(MeshSoup& soup, double fraction) 
     if (faces[size_t(r)] > 0 && parts.find(r) == r && dropped(r)) lines.push_back(part_line(faces[size_t(r)], lo[size_t(r)], hi[size_t(r)]));
   if (lines.empty()) return lines;
   size_t kept = 0;
+  if (kept_faces) kept_faces->clear();
   for (size_t f = 0; f < soup.triangles.size(); ++f) {
     if (in_range(soup.triangles[f]) && dropped(parts.find(soup.triangles[f][0]))) continue;
+    if (kept_faces) kept_faces->push_back(int(f));
     if (!soup.uv.empty())
       for (size_t c = 0; c < 3; ++c) soup.uv[3 * kept + c] = soup.uv[3 * f + c];
     soup.triangles[kept++] = soup.triangles[f];

@@ -15,7 +15,8 @@ namespace sdm {
 /// would refuse (a stray flat triangle of a scan) no longer stops the model. Triangles
 /// with indices out of range, and parts with non-finite coordinates, stay for validation to name.
 /// Returns one line per dropped part (faces, size and place). Throws InputError when no part is
-/// that large (a fraction of 1 or more) or `fraction` is negative or not finite.
-std::vector<std::string> drop_small_soup_parts(MeshSoup& soup, double fraction);
+/// that large (a fraction of 1 or more) or `fraction` is negative or not finite. `kept_faces`, when
+/// given and a part is dropped, receives the input number of every face kept, in order.
+std::vector<std::string> drop_small_soup_parts(MeshSoup& soup, double fraction, std::vector<int>* kept_faces = nullptr);
 
 }  // namespace sdm

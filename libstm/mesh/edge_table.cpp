@@ -39,6 +39,24 @@ EdgeTable edge_table(const std::vector<std::array<int, 3>>& triangles, size_t ve
   return t;
 }
 
+EdgeTable without_faces(const EdgeTable& t, const std::vector<int>& index) {
+  EdgeTable out;
+  const size_t n = t.halfedge.size();
+  out.lo.reserve(n), out.hi.reserve(n), out.halfedge.reserve(n), out.forward.reserve(n), out.group.reserve(t.group.size());
+  for (size_t e = 0; e < t.edges(); ++e) {
+    const size_t first = out.halfedge.size();
+    for (size_t i = t.group[e]; i < t.group[e + 1]; ++i) {
+      const int f = index[size_t(t.face(i))];
+      if (f < 0) continue;
+      out.lo.push_back(t.lo[i]), out.hi.push_back(t.hi[i]), out.forward.push_back(t.forward[i]);
+      out.halfedge.push_back(3 * f + t.halfedge[i] % 3);
+    }
+    if (out.halfedge.size() > first) out.group.push_back(first);
+  }
+  out.group.push_back(out.halfedge.size());
+  return out;
+}
+
 std::vector<std::array<int, 3>> boundary_halfedges(const EdgeTable& t) {
   std::vector<std::array<int, 3>> out;
   for (size_t e = 0; e < t.edges(); ++e) {

@@ -28,6 +28,11 @@ inline EdgeTable edge_table(const MeshSoup& soup, const std::vector<char>& use =
   return edge_table(soup.triangles, soup.points.size(), use);
 }
 
+/// The table after faces were dropped from the soup: `index[f]` is face f's number afterwards, -1
+/// when dropped, the numbers increasing with f (as keeping faces in order gives them). Equals
+/// edge_table of the soup without those faces, at the cost of a copy instead of a sort.
+EdgeTable without_faces(const EdgeTable& t, const std::vector<int>& index);
+
 /// Every side without an opposite, as (a, b, face) with the face running a -> b: the rim of an
 /// open mesh's holes.
 std::vector<std::array<int, 3>> boundary_halfedges(const EdgeTable& t);

@@ -16,6 +16,7 @@ namespace sdm {
 struct LoadOptions {
   double min_part = 0;   ///< drop parts smaller than this fraction of the diagonal first (drop_small_parts.h); 0: none
   bool repair = true;    ///< false: refuse what validation refuses, as it is in the file (`--no-repair`, `--strict`)
+  bool report_as_read = false;  ///< validate the file as read in full before repairing it (`info`); else only what repair needs (scan_topology)
   RepairOptions repair_options;
 };
 
@@ -25,12 +26,17 @@ struct LoadReport {
   std::vector<std::string> dropped;  ///< one line per part --min-part dropped (flat fragments: in `repair`)
   RepairReport repair;               ///< empty steps when nothing was repaired (or repair was off)
   MeshReport validation;
-  MeshReport as_read;                ///< the validation of the soup as read (before repair)
+  double repair_seconds = 0;         ///< the time repair_soup took (0 when it did not run)
+  MeshReport as_read;                ///< the validation of the soup as read (before repair; its topology alone, without parts, unless report_as_read)
 };
 
 /// Whether repair_soup would change what validation of this report refuses or reports: fatal
 /// findings, holes (a crack may weld shut), duplicated faces.
 bool repair_may_help(const MeshReport& report);
+
+/// What a scan of the soup (scan_topology) tells repair_soup: its table, whether it has borders,
+/// crowded or inconsistent edges, and its non-manifold vertices (pointers into `scan`).
+RepairHints repair_hints(const TopologyScan& scan);
 
 /// The road above up to validation, on `soup` (modified in place: specks dropped, repaired); never
 /// throws for the soup's defects: the report's `validation` says whether the pipeline can take it.

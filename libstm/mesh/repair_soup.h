@@ -16,6 +16,7 @@
 //     and the ends of the edges cut in 3 and 4);
 //  6. points no face uses dropped.
 // Outward orientation (the sign of each part's volume) stays validation's (orient_outward).
+#include "libstm/mesh/edge_table.h"
 #include "libstm/mesh/mesh.h"
 
 #include <nlohmann/json.hpp>
@@ -50,10 +51,22 @@ struct RepairReport {
   nlohmann::json to_json() const;             ///< {"changed", "weld_distance", "steps": [{kind, count, example}]}
 };
 
+/// What validation already knows of the soup (scan_topology), so that repair runs only the steps
+/// its findings call for, and splits only the vertices it names (DESIGN 6.1, "Mesh repair"). The
+/// default, no hints, runs every step everywhere.
+struct RepairHints {
+  const EdgeTable* table = nullptr;            ///< the soup's edge table, every face in it; null: made anew
+  bool borders = true;                         ///< some edge has one face: welds may close it
+  bool crowded_or_inconsistent = true;         ///< some edge has more than two faces, or two that disagree
+  bool duplicated = true;                      ///< validation found duplicated faces
+  const std::vector<int>* pinched = nullptr;   ///< the non-manifold vertices; null: every vertex looked at
+};
+
 /// Repairs `soup` in place (points, triangles, uv and colours alike) and says what it did.
 /// Soups with non-finite coordinates or out-of-range corners are left as they are, for validation
 /// to name. Linear in the soup's size but for two sorts (the points by coordinates, each edge's
 /// faces by angle).
-RepairReport repair_soup(MeshSoup& soup, const RepairOptions& options = {});
+/// With `hints`, the result is the same as without them whenever the hints are true of the soup.
+RepairReport repair_soup(MeshSoup& soup, const RepairOptions& options = {}, const RepairHints& hints = {});
 
 }  // namespace sdm

@@ -45,6 +45,26 @@ struct MeshReport {
 /// corners (else it is left empty), for build_mesh to link the halfedges from.
 MeshReport validate_mesh(const MeshSoup& soup, EdgeTable* table = nullptr);
 
+/// The first half of validate_mesh: coordinates, face corners, edges (borders, crowded edges,
+/// orientation) and vertex fans, everything repair_soup mends; enough to tell whether repair is
+/// needed before the rest (duplicates, degenerate faces, parts, genus, volumes) is measured.
+struct TopologyScan {
+  MeshReport report;                     ///< the findings so far (counts, box, edges; no parts yet)
+  EdgeTable table;                       ///< of the faces with valid corners
+  std::vector<char> face_ok;             ///< per face: its corners are in range and distinct
+  std::vector<int> nonmanifold_vertices; ///< the vertices where more than one fan of faces meets
+  long bad_coordinates = 0;              ///< points with NaN or infinite coordinates
+  bool edges_not_closed_2_manifold = false;  ///< some edge is a border, crowded, or between inconsistently oriented faces
+  size_t findings_before_duplicates = 0;     ///< where finish_validation puts the duplicated faces' finding
+  /// Whether repair_may_help will say yes whatever the rest finds (a fatal finding or a border).
+  bool repair_needed() const;
+};
+TopologyScan scan_topology(const MeshSoup& soup);
+
+/// The rest of validate_mesh on the scan of the same soup: validate_mesh(soup, table) equals
+/// finish_validation(soup, scan_topology(soup), table).
+MeshReport finish_validation(const MeshSoup& soup, TopologyScan&& scan, EdgeTable* table = nullptr);
+
 // Flips every closed part whose signed volume is negative, so that all normals point outwards.
 // Adds an informational finding when it does. Requires a usable report of the same soup. Returns
 // the number of faces flipped.
