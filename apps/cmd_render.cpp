@@ -39,8 +39,8 @@ void declare_render_options(CLI::App* app, RenderArgs* o) {
       ->capture_default_str();
   app->add_option("--elevation", o->elevation, "Camera angle above the horizontal plane in degrees")->capture_default_str();
   app->add_option("--texture", o->texture, "Texture image (.png) overriding the mesh's material; needs uv in the mesh");
-  app->add_flag("--no-texture", o->no_texture, "Ignore the mesh's texture and draw it in a flat colour");
-  app->add_flag("--unlit", o->unlit, "No shading: draw the texture (or flat) colour as it is, for pixel comparisons");
+  app->add_flag("--no-texture", o->no_texture, "Ignore the mesh's texture and vertex colours and draw it in a flat colour");
+  app->add_flag("--unlit", o->unlit, "No shading: draw the texture (or vertex, or flat) colour as it is, for pixel comparisons");
   app->add_flag("--orthographic", o->orthographic, "Orthographic instead of perspective (30 degree) projection");
   app->add_flag("--flat", o->flat, "Flat shading with face normals");
   app->add_option("--skeleton", o->skeleton, "Skeleton (.json from 'sdm skeleton') drawn over a semi-transparent mesh");
@@ -88,7 +88,7 @@ void check_render_size(const RenderArgs& o) {
 // A glTF file's own texture: `material_texture` then names it with this marker.
 const char* const kEmbeddedTexture = "(the texture embedded in the mesh file)";
 
-sdm::Mesh load_any_mesh(const std::string& path, std::string* material_texture, sdm::Image* embedded) {
+sdm::Mesh load_any_mesh(const std::string& path, std::string* material_texture, sdm::Image* embedded, std::vector<Eigen::Vector3f>* colors) {
   sdm::MeshSoup soup = sdm::read_mesh_soup(path);
   sdm::LoadReport loaded = sdm::repair_and_validate(soup, load_options());  // the pipeline's repair, without its refusal
   for (const auto& line : sdm::repair_lines(loaded.repair)) progress(path + ": " + line);
@@ -99,6 +99,12 @@ sdm::Mesh load_any_mesh(const std::string& path, std::string* material_texture, 
     mesh = sdm::build_mesh(soup);
   } catch (const sdm::InputError&) {
     throw sdm::InputError(report.refusal(path));
+  }
+  colors->clear();
+  if (soup.colors.size() == soup.points.size()) {  // build_mesh keeps the used points, in order
+    const std::vector<char> used = sdm::used_points(soup);
+    for (size_t i = 0; i < soup.colors.size(); ++i)
+      if (used[i]) colors->push_back(soup.colors[i]);
   }
   *material_texture = soup.texture;
   if (soup.texture.empty() && !soup.texture_image.pixels.empty()) {
@@ -176,7 +182,7 @@ sdm::Image contact_sheet_of(const RenderArgs& o, const std::vector<sdm::Image>& 
 }
 
 void report_render(const RenderArgs& o, const sdm::GlContext& gl, const sdm::Image& img, const RenderedViews& v,
-                   const std::string& texture_path) {
+                   const std::string& texture_path, bool vertex_colors) {
   double min_psnr = std::numeric_limits<double>::infinity(), mean_psnr = 0;
   for (double p : v.psnrs) min_psnr = std::min(min_psnr, p), mean_psnr += p / v.psnrs.size();
   if (o.json) {
@@ -185,6 +191,7 @@ void report_render(const RenderArgs& o, const sdm::GlContext& gl, const sdm::Ima
                         {"height", img.height},
                         {"views", o.views},
                         {"texture", o.stm.empty() ? texture_path : o.stm},
+                        {"vertex_colors", vertex_colors},
                         {"covered_pixels", v.covered},
                         {"renderer", gl.renderer()},
                         {"gl_version", gl.version()},
@@ -194,7 +201,8 @@ void report_render(const RenderArgs& o, const sdm::GlContext& gl, const sdm::Ima
     print_json(j);
   } else {
     std::cout << o.output << ": " << img.width << "x" << img.height << ", " << v.covered << " object pixels"
-              << (o.stm.empty() ? (texture_path.empty() ? "" : ", texture " + texture_path) : ", STM " + o.stm) << "\n";
+              << (o.stm.empty() ? (texture_path.empty() ? "" : ", texture " + texture_path) : ", STM " + o.stm)
+              << (vertex_colors ? ", vertex colours" : "") << "\n";
     if (o.compare_uv)
       std::cout << std::fixed << std::setprecision(2) << "PSNR own uv vs STM: min " << min_psnr << " dB, mean " << mean_psnr
                 << " dB over " << v.psnrs.size() << " view(s)\n";
@@ -205,7 +213,8 @@ int run_render(const RenderArgs& o) {
   check_render_size(o);
   std::string material_texture;
   sdm::Image embedded;
-  const sdm::Mesh mesh = load_any_mesh(o.mesh, &material_texture, &embedded);
+  std::vector<Eigen::Vector3f> colors;
+  const sdm::Mesh mesh = load_any_mesh(o.mesh, &material_texture, &embedded, &colors);
   const std::string texture_path = own_texture_path(o, material_texture);
   sdm::Image texture;
   if (!texture_path.empty()) {
@@ -231,10 +240,12 @@ int run_render(const RenderArgs& o) {
   ro.orthographic = o.orthographic;
   ro.flat_shading = o.flat;
   if (!texture_path.empty()) ro.texture = &texture;
+  const bool draw_colors = !colors.empty() && texture_path.empty() && !o.no_texture && !from_stm;
+  if (draw_colors) ro.vertex_colors = &colors;
   const RenderedViews views = render_views(o, gl, mesh, ro, from_stm ? &layout : nullptr, atlas);
   const sdm::Image img = contact_sheet_of(o, views.cells);
   sdm::write_png(img, o.output);
-  report_render(o, gl, img, views, texture_path);
+  report_render(o, gl, img, views, texture_path, draw_colors);
   return 0;
 }
 
@@ -245,7 +256,8 @@ Command add_render_command(CLI::App& parent) {
   auto* app = parent.add_subcommand(
       "render", "Render a mesh to a PNG image, offscreen (headless OpenGL through EGL).\n"
                 "The camera frames the mesh's bounding box from the given azimuth and elevation; a mesh with uv\n"
-                "is drawn with its texture (the map_Kd of its MTL, or --texture). Open meshes are drawn too.\n"
+                "is drawn with its texture (the map_Kd of its MTL, or --texture), a mesh with a colour per vertex\n"
+                "(PLY red/green/blue, glTF COLOR_0, OBJ 'v x y z r g b') in those colours. Open meshes are drawn too.\n"
                 "With --stm ATLAS.png --layout LAYOUT.json the mesh is drawn from its skeleton texture map, with\n"
                 "STM coordinates computed in the shaders from positions and the layout only (any uv is ignored);\n"
                 "--compare-uv then also draws it with its own uv and texture, writes both side by side (own uv\n"

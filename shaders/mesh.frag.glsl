@@ -1,10 +1,11 @@
 #version 450 core
-// Surface colour (flat or texture; later modes add sources) times optional headlight shading.
+// Surface colour (flat, texture or per vertex) times optional headlight shading.
 in vec3 v_view_position;
 in vec3 v_normal;
 in vec2 v_uv;
+in vec3 v_color;
 
-uniform int u_color_source;  // 0: u_color, 1: u_texture at the mesh's uv
+uniform int u_color_source;  // 0: u_color, 1: u_texture at the mesh's uv, 2: the vertices' colours
 uniform vec3 u_color;
 uniform sampler2D u_texture;
 uniform bool u_lit;
@@ -16,7 +17,7 @@ layout(location = 0) out vec4 out_color;
 void main() {
   // Sampled unconditionally: derivatives for mip selection need uniform control flow.
   vec3 tex = texture(u_texture, v_uv).rgb;
-  vec3 c = u_color_source == 1 ? tex : u_color;
+  vec3 c = u_color_source == 1 ? tex : u_color_source == 2 ? v_color : u_color;
   if (u_lit) {
     vec3 n = normalize(v_normal);
     vec3 l = u_orthographic ? vec3(0.0, 0.0, 1.0) : normalize(-v_view_position);

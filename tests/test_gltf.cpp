@@ -146,8 +146,9 @@ std::string make_glb(const nlohmann::json& json, std::string bin) {
 
 // A unit cube as glTF writes a hard-edged one: 4 vertices per side (24), 12 triangles, in a node
 // translated by (10, 0, 0) and scaled by 2.
-// `edit` changes the JSON before it is packed (hostile variants).
-std::string split_cube_glb(size_t count_override = 0, const std::function<void(nlohmann::json&)>& edit = {}) {
+// `edit` changes the JSON before it is packed (hostile variants); `colors`: a COLOR_0 too, each
+// vertex's (linear) colour half its position in the unit cube.
+std::string split_cube_glb(size_t count_override = 0, const std::function<void(nlohmann::json&)>& edit = {}, bool colors = false) {
   std::vector<float> p;
   std::vector<uint32_t> idx;
   for (int axis = 0; axis < 3; ++axis)
@@ -166,6 +167,9 @@ std::string split_cube_glb(size_t count_override = 0, const std::function<void(n
     }
   std::string bin(reinterpret_cast<const char*>(p.data()), 4 * p.size());
   bin.append(reinterpret_cast<const char*>(idx.data()), 4 * idx.size());
+  std::vector<float> c;
+  for (float x : p) c.push_back(0.5f * x);
+  if (colors) bin.append(reinterpret_cast<const char*>(c.data()), 4 * c.size());
   nlohmann::json j = {
       {"asset", {{"version", "2.0"}}},
       {"buffers", {{{"byteLength", bin.size()}}}},
@@ -178,6 +182,11 @@ std::string split_cube_glb(size_t count_override = 0, const std::function<void(n
       {"nodes", {{{"mesh", 0}, {"translation", {10, 0, 0}}, {"scale", {2, 2, 2}}}}},
       {"scenes", {{{"nodes", {0}}}}},
       {"scene", 0}};
+  if (colors) {
+    j["bufferViews"].push_back({{"buffer", 0}, {"byteOffset", 4 * (p.size() + idx.size())}, {"byteLength", 4 * c.size()}});
+    j["accessors"].push_back({{"bufferView", 2}, {"componentType", 5126}, {"type", "VEC3"}, {"count", 24}});
+    j["meshes"][0]["primitives"][0]["attributes"]["COLOR_0"] = 2;
+  }
   if (edit) edit(j);
   return make_glb(j, bin);
 }
@@ -232,6 +241,19 @@ TEST_CASE("A glTF cube split at its seams reads back closed, placed by its node"
   CHECK(report.boundary_loops == 0);
   CHECK(report.bbox_min.isApprox(Eigen::Vector3d(10, 0, 0)));
   CHECK(report.bbox_max.isApprox(Eigen::Vector3d(12, 2, 2)));
+}
+
+TEST_CASE("A glTF's COLOR_0 reads as the vertices' colours, turned from linear to sRGB", "[gltf]") {
+  test_util::TempDir dir;
+  test_util::write_file(dir / "cube.glb", split_cube_glb(0, {}, true));
+  const sdm::MeshSoup soup = sdm::read_mesh_soup(dir / "cube.glb");
+  REQUIRE(soup.points.size() == 8);
+  REQUIRE(soup.colors.size() == 8);
+  const float srgb_half = float(1.055 * std::pow(0.5, 1 / 2.4) - 0.055);  // 0.7354
+  for (size_t v = 0; v < 8; ++v) {
+    const Eigen::Vector3d corner = (soup.points[v] - Eigen::Vector3d(10, 0, 0)) / 2;  // the node's placement undone
+    for (int k = 0; k < 3; ++k) CHECK(soup.colors[v][k] == Approx(corner[k] > 0.5 ? srgb_half : 0.0f).margin(1e-6));
+  }
 }
 
 TEST_CASE("Hostile glTF files are refused by name", "[gltf][hostile]") {

@@ -483,9 +483,10 @@ TEST_CASE("A self-intersecting Spot is named as such, and --strict refuses it wr
 }
 
 TEST_CASE("A map that carries under --min-carried of the surface is said so, and --strict refuses it", "[hostile]") {
-  // A 20^2 atlas (4 texels of margin) leaves the capsule a few texels per rectangle: measured 91.9 %
-  // of its surface within 1 % of the diagonal (16 % while the decoder mixed texels encoded for faces
-  // across the capsule into its lookups), over the default floor of 90 % and under a floor of 95 %,
+  // A 20^2 atlas (4 texels of margin) leaves the capsule a few texels per rectangle: measured 95.9 %
+  // of its surface within 1 % of the diagonal (91.9 % with a base mesh of 400 vertices instead of
+  // 800; 16 % while the decoder mixed texels encoded for faces across the capsule into its lookups),
+  // over the default floor of 90 % and under a floor of 97 %,
   // without the encoder's check of its map (--face-error 0); with it, the faces the map cannot carry
   // are placed flat and it carries all (below).
   Capsule cap;
@@ -501,16 +502,16 @@ TEST_CASE("A map that carries under --min-carried of the surface is said so, and
   CHECK(plain.output.find("warning: the map carries only") == std::string::npos);
   const double carried = test_util::last_json(plain)["carried"].get<double>();
   CHECK(carried > 0.9);
-  CHECK(carried < 0.95);
+  CHECK(carried < 0.97);
   fs::remove(out);
-  const auto warned = run_sdm("encode " + cap.mesh + coarse + " --min-carried 0.95 -o " + out + " --json");
+  const auto warned = run_sdm("encode " + cap.mesh + coarse + " --min-carried 0.97 -o " + out + " --json");
   CHECK(warned.exit_code == 0);
   CHECK(warned.output.find("warning: the map carries only") != std::string::npos);
-  CHECK(warned.output.find("at least 95 % expected") != std::string::npos);
+  CHECK(warned.output.find("at least 97 % expected") != std::string::npos);
   fs::remove(out);
-  expect_refused(run_sdm("encode " + cap.mesh + coarse + " --min-carried 0.95 -o " + out + " --strict"), "the map carries only");
+  expect_refused(run_sdm("encode " + cap.mesh + coarse + " --min-carried 0.97 -o " + out + " --strict"), "the map carries only");
   CHECK(!fs::exists(out));
-  expect_refused(run_sdm("roundtrip " + cap.mesh + coarse + " --min-carried 0.95 --strict"), "the map carries only");
+  expect_refused(run_sdm("roundtrip " + cap.mesh + coarse + " --min-carried 0.97 --strict"), "the map carries only");
   CHECK(run_sdm("encode " + cap.mesh + " --size 20 --min-carried 1.5 -o " + out).exit_code == 2);  // out of range
   // The capsule's own layout at 256^2 carries all of it.
   CHECK(test_util::last_json(run_sdm("encode " + cap.mesh + " --layout " + cap.layout + " -o " + out + " --json"))["carried"].get<double>() == 1.0);

@@ -6,6 +6,7 @@
 #include "libstm/core/image.h"
 #include "libstm/mesh/mesh.h"
 #include "libstm/render/render_mesh.h"
+#include "test_util.h"
 
 #include <catch2/catch.hpp>
 
@@ -518,4 +519,38 @@ TEST_CASE("principal_view_frame keeps +y up for a model not lying flat", "[rende
   WARN("box standing along y, principal view: silhouette " << size.x() << " x " << size.y() << " px (width / height " << ratio << ")");
   CHECK(ratio > 3.8);
   CHECK(ratio < 4.2);
+}
+
+TEST_CASE("sdm render draws an OBJ's vertex colours (v x y z r g b), blended across faces", "[render]") {
+  // A tetrahedron whose corners are red, green, blue and yellow: unlit, every pixel it covers
+  // fully is a blend of those four (its red + green + blue stays within [255, 510]: each corner's
+  // sum is 255 or 510) and none is the flat grey; --no-texture draws the flat grey instead.
+  test_util::TempDir dir;
+  test_util::write_file(dir / "tet.obj",
+                        "v 0 0 0 1 0 0\nv 1 0 0 0 1 0\nv 0 1 0 0 0 1\nv 0 0 1 1 1 0\nf 1 3 2\nf 1 2 4\nf 2 3 4\nf 3 1 4\n");
+  const auto colored = test_util::run_sdm("render " + (dir / "tet.obj") + " --unlit --width 200 --height 200 -o " + (dir / "c.png"));
+  const auto flat = test_util::run_sdm("render " + (dir / "tet.obj") + " --unlit --no-texture --width 200 --height 200 -o " + (dir / "f.png"));
+  INFO(colored.output << flat.output);
+  REQUIRE(colored.exit_code == 0);
+  REQUIRE(flat.exit_code == 0);
+  const sdm::Image c = sdm::read_png(dir / "c.png"), f = sdm::read_png(dir / "f.png");
+  long object = 0, blends = 0, reddest = 0, greenest = 0, bluest = 0, grey = 0;
+  for (int y = 0; y < c.height; ++y)
+    for (int x = 0; x < c.width; ++x) {
+      const auto p = c.at(x, y), q = f.at(x, y);
+      if (p[0] == 255 && p[1] == 255 && p[2] == 255) continue;
+      ++object;
+      const int sum = p[0] + p[1] + p[2];
+      blends += sum >= 250 && sum <= 515;
+      reddest += p[0] > 200 && p[1] < 60 && p[2] < 60, greenest += p[1] > 200 && p[0] < 60 && p[2] < 60;
+      bluest += p[2] > 200 && p[0] < 60 && p[1] < 60;
+      grey += std::abs(q[0] - 199) <= 1 && std::abs(q[1] - 199) <= 1 && std::abs(q[2] - 204) <= 1;
+    }
+  INFO(object << " object pixels: " << blends << " blends of the corners, " << reddest << " red, " << greenest << " green, "
+              << bluest << " blue; flat " << grey);
+  CHECK(object > 5000);
+  CHECK(blends > object * 95 / 100);
+  CHECK((reddest > 0 || greenest > 0 || bluest > 0));
+  CHECK(greenest + bluest > 0);
+  CHECK(grey > object * 9 / 10);
 }

@@ -609,6 +609,44 @@ TEST_CASE("sdm transfer --vertex-colors writes the target's vertices coloured fr
   CHECK(far <= out.n_vertices() / 1000);
 }
 
+// What transfer writes twice, the target textured (OBJ and atlas) and coloured per vertex (PLY),
+// drawn by sdm render (unlit, four views): the same pictures but for the colours' blending across
+// faces, where the texture varies within them.
+TEST_CASE("sdm render draws the PLY of transfer --vertex-colors as the textured OBJ of the same transfer", "[transfer_texture][render]") {
+  sdm::GlContext gl;
+  test_util::TempDir dir;
+  sdm::Mesh a;
+  const std::string src = write_textured_ypsilon(gl, dir, &a);
+  sdm::write_mesh(remeshed(a, 0.8), dir / "target.off");
+  const auto res = test_util::run_sdm("transfer --source " + src + " --target " + (dir / "target.off") + " -o " + (dir / "out.obj") +
+                                      " --size 1024 --vertex-colors " + (dir / "colors.ply"));
+  INFO(res.output);
+  REQUIRE(res.exit_code == 0);
+  const std::string views = " --unlit --views 4 --width 320 --height 320 -o ";
+  const auto textured = test_util::run_sdm("render " + (dir / "out.obj") + views + (dir / "textured.png"));
+  const auto colored = test_util::run_sdm("render " + (dir / "colors.ply") + views + (dir / "colored.png"));
+  const auto flat = test_util::run_sdm("render " + (dir / "colors.ply") + " --no-texture" + views + (dir / "flat.png"));
+  INFO(textured.output << colored.output << flat.output);
+  REQUIRE((textured.exit_code == 0 && colored.exit_code == 0 && flat.exit_code == 0));
+  const sdm::Image t = sdm::read_png(dir / "textured.png"), c = sdm::read_png(dir / "colored.png"), f = sdm::read_png(dir / "flat.png");
+  REQUIRE(t.pixels.size() == c.pixels.size());
+  // Over the pixels either picture covers (the background is white in both).
+  std::vector<uint8_t> object(size_t(t.width) * size_t(t.height), 0);
+  long covered = 0;
+  for (int y = 0; y < t.height; ++y)
+    for (int x = 0; x < t.width; ++x) {
+      bool any = false;
+      for (int k = 0; k < 3; ++k) any |= t.at(x, y)[k] != 255 || c.at(x, y)[k] != 255;
+      object[size_t(y) * size_t(t.width) + size_t(x)] = any, covered += any;
+    }
+  const double colors_db = sdm::psnr(t, c, &object), flat_db = sdm::psnr(t, f, &object);
+  WARN("render of the vertex colours against the textured render: " << colors_db << " dB over " << covered
+                                                                      << " pixels (flat grey: " << flat_db << " dB)");
+  CHECK(covered > 20000);
+  CHECK(colors_db >= 30);
+  CHECK(flat_db < 20);  // the colours are what makes the match
+}
+
 // A source with vertex colours and no texture (PLY): its colour encodes its position. The target
 // (its remesh) is textured from the colours painted into the source's STM, and its vertex colours
 // are the source's blended at each vertex's source point: decoded, they give back the target's

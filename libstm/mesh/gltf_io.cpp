@@ -11,6 +11,7 @@
 #include <Eigen/Geometry>
 
 #include <algorithm>
+#include <cmath>
 #include <climits>
 #include <cstring>
 #include <filesystem>
@@ -97,6 +98,25 @@ struct Reader {
   bool all_uv = true;
   int textured_material = -1;
   std::vector<char> visited;  // per node: glTF's node hierarchy is a tree (one parent at most)
+  std::vector<Eigen::Vector3f> colors;  // per point (sRGB in [0, 1]; black where no COLOR_0 gives one)
+  bool any_color = false;
+
+  // The COLOR_0 of each of the primitive's vertices onto its point (the first vertex welded there
+  // gives it), turned from glTF's linear values to the sRGB ones PLY and OBJ colours hold.
+  void vertex_colors(const tinygltf::Primitive& p, const std::vector<int>& point, const std::vector<char>& added, const std::string& what) {
+    colors.resize(out.soup.points.size(), Eigen::Vector3f::Zero());
+    const auto col = p.attributes.find("COLOR_0");
+    if (col == p.attributes.end()) return;
+    const AccessorView C(model, col->second, what);
+    if (C.count() != point.size() || (C.components() != 3 && C.components() != 4)) throw InputError(what + ": COLOR_0 does not match POSITION");
+    auto srgb = [](double x) {
+      x = std::clamp(x, 0.0, 1.0);
+      return float(x <= 0.0031308 ? 12.92 * x : 1.055 * std::pow(x, 1 / 2.4) - 0.055);
+    };
+    for (size_t i = 0; i < point.size(); ++i)
+      if (added[i]) colors[size_t(point[i])] = {srgb(C.get(i, 0)), srgb(C.get(i, 1)), srgb(C.get(i, 2))};
+    any_color = true;
+  }
 
   void primitive(const tinygltf::Primitive& p, const Eigen::Affine3d& t) {
     const std::string what = "glTF " + path;
@@ -108,6 +128,7 @@ struct Reader {
     if (P.components() != 3 || model.accessors[pos->second].componentType != TINYGLTF_COMPONENT_TYPE_FLOAT)
       throw InputError(what + ": POSITION is not a float VEC3 accessor");
     std::vector<int> point(P.count());
+    std::vector<char> added_here(P.count(), 0);
     for (size_t i = 0; i < P.count(); ++i) {
       const Eigen::Vector3d x = t * Eigen::Vector3d(P.get(i, 0), P.get(i, 1), P.get(i, 2));
       if (!(x.cwiseAbs().maxCoeff() <= kMaxCoordinate))  // NaN too
@@ -115,8 +136,9 @@ struct Reader {
                          ", " + std::to_string(x.z()) + "), beyond the float range sdm reads");
       const auto [it, added] = weld.emplace(std::array<double, 3>{x.x(), x.y(), x.z()}, int(out.soup.points.size()));
       if (added) out.soup.points.push_back(x);
-      point[i] = it->second;
+      point[i] = it->second, added_here[i] = added;
     }
+    vertex_colors(p, point, added_here, what);
     std::vector<size_t> corners;
     if (p.indices >= 0) {
       const AccessorView I(model, p.indices, what);
@@ -239,7 +261,7 @@ GltfScene read_gltf(const std::string& path) {
   const bool ok = lower_extension(path) == ".glb" ? loader.LoadBinaryFromFile(&model, &err, &warn, path)
                                             : loader.LoadASCIIFromFile(&model, &err, &warn, path);
   if (!ok) throw InputError("cannot read glTF " + path + ": " + (err.empty() ? "the file could not be parsed" : err));
-  Reader r{model, path, {}, {}, {}, true, -1, {}};
+  Reader r{model, path, {}, {}, {}, true, -1, {}, {}, false};
   if (!model.scenes.empty()) {
     const int s = model.defaultScene >= 0 && model.defaultScene < int(model.scenes.size()) ? model.defaultScene : 0;
     for (int n : model.scenes[s].nodes) r.node(n, Eigen::Affine3d::Identity(), 0);
@@ -248,6 +270,7 @@ GltfScene read_gltf(const std::string& path) {
       for (const auto& p : mesh.primitives) r.primitive(p, Eigen::Affine3d::Identity());
   }
   if (r.out.soup.triangles.empty()) throw InputError("glTF " + path + " has no triangles");
+  if (r.any_color) r.out.soup.colors = std::move(r.colors);
   if (r.all_uv) {
     r.out.soup.uv = std::move(r.uv);
     r.out.texture = base_color_texture(model, r.textured_material, "glTF " + path);

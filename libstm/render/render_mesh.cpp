@@ -107,10 +107,14 @@ Eigen::Matrix3d principal_view_frame(const Mesh& mesh) {
 namespace {
 
 // One vertex per triangle corner: uv lives on halfedges and flat normals on faces, so corners
-// are not shared. Layout: position (relative to `origin`), normal, uv. A corner's normal averages
+// are not shared. Layout: position (relative to `origin`), normal, uv, colour (the vertex's from
+// `colors` when given, else 0; kCornerFloats floats in all). A corner's normal averages
 // (area-weighted) the faces around its vertex that bend less than `crease_deg` from its own face,
 // so smooth parts look smooth and sharp edges stay sharp.
-std::vector<float> corner_vertices(const Mesh& mesh, const Eigen::Vector3d& origin, double crease_deg, bool uv) {
+constexpr int kCornerFloats = 11;
+
+std::vector<float> corner_vertices(const Mesh& mesh, const Eigen::Vector3d& origin, double crease_deg, bool uv,
+                                   const std::vector<Eigen::Vector3f>* colors) {
   std::vector<Eigen::Vector3d> face_normal(mesh.n_faces(), Eigen::Vector3d::Zero());  // length = twice the area
   for (auto f : mesh.faces()) {
     auto h = mesh.halfedge_handle(f);
@@ -121,7 +125,7 @@ std::vector<float> corner_vertices(const Mesh& mesh, const Eigen::Vector3d& orig
   }
   const double cos_crease = std::cos(crease_deg * M_PI / 180.0);
   std::vector<float> out;
-  out.reserve(mesh.n_faces() * 3 * 8);
+  out.reserve(mesh.n_faces() * 3 * kCornerFloats);
   for (auto f : mesh.faces()) {
     const Eigen::Vector3d nf = face_normal[f.idx()];
     const double lf = nf.norm();
@@ -143,6 +147,8 @@ std::vector<float> corner_vertices(const Mesh& mesh, const Eigen::Vector3d& orig
       } else {
         out.insert(out.end(), {0.f, 0.f});
       }
+      const Eigen::Vector3f c = colors ? (*colors)[size_t(v.idx())] : Eigen::Vector3f::Zero();
+      out.insert(out.end(), {c.x(), c.y(), c.z()});
     }
   }
   return out;
@@ -166,15 +172,18 @@ Image render_mesh(GlContext& gl, const Mesh& mesh, const RenderOptions& opt, std
   const Camera cam = frame_camera(lo, hi, opt.azimuth_deg, opt.elevation_deg, opt.width, opt.height, opt.orthographic, opt.frame);
 
   gl.make_current();
-  const std::vector<float> verts = corner_vertices(mesh, cam.center, opt.flat_shading ? 0.0 : opt.crease_angle_deg, textured);
+  const std::vector<Eigen::Vector3f>* colors = textured ? nullptr : opt.vertex_colors;
+  if (colors && colors->size() != mesh.n_vertices())
+    throw InputError("render: " + std::to_string(colors->size()) + " vertex colours for " + std::to_string(mesh.n_vertices()) + " vertices");
+  const std::vector<float> verts = corner_vertices(mesh, cam.center, opt.flat_shading ? 0.0 : opt.crease_angle_deg, textured, colors);
 
   Framebuffer fb(opt.width, opt.height, opt.samples);
   const GlBuffer vbo = make_buffer(verts);
   const GlVertexArray vao = make_vertex_array();
-  glVertexArrayVertexBuffer(vao.get(), 0, vbo.get(), 0, 8 * sizeof(float));
-  const GLint sizes[3] = {3, 3, 2};
-  const GLuint offsets[3] = {0, 3 * sizeof(float), 6 * sizeof(float)};
-  for (GLuint a = 0; a < 3; ++a) {
+  glVertexArrayVertexBuffer(vao.get(), 0, vbo.get(), 0, kCornerFloats * sizeof(float));
+  const GLint sizes[4] = {3, 3, 2, 3};
+  const GLuint offsets[4] = {0, 3 * sizeof(float), 6 * sizeof(float), 8 * sizeof(float)};
+  for (GLuint a = 0; a < 4; ++a) {
     glEnableVertexArrayAttrib(vao.get(), a);
     glVertexArrayAttribFormat(vao.get(), a, sizes[a], GL_FLOAT, GL_FALSE, offsets[a]);
     glVertexArrayAttribBinding(vao.get(), a, 0);
@@ -204,7 +213,7 @@ Image render_mesh(GlContext& gl, const Mesh& mesh, const RenderOptions& opt, std
   glUseProgram(prog);
   glUniformMatrix4fv(glGetUniformLocation(prog, "u_model_view"), 1, GL_FALSE, model_view.data());
   glUniformMatrix4fv(glGetUniformLocation(prog, "u_projection"), 1, GL_FALSE, projection.data());
-  glUniform1i(glGetUniformLocation(prog, "u_color_source"), textured ? 1 : 0);
+  glUniform1i(glGetUniformLocation(prog, "u_color_source"), textured ? 1 : colors ? 2 : 0);
   glUniform3f(glGetUniformLocation(prog, "u_color"), opt.color.x(), opt.color.y(), opt.color.z());
   glUniform1i(glGetUniformLocation(prog, "u_lit"), opt.unlit ? 0 : 1);
   glUniform1i(glGetUniformLocation(prog, "u_orthographic"), opt.orthographic ? 1 : 0);
@@ -212,7 +221,7 @@ Image render_mesh(GlContext& gl, const Mesh& mesh, const RenderOptions& opt, std
   glUniform1i(glGetUniformLocation(prog, "u_texture"), 0);
   glBindTextureUnit(0, tex.get());
   glBindVertexArray(vao.get());
-  glDrawArrays(GL_TRIANGLES, 0, GLsizei(verts.size() / 8));
+  glDrawArrays(GL_TRIANGLES, 0, GLsizei(verts.size() / kCornerFloats));
   glBindVertexArray(0);
   glBindTextureUnit(0, 0);
   glUseProgram(0);

@@ -64,6 +64,9 @@ struct RenderOptions {
   // image's bottom-left corner, as in OBJ. Sampled bilinearly with mipmaps, repeating.
   const Image* texture = nullptr;
   Eigen::Vector3f color = Eigen::Vector3f(0.78f, 0.78f, 0.80f);  // surface colour without texture, RGB in [0,1]
+  // When set and no texture is: a colour per mesh vertex (RGB in [0, 1], one per vertex), blended
+  // across each face, in place of `color`.
+  const std::vector<Eigen::Vector3f>* vertex_colors = nullptr;
   std::array<uint8_t, 4> background = {255, 255, 255, 255};
   // Framing box; when bbox_min > bbox_max in any coordinate (the default), the mesh's own box.
   Eigen::Vector3d bbox_min = Eigen::Vector3d::Constant(1.0), bbox_max = Eigen::Vector3d::Constant(-1.0);
