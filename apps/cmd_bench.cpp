@@ -2,7 +2,9 @@
 // encode/decode times, and a large real mesh; with --solvers, the contraction's sparse Cholesky
 // solvers against each other. Figures, not pass/fail: speed is measured here and written to
 // docs/BENCHMARKS.md, never asserted by tests.
+#include "apps/cli_common.h"
 #include "apps/commands.h"
+#include "apps/transfer_setup.h"
 #include "libsdm/decode/decode_sdm.h"
 #include "libsdm/encode/encode_sdm.h"
 #include "libstm/core/parallel.h"
@@ -12,6 +14,7 @@
 #include "libstm/mesh/mesh.h"
 #include "libstm/mesh/mesh_geometry.h"
 #include "libstm/mesh/primitives.h"
+#include "libstm/registration/correspondence_error.h"
 #include "libstm/render/gl_context.h"
 #include "libstm/render/render_atlas.h"
 #include "libstm/skeleton/contract_mesh.h"
@@ -23,6 +26,7 @@
 #include <fstream>
 #include <iomanip>
 #include <memory>
+#include <numeric>
 #include <sstream>
 #include <thread>
 
@@ -408,15 +412,30 @@ struct TransferRow {
   double rms = 0;
 };
 
+// The texture the bench's sources show (their uv a planar projection: with_planar_uv).
+Image checker_texture() {
+  Image checker(64, 64, 4, 255);
+  for (int y = 0; y < 64; ++y)
+    for (int x = 0; x < 64; ++x) checker.pixels[4 * (64 * y + x)] = ((x / 8 + y / 8) % 2) ? 200 : 40;
+  return checker;
+}
+
+// How the transfer found the target's skeleton, as `sdm transfer --json` names it.
+std::string target_kind(const TextureTransfer& t) {
+  return t.carried ? "carried" : t.fitted ? "bent" : t.registered ? "registered" : "extracted";
+}
+
+std::string pair_name(const std::string& a_path, const std::string& b_path) {
+  return std::filesystem::path(a_path).stem().string() + " -> " + std::filesystem::path(b_path).stem().string();
+}
+
 // Both extractions, then transfer_texture (recognition, registration, layout, atlas, coordinates)
 // with a 1024 atlas, as `sdm transfer` runs them; the fastest of `repeat` runs.
 TransferRow time_transfer(GlContext& gl, const std::string& a_path, const std::string& b_path, int repeat) {
   const Mesh a = with_planar_uv(load_mesh(a_path)), b = load_mesh(b_path);
-  Image checker(64, 64, 4, 255);
-  for (int y = 0; y < 64; ++y)
-    for (int x = 0; x < 64; ++x) checker.pixels[4 * (64 * y + x)] = ((x / 8 + y / 8) % 2) ? 200 : 40;
+  const Image checker = checker_texture();
   TransferRow row;
-  row.pair = std::filesystem::path(a_path).stem().string() + " -> " + std::filesystem::path(b_path).stem().string();
+  row.pair = pair_name(a_path, b_path);
   row.vertices = int(a.n_vertices());
   TransferOptions to;
   to.size = 1024;
@@ -427,10 +446,166 @@ TransferRow time_transfer(GlContext& gl, const std::string& a_path, const std::s
     const double e = sw.lap();
     const TextureTransfer t = transfer_texture(gl, a, checker, sa, b, sb, to);
     row.extract = std::min(row.extract, e), row.transfer = std::min(row.transfer, sw.lap());
-    row.kind = t.carried ? "carried" : t.fitted ? "bent" : t.registered ? "registered" : "extracted";
+    row.kind = target_kind(t);
     row.rms = t.fit_rms;
   }
   return row;
+}
+
+// ---- Correspondence error on FAUST (docs/BENCHMARKS.md) ----
+
+// The FAUST registrations compared: one connectivity, so target vertex i truly shows source vertex
+// i; 001 and 007 are one person in two poses.
+const char* const kFaust[] = {"tr_reg_001.off", "tr_reg_007.off", "tr_reg_010.off", "tr_reg_024.off"};
+
+// Mean geodesic errors on FAUST as published (x100 of sqrt(area), Kim et al. 2011's unit; the
+// remeshed FAUST test pairs), beside ours.
+struct PublishedError {
+  const char* method;
+  double mean;
+};
+const PublishedError kPublished[] = {{"BCICP", 6.1}, {"ZoomOut", 6.1}, {"Smooth Shells", 2.5}, {"Deep Shells", 1.7}, {"ULRSSM", 1.6}};
+
+struct CorrespondenceRow {
+  std::string pair, kind;
+  std::string failure;  // why there is no correspondence (the transfer refused the pair), or empty
+  double fit_rms = INFINITY, seconds = 0, measure_seconds = 0;
+  double geodesic_mean = 0, geodesic_p90 = 0, euclidean_mean = 0, euclidean_p90 = 0;
+};
+
+// The ordered pair a -> b through what `sdm transfer` runs with its defaults (the meshes loaded as
+// it loads them, both skeletons as it obtains them, its TransferOptions: 2048 atlas, the other
+// extraction candidates), the source given a planar uv and a checker texture (neither reaches the
+// correspondence), then every target vertex's error against the ground truth (correspondence_error).
+// `seconds`: loading, both skeletons and the transfer, once; `measure_seconds`: the error.
+CorrespondenceRow transfer_correspondence(GlContext& gl, const std::string& a_path, const std::string& b_path) {
+  CorrespondenceRow row;
+  row.pair = pair_name(a_path, b_path);
+  Stopwatch sw;
+  try {
+    const Mesh a = with_planar_uv(load_mesh_min_part(a_path)), b = load_mesh_min_part(b_path);
+    Skeleton sa, sb;
+    SkeletonStats stats_a, stats_b;
+    obtain_both_skeletons(
+        a.n_vertices() + b.n_vertices(), [&] { sa = skeleton_for(a, "", "source", &stats_a, nullptr); },
+        [&] { sb = skeleton_for(b, "", "target", &stats_b, nullptr); });
+    const TransferOptions to = transfer_command_options(TransferSettings{}, a, b, stats_a, stats_b, nullptr);
+    const TextureTransfer t = transfer_texture(gl, a, checker_texture(), sa, b, sb, to);
+    row.seconds = sw.lap();
+    row.kind = target_kind(t), row.fit_rms = t.fit_rms;
+    if (a.n_vertices() != b.n_vertices() || t.correspondence.size() != b.n_vertices()) {
+      row.failure = "no point correspondence of every target vertex";
+      return row;
+    }
+    std::vector<int> truth(b.n_vertices());
+    std::iota(truth.begin(), truth.end(), 0);
+    const CorrespondenceError e = correspondence_error(a, t.correspondence, truth);
+    row.measure_seconds = sw.lap();
+    row.geodesic_mean = e.geodesic_mean, row.geodesic_p90 = e.geodesic_p90;
+    row.euclidean_mean = e.euclidean_mean, row.euclidean_p90 = e.euclidean_p90;
+  } catch (const InputError& e) {
+    row.seconds = sw.lap();
+    row.failure = e.what();
+  }
+  return row;
+}
+
+// Every ordered pair of kFaust found in `humans` (none, with a note, when one is missing).
+std::vector<CorrespondenceRow> faust_correspondences(GlContext& gl, const std::string& humans) {
+  std::vector<CorrespondenceRow> rows;
+  for (const char* name : kFaust)
+    if (!std::filesystem::exists(humans + "/" + name)) {
+      std::cerr << "bench: " << humans << "/" << name << " missing: the FAUST correspondence error skipped\n";
+      return rows;
+    }
+  const int n = int(std::size(kFaust));
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j < n; ++j) {
+      if (i == j) continue;
+      std::cerr << "bench: correspondence " << kFaust[i] << " -> " << kFaust[j] << " (" << rows.size() + 1 << " of " << n * (n - 1) << ")\n";
+      rows.push_back(transfer_correspondence(gl, humans + "/" + kFaust[i], humans + "/" + kFaust[j]));
+      const CorrespondenceRow& r = rows.back();
+      if (!r.failure.empty()) std::cerr << "  refused: " << r.failure << "\n";
+      else std::cerr << "  geodesic error mean " << r.geodesic_mean << ", p90 " << r.geodesic_p90 << " (" << r.seconds << " s)\n";
+    }
+  return rows;
+}
+
+// Over the pairs with a correspondence: the mean of their means, the worst mean and the worst p90.
+struct CorrespondenceSummary {
+  int measured = 0, refused = 0;
+  double mean = 0, euclidean_mean = 0, worst_mean = 0, worst_p90 = 0;
+  std::string worst_mean_pair, worst_p90_pair;
+};
+
+CorrespondenceSummary summarise(const std::vector<CorrespondenceRow>& rows) {
+  CorrespondenceSummary s;
+  for (const auto& r : rows) {
+    if (!r.failure.empty()) {
+      ++s.refused;
+      continue;
+    }
+    ++s.measured;
+    s.mean += r.geodesic_mean, s.euclidean_mean += r.euclidean_mean;
+    if (r.geodesic_mean > s.worst_mean) s.worst_mean = r.geodesic_mean, s.worst_mean_pair = r.pair;
+    if (r.geodesic_p90 > s.worst_p90) s.worst_p90 = r.geodesic_p90, s.worst_p90_pair = r.pair;
+  }
+  if (s.measured) s.mean /= s.measured, s.euclidean_mean /= s.measured;
+  return s;
+}
+
+nlohmann::json correspondence_json(const std::vector<CorrespondenceRow>& rows) {
+  nlohmann::json pairs = nlohmann::json::array(), published = nlohmann::json::object();
+  for (const auto& r : rows) {
+    nlohmann::json j = {{"pair", r.pair}, {"transfer_s", r.seconds}};
+    if (!r.failure.empty()) {
+      j["refused"] = r.failure;
+    } else {
+      j.update({{"target_skeleton", r.kind}, {"fit_rms", r.fit_rms}, {"geodesic_mean", r.geodesic_mean}, {"geodesic_p90", r.geodesic_p90},
+                {"euclidean_mean_percent", r.euclidean_mean}, {"euclidean_p90_percent", r.euclidean_p90}, {"error_s", r.measure_seconds}});
+    }
+    pairs.push_back(j);
+  }
+  for (const auto& p : kPublished) published[p.method] = p.mean;
+  const CorrespondenceSummary s = summarise(rows);
+  return {{"unit", "geodesic distance on the source / sqrt(source area) x 100 (Dijkstra on edges: an upper bound); euclidean in % of the "
+                   "source's bounding-box diagonal"},
+          {"pairs", pairs},
+          {"measured", s.measured},
+          {"refused", s.refused},
+          {"geodesic_mean", s.mean},
+          {"euclidean_mean_percent", s.euclidean_mean},
+          {"worst_mean", s.worst_mean},
+          {"worst_mean_pair", s.worst_mean_pair},
+          {"worst_p90", s.worst_p90},
+          {"worst_p90_pair", s.worst_p90_pair},
+          {"published_faust_means", published}};
+}
+
+void print_correspondence_table(const std::vector<CorrespondenceRow>& rows) {
+  std::cout << "\nCorrespondence error on FAUST (every ordered pair; `sdm transfer`'s defaults; geodesic on the source / sqrt(area) x 100,\n"
+               "Dijkstra on edges, every target vertex; euclidean % of the diagonal; "
+            << machine_line() << ")\n"
+            << "| pair | target | fit RMS | geodesic mean | geodesic p90 | euclidean mean | euclidean p90 | transfer (s) | error (s) |\n"
+            << "|---|---|---|---|---|---|---|---|---|\n";
+  for (const auto& r : rows) {
+    std::cout << "| " << r.pair << " | ";
+    if (!r.failure.empty()) {
+      std::cout << "refused: " << r.failure << " | | | | | | " << std::fixed << std::setprecision(2) << r.seconds << " | |\n";
+      continue;
+    }
+    std::cout << r.kind << " | " << std::fixed << std::setprecision(3) << 100 * r.fit_rms << " % | " << std::setprecision(2)
+              << r.geodesic_mean << " | " << r.geodesic_p90 << " | " << r.euclidean_mean << " % | " << r.euclidean_p90 << " % | "
+              << r.seconds << " | " << std::setprecision(3) << r.measure_seconds << " |\n";
+  }
+  const CorrespondenceSummary s = summarise(rows);
+  std::cout << "Over the " << s.measured << " pairs measured (" << s.refused << " refused): geodesic mean " << std::setprecision(2) << s.mean
+            << " (euclidean " << s.euclidean_mean << " %), worst mean " << s.worst_mean << " (" << s.worst_mean_pair << "), worst p90 "
+            << s.worst_p90 << " (" << s.worst_p90_pair << ")\n"
+            << "Published mean geodesic errors on FAUST (remeshed test pairs, the same unit):" << std::setprecision(1);
+  const char* separator = " ";
+  for (const auto& p : kPublished) std::cout << separator << p.method << " " << p.mean, separator = ", ";
+  std::cout << "\n";
 }
 
 int run_transfer_bench(const BenchOptions& o) {
@@ -447,12 +622,13 @@ int run_transfer_bench(const BenchOptions& o) {
     std::cerr << "bench: transfer " << a << " -> " << b << "\n";
     rows.push_back(time_transfer(gl, pa, pb, o.repeat));
   }
+  const std::vector<CorrespondenceRow> faust = faust_correspondences(gl, o.humans);
   if (o.json) {
     nlohmann::json j = nlohmann::json::array();
     for (const auto& r : rows)
       j.push_back({{"pair", r.pair}, {"vertices", r.vertices}, {"extract_s", r.extract}, {"transfer_s", r.transfer},
                    {"total_s", r.extract + r.transfer}, {"target_skeleton", r.kind}, {"fit_rms", r.rms}});
-    print_json({{"machine", machine_line()}, {"transfers", j}});
+    print_json({{"machine", machine_line()}, {"transfers", j}, {"faust_correspondence", correspondence_json(faust)}});
     return 0;
   }
   std::cout << "Texture transfer between different bodies (1024 atlas; fastest of " << o.repeat << "; " << machine_line() << ")\n"
@@ -460,6 +636,7 @@ int run_transfer_bench(const BenchOptions& o) {
   for (const auto& r : rows)
     std::cout << "| " << r.pair << " | " << r.vertices << " | " << std::fixed << std::setprecision(2) << r.extract << " | " << r.transfer
               << " | " << r.extract + r.transfer << " | " << r.kind << " | " << std::setprecision(3) << 100 * r.rms << " % |\n";
+  if (!faust.empty()) print_correspondence_table(faust);
   return 0;
 }
 
@@ -590,7 +767,8 @@ Command add_bench_command(CLI::App& parent) {
   app->add_flag("--no-gl", o->no_gl, "Skip the GL atlas composing timing");
   app->add_flag("--solvers", o->solvers, "Compare the contraction's sparse Cholesky solvers instead (docs/BENCHMARKS.md)");
   app->add_flag("--transfer", o->transfer,
-                "Time texture transfer between different bodies instead (FAUST 007 <-> 024, TOSCA gorilla -> man, from --humans)");
+                "Time texture transfer between different bodies instead (FAUST 007 <-> 024, TOSCA gorilla -> man, from --humans),\n"
+                "and measure its correspondence error on every ordered pair of FAUST 001, 007, 010 and 024 against their ground truth");
   app->add_option("--humans", o->humans, "Folder of the human meshes for --transfer (skipped with a note when missing)")->capture_default_str();
   app->add_option("--load", o->load, "Time the loading stages (read, validate, build) of these meshes instead");
   app->add_option("--pipeline", o->pipeline,

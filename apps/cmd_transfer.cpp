@@ -1,6 +1,7 @@
 #include "apps/cli_common.h"
 #include "apps/commands.h"
 #include "apps/memory_budget.h"
+#include "apps/transfer_setup.h"
 #include "libsdm/decode/decode_sdm.h"
 #include "libsdm/map/sdm_exr.h"
 #include "libstm/core/parallel.h"
@@ -17,7 +18,6 @@
 #include <cmath>
 #include <filesystem>
 #include <memory>
-#include <optional>
 #include <sstream>
 
 namespace sdm::cli {
@@ -27,25 +27,10 @@ namespace {
 struct TransferArgs {
   std::string source, texture, target, output, source_skeleton, target_skeleton, sdm, correspondence, vertex_colors;
   std::string max_memory;
-  std::vector<std::string> match;
-  int size = 2048, margin = 8, lod = 3;
-  bool json = false, force = false;
+  sdm::cli::TransferSettings settings;  // size, margin, --match, --force (the skeletons given are set on running)
+  int lod = 3;
+  bool json = false;
 };
-
-// The skeleton read from json_path (it must map mesh's vertices), or else extracted with the
-// transfer's options (its statistics into *stats); `what` names the model in messages.
-sdm::Skeleton skeleton_for(const sdm::Mesh& mesh, const std::string& json_path, const std::string& what, sdm::SkeletonStats* stats,
-                           const sdm::Progress& report) {
-  if (!json_path.empty()) {
-    sdm::Skeleton s = sdm::read_skeleton_json(json_path);
-    if (s.vertex_node.size() != mesh.n_vertices())
-      throw sdm::InputError(what + " skeleton " + json_path + " was made for a mesh with " + std::to_string(s.vertex_node.size()) +
-                            " vertices, not " + std::to_string(mesh.n_vertices()));
-    return s;
-  }
-  report("extracting the " + what + " skeleton");
-  return sdm::extract_skeleton(mesh, sdm::transfer_skeleton_options(), report, stats);
-}
 
 // path with its extension replaced by suffix (OUT.obj -> OUT_atlas.png).
 std::string sibling(const std::string& path, const std::string& suffix) {
@@ -85,7 +70,7 @@ int run_sdm_transfer(const TransferArgs& o) {
   d.level = o.lod;
   const double bytes = sdm::estimate_decode(im, d).bytes;
   check_memory(bytes, o.max_memory, "decoding at --lod " + std::to_string(o.lod), "use a lower --lod");
-  d.skeleton = sdm::skeleton_onto_graph(graph, target, sdm::parse_node_pairs(o.match), &m);
+  d.skeleton = sdm::skeleton_onto_graph(graph, target, sdm::parse_node_pairs(o.settings.match), &m);
   const sdm::Mesh mesh = sdm::decode_sdm(im, d);
   sdm::write_mesh(mesh, o.output);
   nlohmann::json chains;
@@ -151,21 +136,14 @@ TransferInputs read_inputs(const TransferArgs& o) {
     in.texture_path.clear();
   }
   in.target = load_mesh_min_part(o.target);
-  // Both skeletons at once: an extraction keeps a second core busy only while its medial candidate
-  // runs (FAUST 007 and 024: 0.95-1.08 -> 0.63-0.69 s for the two). Each line says whose it is. One after the
-  // other for large meshes, whose extractions' memory would add up.
+  // Both skeletons at once (obtain_both_skeletons); each line says whose it is.
   const sdm::Progress shared = sdm::serialised(progress);
   auto labelled = [&](const std::string& what) -> sdm::Progress {
     return [shared, what](const std::string& line) { shared(line.rfind("extracting", 0) == 0 ? line : what + ": " + line); };
   };
   auto source = [&] { in.skeleton_a = skeleton_for(in.source, o.source_skeleton, "source", &in.stats_a, labelled("source")); };
   auto target = [&] { in.skeleton_b = skeleton_for(in.target, o.target_skeleton, "target", &in.stats_b, labelled("target")); };
-  if (in.source.n_vertices() + in.target.n_vertices() <= 400000) {
-    sdm::run_concurrently(target, source);
-  } else {
-    source();
-    target();
-  }
+  obtain_both_skeletons(in.source.n_vertices() + in.target.n_vertices(), source, target);
   return in;
 }
 
@@ -204,7 +182,8 @@ struct OutputPaths {
 // (the transfer's size and margin), so it can be transferred like a textured one.
 void paint_source_texture(sdm::GlContext& gl, const TransferArgs& o, TransferInputs& in) {
   progress("the source has vertex colours and no texture: painting them into its own STM atlas");
-  sdm::TexturedMesh t = sdm::texture_from_vertex_colors(gl, in.source, in.source_colors, in.skeleton_a, o.size, o.margin);
+  sdm::TexturedMesh t =
+      sdm::texture_from_vertex_colors(gl, in.source, in.source_colors, in.skeleton_a, o.settings.size, o.settings.margin);
   in.source = std::move(t.mesh);
   in.texture = std::move(t.texture);
 }
@@ -362,26 +341,15 @@ void print_transfer_text(const TransferArgs& o, const TransferInputs& in, const 
 
 // The texture transfer: inputs, transfer_texture, preview, files, report.
 int run_texture_transfer(const TransferArgs& o) {
-  check_atlas_memory(o.size, 60, o.max_memory);
+  check_atlas_memory(o.settings.size, 60, o.max_memory);
   TransferInputs in = read_inputs(o);
   sdm::GlContext gl;
   progress("GL renderer: " + gl.renderer() + " (" + gl.version() + ", " + gl.platform() + ")");
   if (in.texture.pixels.empty()) paint_source_texture(gl, o, in);
-  sdm::TransferOptions to;
-  to.size = o.size;
-  to.margin = o.margin;
-  to.fixed = sdm::parse_node_pairs(o.match);
-  to.progress = progress;
-  // A skeleton the user gives is used as given; an extracted one gives way to the source's
-  // when the target turns out to be the source's shape (transfer_texture).
-  to.carry_same_shape = o.target_skeleton.empty();
-  to.force = o.force;
-  // An extracted skeleton may give way to its extraction's other candidate when the branchings
-  // differ (TransferOptions::other_candidate); a skeleton given as a file is used as given.
-  to.other_candidate = [&](bool target) -> std::optional<sdm::Skeleton> {
-    if (!(target ? o.target_skeleton : o.source_skeleton).empty()) return std::nullopt;
-    return sdm::other_transfer_candidate(target ? in.target : in.source, target ? in.stats_b : in.stats_a, progress);
-  };
+  TransferSettings settings = o.settings;
+  settings.source_skeleton_given = !o.source_skeleton.empty();
+  settings.target_skeleton_given = !o.target_skeleton.empty();
+  const sdm::TransferOptions to = transfer_command_options(settings, in.source, in.target, in.stats_a, in.stats_b, progress);
   const sdm::TextureTransfer r = sdm::transfer_texture(gl, in.source, in.texture, in.skeleton_a, in.target, in.skeleton_b, to);
   if ((!o.correspondence.empty() || !o.vertex_colors.empty()) && r.correspondence.empty())
     throw sdm::InputError(std::string(o.correspondence.empty() ? "--vertex-colors" : "--correspondence") +
@@ -433,18 +401,18 @@ void declare_options(CLI::App* app, TransferArgs& o) {
       ->capture_default_str();
   app->add_option("--source-skeleton", o.source_skeleton, "Source skeleton (.json from 'sdm skeleton') instead of extracting one");
   app->add_option("--target-skeleton", o.target_skeleton, "Target skeleton (.json from 'sdm skeleton') instead of extracting one");
-  app->add_option("--match", o.match,
+  app->add_option("--match", o.settings.match,
                   "Force a pair of junction or end nodes to correspond: SOURCE_NODE=TARGET_NODE (skeleton node\n"
                   "indices; repeatable), for symmetric models whose pose does not tell the branches apart");
-  app->add_option("--size", o.size, "Atlas width and height in texels")->check(CLI::Range(16, 16384))->capture_default_str();
-  app->add_option("--margin", o.margin, "Texels of margin around every rectangle")->check(CLI::Range(0, 256))->capture_default_str();
+  app->add_option("--size", o.settings.size, "Atlas width and height in texels")->check(CLI::Range(16, 16384))->capture_default_str();
+  app->add_option("--margin", o.settings.margin, "Texels of margin around every rectangle")->check(CLI::Range(0, 256))->capture_default_str();
   app->add_option("--correspondence", o.correspondence,
                   "Also write, per target vertex, the source face and barycentric coordinates it takes (.txt or .json)");
   app->add_option("--vertex-colors", o.vertex_colors,
                   "Also write the target with a colour per vertex (.ply, uchar red/green/blue): the source's vertex colours,\n"
                   "or its texture, at the source point each target vertex corresponds to (needs a correspondence, as above)");
   add_max_memory_option(app, o.max_memory);
-  app->add_flag("--force", o.force, "Write the result even when the registered source fits the target poorly, its branches disagree in length or meet the core at other places, or left and right are a tie");
+  app->add_flag("--force", o.settings.force, "Write the result even when the registered source fits the target poorly, its branches disagree in length or meet the core at other places, or left and right are a tie");
   app->add_flag("--json", o.json, "Print one JSON object instead of text");
   add_repair_options(app);
 }
