@@ -8,6 +8,7 @@
 #include <string>
 #include <system_error>
 #include <unistd.h>
+#include <vector>
 
 // SDM_FULL_RELATIVE: libexec/sdm relative to bin, from CMake's install directories (CMakeLists.txt).
 
@@ -34,6 +35,33 @@ int hand_over(char** argv) {
   }
   std::cerr << "sdm: failed: this command needs sdm-full, which is neither at " << places[0].string() << " nor at "
             << places[1].lexically_normal().string() << ". Fix: build or install sdm again (both programs)." << std::endl;
+  return 1;
+}
+
+int hand_over_to_batch(int argc, char** argv) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  const fs::path self = fs::read_symlink("/proc/self/exe", ec);
+  const fs::path folder = ec ? fs::path(argv[0]).parent_path() : self.parent_path();
+  // The commands run by `sdm`, the front (it starts faster), also when sdm-full was asked.
+  const fs::path program = ec ? fs::path(argv[0]) : self;
+  const fs::path front = program.filename() == "sdm-full" && fs::exists(folder / "sdm", ec) ? folder / "sdm" : program;
+  const fs::path places[] = {folder / "python" / "sdm_batch.py", folder / SDM_BATCH_RELATIVE / "sdm_batch.py"};
+  for (const fs::path& script : places) {
+    if (!fs::exists(script, ec)) continue;
+    const std::string python = ::access("/usr/bin/python3", X_OK) == 0 ? "/usr/bin/python3" : "python3";
+    std::vector<std::string> args = {python, script.string(), "--sdm", front.string()};
+    for (int i = 2; i < argc; ++i) args.push_back(argv[i]);
+    std::vector<char*> c;
+    for (auto& a : args) c.push_back(a.data());
+    c.push_back(nullptr);
+    ::execvp(python.c_str(), c.data());
+    std::cerr << "sdm: failed: cannot start " << python << " for sdm batch: " << std::strerror(errno)
+              << ". Fix: install python3 and python3-distributed (scripts/install-deps.sh)" << std::endl;
+    return 1;
+  }
+  std::cerr << "sdm: failed: sdm batch needs sdm_batch.py, which is neither at " << places[0].string() << " nor at "
+            << places[1].lexically_normal().string() << ". Fix: build or install sdm again." << std::endl;
   return 1;
 }
 

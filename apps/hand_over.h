@@ -19,4 +19,11 @@ bool runs_here(const std::vector<std::string>& commands, int argc, char** argv);
 // when it cannot (1, with a message naming where it looked).
 int hand_over(char** argv);
 
+// `sdm batch ARGS`: replaces this process with Python running sdm_batch.py (python/sdm_batch.py:
+// models as tasks on Dask) with `--sdm THIS_PROGRAM ARGS`: the script beside this program
+// (python/, the build tree) or in SDM_BATCH_RELATIVE from its folder (share/sdm). The system
+// interpreter (/usr/bin/python3, whose Dask Debian installs) when there is one, else python3 on
+// PATH. Returns only when it cannot (1, with a message).
+int hand_over_to_batch(int argc, char** argv);
+
 }  // namespace sdm::cli

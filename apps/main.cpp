@@ -66,6 +66,8 @@ int main(int argc, char** argv) {
       "skeleton segment as a capsule, packs the rectangles into one square atlas, and uses it to\n"
       "render, encode and transfer textures and displacement."};
   app.require_subcommand(1);
+  app.footer("Over folders of models: sdm batch (Python on Dask; sdm batch --help).");
+  if (argc > 1 && std::string(argv[1]) == "batch") return sdm::cli::hand_over_to_batch(argc, argv);
   app.set_version_flag("--version", std::string("sdm ") + SDM_VERSION);
 #ifdef SDM_FRONT
   // This program has only the light commands; every other command line goes to sdm-full.
