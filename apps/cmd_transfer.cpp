@@ -5,6 +5,7 @@
 #include "libsdm/decode/decode_sdm.h"
 #include "libsdm/map/sdm_exr.h"
 #include "libstm/core/parallel.h"
+#include "libstm/registration/correspondence_jumps.h"
 #include "libstm/transfer/carry_attributes.h"
 #include "libstm/transfer/transfer_texture.h"
 #include "libstm/core/atomic_file.h"
@@ -87,6 +88,10 @@ int run_sdm_transfer(const TransferArgs& o) {
 }
 
 // The texture transfer's inputs, read and checked.
+// A target vertex whose source point lies farther than this fraction of the source's diagonal from
+// most of its neighbours' jumps (a speck); a warning when their area passes kJumpWarning of the target's.
+constexpr double kJumpDistance = 0.05, kJumpWarning = 0.001;
+
 struct TransferInputs {
   sdm::Mesh source, target;
   sdm::Image texture;                         // empty until painted when the source has colours only
@@ -251,7 +256,8 @@ nlohmann::json branch_fit_json(const std::vector<sdm::BranchFit>& fits) {
 }
 
 // The result as one JSON object (node numbers as in the given skeletons).
-void print_transfer_json(const TransferArgs& o, const TransferInputs& in, const sdm::TextureTransfer& r, const OutputPaths& out) {
+void print_transfer_json(const TransferArgs& o, const TransferInputs& in, const sdm::TextureTransfer& r, const OutputPaths& out,
+                         const sdm::CorrespondenceJumps& jumps) {
   const sdm::SkeletonMatch m = sdm::match_in_given_numbering(r.skeletons);
   nlohmann::json chains;
   match_text(m, &chains);
@@ -301,7 +307,9 @@ void print_transfer_json(const TransferArgs& o, const TransferInputs& in, const 
               {"registration_rms", finite_or_null(r.registration.rms)},
               {"registration_p99", finite_or_null(r.registration.p99)},
               {"stretch", r.stretch},
-              {"seam_faces", r.seam_faces}});
+              {"seam_faces", r.seam_faces},
+              {"jumping_share", r.correspondence.empty() ? nlohmann::json() : nlohmann::json(jumps.area_share)},
+              {"jumping_vertices", r.correspondence.empty() ? nlohmann::json() : nlohmann::json(jumps.vertices)}});
 }
 
 // The result as text (node numbers as in the given skeletons).
@@ -375,11 +383,19 @@ int run_texture_transfer(const TransferArgs& o) {
   for (const auto& [node, from, to] : r.skeletons.slid_b)
     progress("target branch at node " + std::to_string(node) + " moved from junction " + std::to_string(from) + " to junction " +
              std::to_string(to) + ": the matched branches disagreed in length");
+  // Specks: target vertices whose source point lies over 5 % of the diagonal from most neighbours'.
+  const sdm::CorrespondenceJumps jumps =
+      r.correspondence.empty() ? sdm::CorrespondenceJumps{}
+                               : sdm::correspondence_jumps(in.source, in.target, r.correspondence, kJumpDistance * sdm::bounding_box_diagonal(in.source));
+  if (jumps.area_share > kJumpWarning)
+    progress("warning: " + std::to_string(100 * jumps.area_share) + " % of the target's area (" + std::to_string(jumps.vertices) +
+             " vertices, e.g. vertex " + std::to_string(jumps.example) +
+             ") shows source points that jump away from their neighbours': specks of another part's texture");
   const std::vector<Eigen::Vector3f> colors = o.vertex_colors.empty() ? std::vector<Eigen::Vector3f>() : target_vertex_colors(in, r);
   const sdm::Image preview = render_preview(gl, in, r);
   const OutputPaths out(o);
   write_outputs(r, preview, out, colors);
-  if (o.json) print_transfer_json(o, in, r, out);
+  if (o.json) print_transfer_json(o, in, r, out, jumps);
   else print_transfer_text(o, in, r, out);
   return 0;
 }

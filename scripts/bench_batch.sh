@@ -11,7 +11,7 @@ out=$(mktemp -d)
 trap 'rm -rf "$out"' EXIT
 list="$out/models.txt"
 for d in wild cgal humans spot; do
-  find "$MODELS/$d" -maxdepth 1 -type f \( -name '*.obj' -o -name '*.off' \) | sort
+  find "$(realpath "$MODELS")/$d" -maxdepth 1 -type f \( -name '*.obj' -o -name '*.off' \) | sort
 done >"$list"
 n=$(wc -l <"$list")
 start=$(date +%s.%N)

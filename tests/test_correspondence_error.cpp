@@ -9,6 +9,7 @@
 #include "libstm/mesh/mesh.h"
 #include "libstm/mesh/mesh_geometry.h"
 #include "libstm/registration/correspondence_error.h"
+#include "libstm/registration/correspondence_jumps.h"
 
 #include <catch2/catch.hpp>
 
@@ -170,6 +171,24 @@ TEST_CASE("correspondence_error: across a tube the geodesic goes round, the eucl
   }
   CHECK(e.geodesic_mean == Approx(e.geodesic[0]));
   CHECK(e.euclidean_p90 == Approx(e.euclidean[0]));
+}
+
+TEST_CASE("correspondence_jumps: a vertex whose point jumps away is found, with its share of the area", "[correspondence_error]") {
+  // A 5 x 5 grid of spacing 1 onto itself: nothing jumps. Vertex 12 (the middle, in 6 faces of
+  // area 1/2: 1 of the grid's 16) sent to the far corner jumps; its neighbours do not (one
+  // neighbour of theirs out of four to six is far).
+  const sdm::Mesh m = grid(5, 5, 1);
+  std::vector<sdm::SourcePoint> c;
+  for (int v = 0; v < 25; ++v) c.push_back(at_vertex(m, v));
+  const sdm::CorrespondenceJumps none = sdm::correspondence_jumps(m, m, c, 1.5);
+  CHECK(none.vertices == 0);
+  CHECK(none.area_share == 0);
+  c[12] = at_vertex(m, 24);
+  const sdm::CorrespondenceJumps one = sdm::correspondence_jumps(m, m, c, 1.5);
+  CHECK(one.vertices == 1);
+  CHECK(one.example == 12);
+  CHECK(one.area_share == Approx(1.0 / 16));
+  CHECK_THROWS_AS(sdm::correspondence_jumps(m, m, std::vector<sdm::SourcePoint>(3), 1.0), sdm::InputError);
 }
 
 TEST_CASE("correspondence_error refuses counts and indices that do not fit the source", "[correspondence_error]") {
