@@ -18,6 +18,17 @@ namespace {
 
 sdm::MeshSoup capsule_soup(int resolution = 400) { return sdm::mesh_to_soup(sdm::make_primitive("capsule", resolution)); }
 
+// `mesh` as a soup: every triangle with its own three points.
+sdm::MeshSoup unwelded(const sdm::MeshSoup& mesh) {
+  sdm::MeshSoup s;
+  for (const auto& t : mesh.triangles) {
+    const int n = int(s.points.size());
+    for (int v : t) s.points.push_back(mesh.points[size_t(v)]);
+    s.triangles.push_back({n, n + 1, n + 2});
+  }
+  return s;
+}
+
 // The three points of triangle t of `s`, starting at its smallest point (lexicographic), so that
 // two triangles over the same points in the same orientation compare equal.
 std::array<Eigen::Vector3d, 3> corners(const sdm::MeshSoup& s, const std::array<int, 3>& t) {
@@ -152,12 +163,7 @@ TEST_CASE("repair: a non-manifold edge joining two closed bodies splits them apa
 
 TEST_CASE("repair: a triangle soup welds back into the mesh it was", "[repair_soup]") {
   const sdm::MeshSoup mesh = capsule_soup();
-  sdm::MeshSoup s;
-  for (const auto& t : mesh.triangles) {
-    const int n = int(s.points.size());
-    for (int v : t) s.points.push_back(mesh.points[size_t(v)]);
-    s.triangles.push_back({n, n + 1, n + 2});
-  }
+  sdm::MeshSoup s = unwelded(mesh);
   const sdm::MeshSoup in = s;
   const sdm::RepairReport r = sdm::repair_soup(s);
   REQUIRE(r.count("coincident vertices welded (exact)") == long(in.points.size() - mesh.points.size()));
@@ -328,14 +334,7 @@ TEST_CASE("repair from validation's scan does what the full repair does", "[repa
     require_same_repair(s);
   }
   SECTION("a soup") {
-    const sdm::MeshSoup mesh = capsule_soup();
-    sdm::MeshSoup s;
-    for (const auto& t : mesh.triangles) {
-      const int n = int(s.points.size());
-      for (int v : t) s.points.push_back(mesh.points[size_t(v)]);
-      s.triangles.push_back({n, n + 1, n + 2});
-    }
-    require_same_repair(s);
+    require_same_repair(unwelded(capsule_soup()));
   }
 }
 
