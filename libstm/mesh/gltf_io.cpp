@@ -1,4 +1,5 @@
 #include "libstm/mesh/gltf_io.h"
+#include "libstm/mesh/gltf_io_internal.h"
 
 #include "libstm/core/atomic_file.h"
 #include "libstm/core/errors.h"
@@ -6,10 +7,6 @@
 #include "libstm/mesh/check_mesh_file.h"
 
 #include <stb/stb_image.h>
-#include <tiny_gltf.h>
-
-#include <Eigen/Geometry>
-
 #include <algorithm>
 #include <cmath>
 #include <climits>
@@ -19,57 +16,7 @@
 #include <sstream>
 
 namespace sdm {
-namespace {
-
-namespace fs = std::filesystem;
-
-// The bytes of element i of an accessor, after checking that the whole accessor lies inside its
-// buffer view and the view inside its buffer (tinygltf does not check every combination).
-class AccessorView {
- public:
-  AccessorView(const tinygltf::Model& m, int index, const std::string& what) : what_(what) {
-    if (index < 0 || index >= int(m.accessors.size())) throw InputError(what + ": accessor " + std::to_string(index) + " does not exist");
-    const tinygltf::Accessor& a = m.accessors[index];
-    count_ = a.count;
-    components_ = tinygltf::GetNumComponentsInType(a.type);
-    component_size_ = tinygltf::GetComponentSizeInBytes(a.componentType);
-    type_ = a.componentType;
-    normalized_ = a.normalized;
-    if (components_ <= 0 || component_size_ <= 0) throw InputError(what + ": accessor " + std::to_string(index) + " has an unknown type");
-    if (a.sparse.isSparse) throw InputError(what + ": sparse accessors are not supported");
-    if (a.bufferView < 0 || a.bufferView >= int(m.bufferViews.size()))
-      throw InputError(what + ": accessor " + std::to_string(index) + " has no buffer view");
-    const tinygltf::BufferView& v = m.bufferViews[a.bufferView];
-    if (v.buffer < 0 || v.buffer >= int(m.buffers.size())) throw InputError(what + ": buffer view " + std::to_string(a.bufferView) + " has no buffer");
-    const std::vector<unsigned char>& data = m.buffers[v.buffer].data;
-    const size_t element = size_t(components_) * component_size_;
-    stride_ = v.byteStride ? v.byteStride : element;
-    const size_t need = count_ == 0 ? 0 : a.byteOffset + stride_ * (count_ - 1) + element;
-    if (v.byteOffset > data.size() || v.byteLength > data.size() - v.byteOffset || need > v.byteLength || stride_ < element)
-      throw InputError(what + ": accessor " + std::to_string(index) + " reaches outside its buffer (the file is truncated or corrupt)");
-    base_ = data.data() + v.byteOffset + a.byteOffset;
-  }
-  size_t count() const { return count_; }
-  int components() const { return components_; }
-  // Component c of element i as a double (normalized integers mapped to [0, 1]).
-  double get(size_t i, int c) const {
-    const unsigned char* p = base_ + i * stride_ + size_t(c) * component_size_;
-    switch (type_) {
-      case TINYGLTF_COMPONENT_TYPE_FLOAT: { float f; std::memcpy(&f, p, 4); return f; }
-      case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE: return normalized_ ? *p / 255.0 : *p;
-      case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: { uint16_t s; std::memcpy(&s, p, 2); return normalized_ ? s / 65535.0 : s; }
-      case TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT: { uint32_t u; std::memcpy(&u, p, 4); return u; }
-      default: throw InputError(what_ + ": unsupported component type " + std::to_string(type_));
-    }
-  }
-
- private:
-  std::string what_;
-  const unsigned char* base_ = nullptr;
-  size_t count_ = 0, stride_ = 0;
-  int components_ = 0, component_size_ = 0, type_ = 0;
-  bool normalized_ = false;
-};
+namespace gltf_internal {
 
 Eigen::Affine3d node_transform(const tinygltf::Node& n) {
   Eigen::Affine3d t = Eigen::Affine3d::Identity();
@@ -84,6 +31,13 @@ Eigen::Affine3d node_transform(const tinygltf::Node& n) {
   if (n.scale.size() == 3) t.scale(Eigen::Vector3d(n.scale[0], n.scale[1], n.scale[2]));
   return t;
 }
+
+}  // namespace gltf_internal
+namespace {
+
+using gltf_internal::AccessorView;
+using gltf_internal::node_transform;
+namespace fs = std::filesystem;
 
 // Triangles one file may place (instancing multiplies what the buffers hold): 20 million, ten
 // times the largest meshes sdm is benchmarked on.
@@ -100,6 +54,7 @@ struct Reader {
   std::vector<char> visited;  // per node: glTF's node hierarchy is a tree (one parent at most)
   std::vector<Eigen::Vector3f> colors;  // per point (sRGB in [0, 1]; black where no COLOR_0 gives one)
   bool any_color = false;
+  gltf_internal::VerticesRead on_vertices;  // told of each primitive's points, when set
 
   // The COLOR_0 of each of the primitive's vertices onto its point (the first vertex welded there
   // gives it), turned from glTF's linear values to the sRGB ones PLY and OBJ colours hold.
@@ -118,7 +73,7 @@ struct Reader {
     any_color = true;
   }
 
-  void primitive(const tinygltf::Primitive& p, const Eigen::Affine3d& t) {
+  void primitive(const tinygltf::Primitive& p, const Eigen::Affine3d& t, int node_index) {
     const std::string what = "glTF " + path;
     if (p.mode != TINYGLTF_MODE_TRIANGLES)
       throw InputError(what + ": a primitive of mode " + std::to_string(p.mode) + " (only triangle lists, mode 4, are read)");
@@ -139,6 +94,7 @@ struct Reader {
       point[i] = it->second, added_here[i] = added;
     }
     vertex_colors(p, point, added_here, what);
+    if (on_vertices) on_vertices(node_index, p, point);
     std::vector<size_t> corners;
     if (p.indices >= 0) {
       const AccessorView I(model, p.indices, what);
@@ -168,19 +124,26 @@ struct Reader {
       out.soup.triangles.push_back({point[corners[k]], point[corners[k + 1]], point[corners[k + 2]]});
   }
 
-  void node(int index, const Eigen::Affine3d& parent, int depth) {
-    if (index < 0 || index >= int(model.nodes.size()) || depth > 64)
-      throw InputError("glTF " + path + ": node " + std::to_string(index) + " does not exist or the node tree is cyclic");
-    if (visited.empty()) visited.assign(model.nodes.size(), 0);
-    if (visited[index]++)
-      throw InputError("glTF " + path + ": node " + std::to_string(index) + " is reached twice (glTF nodes form a tree: one parent each)");
-    const tinygltf::Node& n = model.nodes[index];
-    const Eigen::Affine3d t = parent * node_transform(n);
-    if (n.mesh >= 0) {
-      if (n.mesh >= int(model.meshes.size())) throw InputError("glTF " + path + ": node " + std::to_string(index) + " names a missing mesh");
-      for (const auto& p : model.meshes[n.mesh].primitives) primitive(p, t);
+  // The scene's node trees, depth first in the order recursion would take, on a stack of its own
+  // (a rig's joint chain may be thousands of nodes deep).
+  void nodes(const std::vector<int>& roots) {
+    visited.assign(model.nodes.size(), 0);
+    std::vector<std::pair<int, Eigen::Affine3d>> stack;
+    for (auto r = roots.rbegin(); r != roots.rend(); ++r) stack.emplace_back(*r, Eigen::Affine3d::Identity());
+    while (!stack.empty()) {
+      const auto [index, parent] = stack.back();
+      stack.pop_back();
+      if (index < 0 || index >= int(model.nodes.size())) throw InputError("glTF " + path + ": node " + std::to_string(index) + " does not exist");
+      if (visited[index]++)
+        throw InputError("glTF " + path + ": node " + std::to_string(index) + " is reached twice (glTF nodes form a tree: one parent each)");
+      const tinygltf::Node& n = model.nodes[index];
+      const Eigen::Affine3d t = parent * node_transform(n);
+      if (n.mesh >= 0) {
+        if (n.mesh >= int(model.meshes.size())) throw InputError("glTF " + path + ": node " + std::to_string(index) + " names a missing mesh");
+        for (const auto& p : model.meshes[n.mesh].primitives) primitive(p, t, index);
+      }
+      for (auto c = n.children.rbegin(); c != n.children.rend(); ++c) stack.emplace_back(*c, t);
     }
-    for (int c : n.children) node(c, t, depth + 1);
   }
 };
 
@@ -253,7 +216,9 @@ Image base_color_texture(const tinygltf::Model& model, int m, const std::string&
 
 }  // namespace
 
-GltfScene read_gltf(const std::string& path) {
+namespace gltf_internal {
+
+tinygltf::Model load_model(const std::string& path) {
   tinygltf::Model model;
   tinygltf::TinyGLTF loader;
   loader.SetImageLoader(keep_encoded_image, nullptr);
@@ -261,13 +226,17 @@ GltfScene read_gltf(const std::string& path) {
   const bool ok = lower_extension(path) == ".glb" ? loader.LoadBinaryFromFile(&model, &err, &warn, path)
                                             : loader.LoadASCIIFromFile(&model, &err, &warn, path);
   if (!ok) throw InputError("cannot read glTF " + path + ": " + (err.empty() ? "the file could not be parsed" : err));
-  Reader r{model, path, {}, {}, {}, true, -1, {}, {}, false};
+  return model;
+}
+
+GltfScene read_model(const tinygltf::Model& model, const std::string& path, const VerticesRead& on_vertices) {
+  Reader r{model, path, {}, {}, {}, true, -1, {}, {}, false, on_vertices};
   if (!model.scenes.empty()) {
     const int s = model.defaultScene >= 0 && model.defaultScene < int(model.scenes.size()) ? model.defaultScene : 0;
-    for (int n : model.scenes[s].nodes) r.node(n, Eigen::Affine3d::Identity(), 0);
+    r.nodes(model.scenes[s].nodes);
   } else {
     for (const auto& mesh : model.meshes)
-      for (const auto& p : mesh.primitives) r.primitive(p, Eigen::Affine3d::Identity());
+      for (const auto& p : mesh.primitives) r.primitive(p, Eigen::Affine3d::Identity(), -1);
   }
   if (r.out.soup.triangles.empty()) throw InputError("glTF " + path + " has no triangles");
   if (r.any_color) r.out.soup.colors = std::move(r.colors);
@@ -278,9 +247,12 @@ GltfScene read_gltf(const std::string& path) {
   return std::move(r.out);
 }
 
-namespace {
+}  // namespace gltf_internal
 
-// Appends `bytes` to the buffer (4-byte aligned) as a new buffer view; returns its index.
+GltfScene read_gltf(const std::string& path) { return gltf_internal::read_model(gltf_internal::load_model(path), path); }
+
+namespace gltf_internal {
+
 int add_view(tinygltf::Model& m, const void* bytes, size_t size, int target) {
   std::vector<unsigned char>& data = m.buffers[0].data;
   while (data.size() % 4) data.push_back(0);
@@ -295,7 +267,7 @@ int add_view(tinygltf::Model& m, const void* bytes, size_t size, int target) {
   return int(m.bufferViews.size()) - 1;
 }
 
-int add_accessor(tinygltf::Model& m, int view, int component, int type, size_t count, std::vector<double> lo = {}, std::vector<double> hi = {}) {
+int add_accessor(tinygltf::Model& m, int view, int component, int type, size_t count, std::vector<double> lo, std::vector<double> hi) {
   tinygltf::Accessor a;
   a.bufferView = view;
   a.componentType = component;
@@ -307,10 +279,17 @@ int add_accessor(tinygltf::Model& m, int view, int component, int type, size_t c
   return int(m.accessors.size()) - 1;
 }
 
+}  // namespace gltf_internal
+namespace {
+
+using gltf_internal::add_accessor;
+using gltf_internal::add_view;
+
 // One glTF vertex per (mesh vertex, uv) pair: positions, normals, uv and the triangle indices.
 struct SplitVertices {
   std::vector<float> position, normal, uv;
   std::vector<uint32_t> index;
+  std::vector<int> source;  // per glTF vertex, its mesh vertex
 };
 
 SplitVertices split_vertices(const Mesh& mesh) {
@@ -330,6 +309,7 @@ SplitVertices split_vertices(const Mesh& mesh) {
         for (int c = 0; c < 3; ++c) s.position.push_back(float(m.point(v)[c]));
         for (int c = 0; c < 3; ++c) s.normal.push_back(float(m.normal(v)[c]));
         if (has_uv) s.uv.insert(s.uv.end(), {float(u), float(w)});
+        s.source.push_back(v.idx());
       }
       s.index.push_back(it->second);
     }
@@ -363,11 +343,14 @@ void add_texture(tinygltf::Model& m, const std::string& png, tinygltf::Primitive
 
 }  // namespace
 
-void write_gltf(const Mesh& mesh, const std::string& path, const std::string& texture_png) {
+namespace gltf_internal {
+
+MeshModel mesh_model(const Mesh& mesh, const std::string& path, const std::string& texture_png) {
   const std::string ext = lower_extension(path);
   if (ext != ".glb" && ext != ".gltf") throw InputError("cannot write glTF " + path + ": name a .glb or .gltf file");
-  const SplitVertices s = split_vertices(mesh);
-  tinygltf::Model m;
+  SplitVertices s = split_vertices(mesh);
+  MeshModel out;
+  tinygltf::Model& m = out.model;
   m.asset.version = "2.0";
   m.asset.generator = "sdm";
   m.buffers.resize(1);
@@ -389,7 +372,6 @@ void write_gltf(const Mesh& mesh, const std::string& path, const std::string& te
   p.indices = add_accessor(m, add_view(m, s.index.data(), 4 * s.index.size(), TINYGLTF_TARGET_ELEMENT_ARRAY_BUFFER),
                            TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT, TINYGLTF_TYPE_SCALAR, s.index.size());
   if (!s.uv.empty() && !texture_png.empty()) add_texture(m, texture_png, p);
-  m.buffers[0].data.resize((m.buffers[0].data.size() + 3) / 4 * 4, 0);
   tinygltf::Mesh gm;
   gm.name = fs::path(path).stem().string();
   gm.primitives.push_back(p);
@@ -401,12 +383,25 @@ void write_gltf(const Mesh& mesh, const std::string& path, const std::string& te
   scene.nodes.push_back(0);
   m.scenes.push_back(scene);
   m.defaultScene = 0;
+  out.source_vertex = std::move(s.source);
+  return out;
+}
+
+void save_model(tinygltf::Model& m, const std::string& path) {
+  m.buffers[0].data.resize((m.buffers[0].data.size() + 3) / 4 * 4, 0);
   std::ostringstream bytes;
   tinygltf::TinyGLTF writer;
-  if (!writer.WriteGltfSceneToStream(&m, bytes, false, ext == ".glb"))
+  if (!writer.WriteGltfSceneToStream(&m, bytes, false, lower_extension(path) == ".glb"))
     throw std::runtime_error("cannot write glTF " + path + ": tinygltf refused the model");
   const std::string data = bytes.str();
   write_atomically(path, [&](const std::string& tmp) { write_bytes_checked(tmp, data.data(), data.size(), path); });
+}
+
+}  // namespace gltf_internal
+
+void write_gltf(const Mesh& mesh, const std::string& path, const std::string& texture_png) {
+  gltf_internal::MeshModel m = gltf_internal::mesh_model(mesh, path, texture_png);
+  gltf_internal::save_model(m.model, path);
 }
 
 }  // namespace sdm
