@@ -80,6 +80,8 @@ std::vector<Eigen::Vector3d> linear_blend(const Skeleton& s, const std::vector<S
 struct PoseRow {
   std::string source, target;
   int nodes = 0;
+  Eigen::Vector3d worst = Eigen::Vector3d::Zero();  // where ours is farthest from the target
+  bool worst_on_posed = false;
   double rest_rms = 0, ours_rms = 0, ours_hd = 0, lbs_rms = 0, lbs_hd = 0, unposed_rms = 0, unposed_hd = 0, seconds = 0;
 };
 
@@ -114,10 +116,13 @@ PoseRow measure_pair(const std::string& source_path, const std::string& target_p
   auto measure = [&](const Mesh& a, const Mesh& b, double& rms, double& hd) {
     const SurfaceDistance d = surface_distance(a, b, 100000);
     rms = d.rms / d.diagonal, hd = d.hausdorff / d.diagonal;
+    return d;
   };
   double unused = 0;
   measure(source, decoded, row.rest_rms, unused);
-  measure(target, ours, row.ours_rms, row.ours_hd);
+  const SurfaceDistance worst = measure(target, ours, row.ours_rms, row.ours_hd);
+  row.worst = worst.worst_point;
+  row.worst_on_posed = worst.worst_on_b;
   measure(target, lbs, row.lbs_rms, row.lbs_hd);
   measure(target, source, row.unposed_rms, row.unposed_hd);
   return row;
@@ -131,13 +136,17 @@ int run_pose_bench(const std::vector<std::string>& pairs, int size, bool json, c
   for (size_t i = 0; i + 1 < pairs.size(); i += 2) {
     progress("bench: posing " + pairs[i] + " like " + pairs[i + 1]);
     rows.push_back(measure_pair(pairs[i], pairs[i + 1], size));
+    const Eigen::Vector3d& w = rows.back().worst;
+    progress("  farthest from the target at (" + std::to_string(w.x()) + ", " + std::to_string(w.y()) + ", " + std::to_string(w.z()) +
+             (rows.back().worst_on_posed ? "), on the posed surface" : "), on the target"));
   }
   if (json) {
     nlohmann::json out = nlohmann::json::array();
     for (const PoseRow& r : rows)
       out.push_back({{"source", r.source}, {"target", r.target}, {"nodes", r.nodes}, {"rest_rms", r.rest_rms}, {"rms", r.ours_rms},
                      {"hausdorff", r.ours_hd}, {"lbs_rms", r.lbs_rms}, {"lbs_hausdorff", r.lbs_hd}, {"unposed_rms", r.unposed_rms},
-                     {"unposed_hausdorff", r.unposed_hd}, {"pose_seconds", r.seconds}});
+                     {"unposed_hausdorff", r.unposed_hd}, {"pose_seconds", r.seconds},
+                     {"worst", {r.worst.x(), r.worst.y(), r.worst.z()}}, {"worst_on_posed", r.worst_on_posed}});
     print_json({{"machine", machine}, {"size", size}, {"poses", out}});
     return 0;
   }

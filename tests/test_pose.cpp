@@ -13,6 +13,10 @@
 #include "libstm/mesh/validate_mesh.h"
 #include "libstm/skeleton/extract_skeleton.h"
 #include "faust_pairs.h"
+#include "libsdm/map/sdm_exr.h"
+#include "test_util.h"
+
+#include <filesystem>
 
 #include <catch2/catch.hpp>
 #include <Eigen/Geometry>
@@ -311,5 +315,44 @@ TEST_CASE("FAUST 001 posed at the middle of an arm turns the forearm rigidly and
     // Known gap: at 60 degrees and beyond, a few face pairs cross at the joint (DESIGN 6.4).
     CHECK_NOFAIL(near <= near_rest);
     CHECK(near <= near_rest + 250);
+  }
+}
+
+TEST_CASE("sdm pose turns, twists and thickens from the command line and refuses bad options with exit 2", "[pose]") {
+  const Encoded e = encode_capsule();
+  test_util::TempDir dir;
+  write_sdm_exr(e.image, dir / "capsule.exr");
+  const int m = nearest_node(e.layout.skeleton, Eigen::Vector3d::Zero());
+  const std::string base = "pose " + (dir / "capsule.exr") + " --lod 2 ";
+  auto res = test_util::run_sdm(base + "-o " + (dir / "bent.obj") + " --rotate " + std::to_string(m) + "=x,90 --rotate " +
+                                std::to_string(m) + "=twist,45 --write-skeleton " + (dir / "posed.json") + " --json");
+  INFO(res.output);
+  REQUIRE(res.exit_code == 0);
+  const nlohmann::json j = test_util::last_json(res);
+  CHECK(j.at("closed").get<bool>());
+  // The far end turned 90 degrees about the middle node: its tip, 3.5 away, moves 3.5 sqrt(2); the
+  // twist of 45 degrees about the turned axis adds at most 2 sin(22.5 degrees) (radius 1).
+  const double moved = j.at("max_displacement").get<double>();
+  CHECK(moved >= 0.98 * 3.5 * std::sqrt(2.0));
+  CHECK(moved <= 3.5 * std::sqrt(2.0) + 2 * std::sin(M_PI / 8) + 0.01);
+  const Skeleton posed = read_skeleton_json(dir / "posed.json");
+  REQUIRE(posed.node_rotations.size() == posed.nodes.size());
+  // The posed skeleton decodes to the same surface through sdm decode --skeleton.
+  res = test_util::run_sdm("decode " + (dir / "capsule.exr") + " --lod 2 --skeleton " + (dir / "posed.json") + " -o " + (dir / "again.obj"));
+  REQUIRE(res.exit_code == 0);
+  const Mesh a = load_mesh(dir / "bent.obj"), b = load_mesh(dir / "again.obj");
+  REQUIRE(a.n_vertices() == b.n_vertices());
+  double apart = 0;
+  for (auto v : a.vertices()) apart = std::max(apart, (point(a, v) - point(b, v)).norm());
+  CHECK(apart < 1e-5);
+  // Twice the radius of both segments: the volume of a capsule of radius 2 and length 5.
+  res = test_util::run_sdm(base + "-o " + (dir / "fat.obj") + " --scale-radius 0=2 --scale-radius 1=2");
+  REQUIRE(res.exit_code == 0);
+  CHECK(volume(load_mesh(dir / "fat.obj")) == Approx(M_PI * 4 * 5 + 4.0 / 3 * M_PI * 8).epsilon(0.03));
+  for (const std::string bad : {"--rotate 999=x,10", "--rotate 1=w,10", "--scale-radius 0=-1", "--scale-radius 9=2"}) {
+    res = test_util::run_sdm(base + "-o " + (dir / "bad.obj") + " " + bad);
+    INFO(bad << ": " << res.output);
+    CHECK(res.exit_code == 2);
+    CHECK(!std::filesystem::exists(dir / "bad.obj"));
   }
 }
