@@ -180,6 +180,23 @@ TEST_CASE("A capsule bent 90 degrees at its middle node keeps its volume and its
     CHECK(checked > long(plain.n_vertices()) / 3);
     CHECK(closed_genus_0(bent));
     CHECK(self_intersections(bent) == 0);
+    // The same weights as a rig's: joints are the bones' heads, 4 weights a vertex summing to 1;
+    // far from the joint one joint carries the vertex, at the joint both share it.
+    std::vector<Eigen::Vector3d> points;
+    for (auto v : plain.vertices()) points.push_back(point(plain, v));
+    DecodeTrace trace;
+    decode_sdm(e.image, {}, &trace);
+    const RigWeights rig = rig_weights(pose, pose_weights(e.layout, points, trace.vertex_segment));
+    REQUIRE(rig.joints.size() == points.size());
+    CHECK(std::count(rig.node_parent.begin(), rig.node_parent.end(), -1) == 1);
+    long shared = 0;
+    for (size_t i = 0; i < points.size(); ++i) {
+      const auto& w = rig.weights[i];
+      CHECK(w[0] + w[1] + w[2] + w[3] == Approx(1).epsilon(1e-6));
+      if ((points[i] - rest.nodes[size_t(m)]).norm() > 2 * r) CHECK(w[0] == 1.0f);
+      shared += w[1] > 0.1f;
+    }
+    CHECK(shared > 100);
   }
 }
 
