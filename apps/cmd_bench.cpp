@@ -2,6 +2,7 @@
 // encode/decode times, and a large real mesh; with --solvers, the contraction's sparse Cholesky
 // solvers against each other. Figures, not pass/fail: speed is measured here and written to
 // docs/BENCHMARKS.md, never asserted by tests.
+#include "apps/bench_pose.h"
 #include "apps/cli_common.h"
 #include "apps/commands.h"
 #include "apps/transfer_setup.h"
@@ -37,6 +38,7 @@ namespace {
 
 struct BenchOptions {
   std::string humans = "../shared/models/humans";
+  std::vector<std::string> pose;
   std::string bunny = "../shared/models/cgal/bunny00.off";
   std::string spot = "examples/data/spot/spot_triangulated.obj";
   int repeat = 3, size = 1024;
@@ -773,8 +775,12 @@ Command add_bench_command(CLI::App& parent) {
   app->add_option("--load", o->load, "Time the loading stages (read, validate, build) of these meshes instead");
   app->add_option("--pipeline", o->pipeline,
                   "Take these meshes through every stage instead (load, skeleton, layout and encode at --size, decode at level 3)");
+  app->add_option("--pose", o->pose,
+                  "Pose SOURCE like TARGET instead (pairs of meshes with the same connectivity, e.g. FAUST 001 007): per node of "
+                  "SOURCE's SDM skeleton the Kabsch motion of its vertices, the map decoded and posed, against linear blend skinning");
   app->add_flag("--json", o->json, "Print one JSON object instead of tables");
   return {app, [o]() {
+            if (!o->pose.empty()) return run_pose_bench(o->pose, o->size, o->json, machine_line());
             if (!o->pipeline.empty()) return run_pipeline_bench(*o);
             return o->solvers ? run_solvers(*o) : o->transfer ? run_transfer_bench(*o) : !o->load.empty() ? run_load_bench(*o) : run_stages(*o);
           }};

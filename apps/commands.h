@@ -25,6 +25,7 @@ Command add_remesh_command(CLI::App& parent);
 Command add_render_command(CLI::App& parent);
 Command add_encode_command(CLI::App& parent);
 Command add_decode_command(CLI::App& parent);
+Command add_pose_command(CLI::App& parent);
 Command add_roundtrip_command(CLI::App& parent);
 Command add_compare_command(CLI::App& parent);
 Command add_bench_command(CLI::App& parent);

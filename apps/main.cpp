@@ -33,6 +33,7 @@ const Entry kCommands[] = {
     {"render", sdm::cli::add_render_command},
     {"encode", sdm::cli::add_encode_command},
     {"decode", sdm::cli::add_decode_command},
+    {"pose", sdm::cli::add_pose_command},
     {"roundtrip", sdm::cli::add_roundtrip_command},
     {"compare", sdm::cli::add_compare_command},
     {"transfer", sdm::cli::add_transfer_command},

@@ -21,10 +21,11 @@ ALLOWED = {
     'libstm/transfer': ['libstm/core', 'libstm/geometry', 'libstm/mesh', 'libstm/skeleton', 'libstm/layout',
                         'libstm/registration', 'libstm/render'],
     'libsdm/map': ['libstm/core', 'libstm/geometry', 'libstm/mesh', 'libstm/skeleton', 'libstm/layout'],
+    'libsdm/pose': ['libstm/core', 'libstm/geometry', 'libstm/mesh', 'libstm/skeleton', 'libstm/layout'],
     'libsdm/decode': ['libstm/core', 'libstm/geometry', 'libstm/mesh', 'libstm/skeleton', 'libstm/layout',
-                      'libsdm/map'],
+                      'libsdm/map', 'libsdm/pose'],
     'libsdm/encode': ['libstm/core', 'libstm/geometry', 'libstm/mesh', 'libstm/skeleton', 'libstm/layout',
-                      'libsdm/map', 'libsdm/decode'],
+                      'libsdm/map', 'libsdm/pose', 'libsdm/decode'],
 }
 INCLUDE = re.compile(r'^\s*#\s*include\s*"((?:libstm|libsdm)/[^/"]+)/[^"]+"')
 

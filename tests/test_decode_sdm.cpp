@@ -240,16 +240,18 @@ TEST_CASE("Decoding onto a skeleton with one branch rotated 30 degrees bends tha
   const std::vector<int>& seg_plain = trace_plain.vertex_segment;
   REQUIRE(seg_plain == trace_moved.vertex_segment);
   REQUIRE(trace_plain.vertex_base_face == trace_moved.vertex_base_face);
-  // Segments whose both nodes moved are rigidly rotated; segments touching no moved node stay.
-  // Float32 displacements and the ill-conditioned angle next to a pole allow tiny differences.
-  const double tol = 1e-4 * bounding_box_diagonal(plain);
+  // The surface is decoded at rest and posed (libsdm/pose): away from the junction (farther than
+  // three tube radii, 0.22: at a junction the blend reaches a little farther than along a chain), segments whose both nodes moved are rigidly rotated and segments touching
+  // no moved node stay; nearer, the surface blends between them.
+  const double tol = 1e-6 * bounding_box_diagonal(plain);
   long rotated = 0, kept = 0;
   for (auto v : plain.vertices()) {
     const LayoutSegment& seg = e.layout.segments[seg_plain[v.idx()]];
     const Eigen::Vector3d p = point(plain, v), q = point(bent, bent.vertex_handle(v.idx()));
+    if (p.norm() <= 3 * 0.22) continue;
     if (in_branch[seg.a] && in_branch[seg.b]) {
-      // The frame turns by the minimal rotation between old and new axis, which equals R only for
-      // axes perpendicular to R's: bent segments follow R within the round-trip error.
+      // Without node rotations the branch turns by the minimal rotation of its first bone, which
+      // equals R only for a bone perpendicular to R's axis: within the round-trip error.
       CHECK((q - R * p).norm() <= 0.002 * bounding_box_diagonal(plain));
       ++rotated;
     } else if (!in_branch[seg.a] && !in_branch[seg.b]) {

@@ -3,12 +3,12 @@
 #include "libsdm/map/base_mesh_record.h"
 #include "libsdm/map/texels.h"
 #include "libsdm/decode/tessellate_mesh.h"
+#include "libsdm/pose/deform_decoded.h"
 #include "libsdm/map/texel_targets.h"
 #include "libstm/geometry/capsule_ray.h"
 #include "libstm/core/errors.h"
 #include "libstm/core/parallel.h"
 #include "libstm/layout/layout.h"
-#include "libstm/layout/segment_frames.h"
 #include "libstm/mesh/add_faces.h"
 
 #include <algorithm>
@@ -20,30 +20,6 @@
 
 namespace sdm {
 namespace {
-
-// Moves every segment's frame onto new node positions: the axis follows the nodes and e1 turns
-// with it by the minimal rotation, so the displacement keeps its place around the axis.
-void move_skeleton(Layout& layout, const Skeleton& moved) {
-  const Skeleton& old = layout.skeleton;
-  if (moved.nodes.size() != old.nodes.size() || moved.edges.size() != old.edges.size())
-    throw InputError("the skeleton has " + std::to_string(moved.nodes.size()) + " nodes and " +
-                     std::to_string(moved.edges.size()) + " edges, the SDM's has " + std::to_string(old.nodes.size()) +
-                     " and " + std::to_string(old.edges.size()) + ": decode needs the same graph with moved nodes");
-  for (size_t e = 0; e < old.edges.size(); ++e) {
-    auto a = std::minmax(old.edges[e][0], old.edges[e][1]);
-    auto b = std::minmax(moved.edges[e][0], moved.edges[e][1]);
-    if (a != b)
-      throw InputError("skeleton edge " + std::to_string(e) + " joins other nodes than in the SDM: decode needs the same graph");
-  }
-  for (auto& seg : layout.segments) {
-    const Eigen::Vector3d from = (old.nodes[seg.b] - old.nodes[seg.a]).normalized();
-    const Eigen::Vector3d to = (moved.nodes[seg.b] - moved.nodes[seg.a]).normalized();
-    seg.e1 = transport_direction(seg.e1, from, to);
-    seg.axis = to;
-    seg.e2 = to.cross(seg.e1).normalized();
-  }
-  layout.skeleton.nodes = moved.nodes;
-}
 
 // The level of each segment: options.level, or its --lod-segment override. Throws InputError for
 // a level outside 0..8 or an unknown segment.
@@ -259,7 +235,8 @@ DecodedSurface decode_surface_beside(const SdmImage& image, const DecodeOptions&
   if (layout.size != image.width || layout.size != image.height)
     throw InputError("the SDM image is " + std::to_string(image.width) + "x" + std::to_string(image.height) +
                      " but its layout is for a " + std::to_string(layout.size) + " atlas");
-  if (options.skeleton) move_skeleton(layout, *options.skeleton);
+  // A posed skeleton is checked first: a wrong graph is refused before the work.
+  if (options.skeleton) pose_skeleton(layout.skeleton, *options.skeleton);
 
   const std::vector<int> level = segment_levels(int(layout.segments.size()), options);
   Tessellation tess = tessellate_faces(base, level, faces);
@@ -354,6 +331,8 @@ DecodedSurface decode_surface_beside(const SdmImage& image, const DecodeOptions&
   out.triangle_face = std::move(tess.triangle_face);
   out.point_segment.resize(n);
   for (size_t i = 0; i < n; ++i) out.point_segment[i] = at[i].segment;
+  // Decoded at rest, then posed by the segments' blended motions (deform_decoded.h).
+  if (options.skeleton) pose_points(layout, *options.skeleton, out.point_segment, out.points);
   return out;
 }
 

@@ -15,7 +15,9 @@ namespace sdm {
 struct DecodeOptions {
   int level = 3;                       // level of detail: each base edge is cut into 2^level pieces
   std::map<int, int> segment_level;    // per-segment overrides
-  std::optional<Skeleton> skeleton;    // decode around these node positions (same graph) instead
+  // A pose: the map's skeleton with moved nodes (same graph), optionally node_rotations and
+  // segment_radius_scale. The surface is decoded at rest, then deformed (libsdm/pose/deform_decoded.h).
+  std::optional<Skeleton> skeleton;
 };
 
 // Where each output vertex comes from: the segment that placed it and its base face; and the base
