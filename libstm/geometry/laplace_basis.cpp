@@ -85,7 +85,7 @@ LaplaceBasis laplace_basis(const std::vector<Eigen::Vector3d>& points, const std
   const int nev = std::min(n - 1, k + std::max(4, k / 10)), ncv = std::min(n, std::max(2 * nev + 1, nev + 20));
   Spectra::SymEigsShiftSolver<ShiftInvertOperation> eigs(op, nev, ncv, -1e-3);
   eigs.init();
-  eigs.compute(Spectra::SortRule::LargestMagn, 1000, 1e-10);
+  eigs.compute(Spectra::SortRule::LargestMagn, 1000, 1e-8);
   if (eigs.info() != Spectra::CompInfo::Successful)
     throw InputError("the Laplace eigenvalues did not converge (" + std::to_string(k) + " of a mesh of " + std::to_string(n) + " vertices)");
   const Eigen::VectorXd values = eigs.eigenvalues();

@@ -22,17 +22,19 @@
 namespace sdm {
 
 struct ZoomOutOptions {
-  int k_start = 20, k_end = 100, step = 10;  // the basis sizes, k_start, k_start + step, ..., k_end
+  // The defaults are the best of the variants measured on the 12 ordered FAUST pairs (DESIGN 6.5,
+  // "Spectral refinement"): mean error 3.33 -> 2.73, worst pair's 90th percentile 10.5 -> 7.7.
+  int k_start = 20, k_end = 150, step = 20;  // the basis sizes, k_start, k_start + step, ..., k_end
   // The weight of the spatial coordinates against the spectral ones in the nearest-neighbour
   // search (both meshes at unit area; 0: spectral alone).
-  double spatial_weight = 0;
+  double spatial_weight = 50;
   // Each target vertex searches only the source vertices within this distance (at unit area) of
   // its start's point on the source (0: every source vertex).
-  double window = 0;
+  double window = 0.06;
   // Each step also maps the source's vertices to the target's (nearest rows of Phi_T to those of
   // Phi_S C^T) and C is the mean of both maps' functional maps (Ren et al. 2021's bidirectional
   // ZoomOut).
-  bool bidirectional = false;
+  bool bidirectional = true;
   int threads = 0;  // 0: one per hardware thread; the result does not depend on it
 };
 
