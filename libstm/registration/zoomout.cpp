@@ -189,7 +189,10 @@ std::vector<SourcePoint> zoomout(const Mesh& source, const LaplaceBasis& source_
   // The source's vertices' target vertices (bidirectional): at first the target vertex whose start
   // point is nearest.
   std::vector<int> s2t;
-  if (o.bidirectional) s2t = nearest_rows(embedding(RowMatrix::Zero(Eigen::Index(source_points.size()), 0), 0, {}, source_points, 1), embedding(RowMatrix::Zero(nt, 0), 0, {}, start_points, 1), s_windows, o.threads);
+  if (o.bidirectional) {
+    const RowMatrix none_s(Eigen::Index(source_points.size()), 0), none_t(nt, 0);
+    s2t = nearest_rows(embedding(none_s, 0, {}, source_points, 1), embedding(none_t, 0, {}, start_points, 1), s_windows, o.threads);
+  }
   for (int k = std::min(o.k_start, k_end);; k = std::min(k + o.step, k_end)) {
     // C = Phi_T^T M_T Pi Phi_S (k x k), then Pi Phi_S ~ Phi_T C row by row; with the map the other
     // way too, C averaged with (Phi_S^T M_S Pi' Phi_T)^T.
