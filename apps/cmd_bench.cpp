@@ -43,6 +43,7 @@ struct BenchOptions {
   std::string spot = "examples/data/spot/spot_triangulated.obj";
   int repeat = 3, size = 1024;
   bool json = false, no_sdm = false, no_gl = false, solvers = false, transfer = false;
+  bool turned_scaled = false, no_refine = false;  // --transfer: the FAUST targets turned and scaled; without the refinement
   std::vector<std::string> load;      // --load: meshes whose reading stages are timed
   std::vector<std::string> pipeline;  // --pipeline: meshes taken through every stage
 };
@@ -480,18 +481,29 @@ struct CorrespondenceRow {
 // extraction candidates), the source given a planar uv and a checker texture (neither reaches the
 // correspondence), then every target vertex's error against the ground truth (correspondence_error).
 // `seconds`: loading, both skeletons and the transfer, once; `measure_seconds`: the error.
-CorrespondenceRow transfer_correspondence(GlContext& gl, const std::string& a_path, const std::string& b_path) {
+// With `turned_scaled` the target is turned 180 degrees about its vertical (y) axis and scaled by 1.7
+// once loaded; with `no_refine` the transfer keeps the registration's closest points (--no-refine).
+CorrespondenceRow transfer_correspondence(GlContext& gl, const std::string& a_path, const std::string& b_path, bool turned_scaled,
+                                          bool no_refine) {
   CorrespondenceRow row;
   row.pair = pair_name(a_path, b_path);
   Stopwatch sw;
   try {
-    const Mesh a = with_planar_uv(load_mesh_min_part(a_path)), b = load_mesh_min_part(b_path);
+    const Mesh a = with_planar_uv(load_mesh_min_part(a_path));
+    Mesh b = load_mesh_min_part(b_path);
+    if (turned_scaled)
+      for (auto v : b.vertices()) {
+        const Mesh::Point p = b.point(v);
+        b.set_point(v, 1.7 * Mesh::Point(-p[0], p[1], -p[2]));
+      }
     Skeleton sa, sb;
     SkeletonStats stats_a, stats_b;
     obtain_both_skeletons(
         a.n_vertices() + b.n_vertices(), [&] { sa = skeleton_for(a, "", "source", &stats_a, nullptr); },
         [&] { sb = skeleton_for(b, "", "target", &stats_b, nullptr); });
-    const TransferOptions to = transfer_command_options(TransferSettings{}, a, b, stats_a, stats_b, nullptr);
+    TransferSettings settings;
+    settings.no_refine = no_refine;
+    const TransferOptions to = transfer_command_options(settings, a, b, stats_a, stats_b, nullptr);
     const TextureTransfer t = transfer_texture(gl, a, checker_texture(), sa, b, sb, to);
     row.seconds = sw.lap();
     row.kind = target_kind(t), row.fit_rms = t.fit_rms;
@@ -513,7 +525,7 @@ CorrespondenceRow transfer_correspondence(GlContext& gl, const std::string& a_pa
 }
 
 // Every ordered pair of kFaust found in `humans` (none, with a note, when one is missing).
-std::vector<CorrespondenceRow> faust_correspondences(GlContext& gl, const std::string& humans) {
+std::vector<CorrespondenceRow> faust_correspondences(GlContext& gl, const std::string& humans, bool turned_scaled, bool no_refine) {
   std::vector<CorrespondenceRow> rows;
   for (const char* name : kFaust)
     if (!std::filesystem::exists(humans + "/" + name)) {
@@ -525,7 +537,7 @@ std::vector<CorrespondenceRow> faust_correspondences(GlContext& gl, const std::s
     for (int j = 0; j < n; ++j) {
       if (i == j) continue;
       std::cerr << "bench: correspondence " << kFaust[i] << " -> " << kFaust[j] << " (" << rows.size() + 1 << " of " << n * (n - 1) << ")\n";
-      rows.push_back(transfer_correspondence(gl, humans + "/" + kFaust[i], humans + "/" + kFaust[j]));
+      rows.push_back(transfer_correspondence(gl, humans + "/" + kFaust[i], humans + "/" + kFaust[j], turned_scaled, no_refine));
       const CorrespondenceRow& r = rows.back();
       if (!r.failure.empty()) std::cerr << "  refused: " << r.failure << "\n";
       else std::cerr << "  geodesic error mean " << r.geodesic_mean << ", p90 " << r.geodesic_p90 << " (" << r.seconds << " s)\n";
@@ -584,8 +596,10 @@ nlohmann::json correspondence_json(const std::vector<CorrespondenceRow>& rows) {
           {"published_faust_means", published}};
 }
 
-void print_correspondence_table(const std::vector<CorrespondenceRow>& rows) {
-  std::cout << "\nCorrespondence error on FAUST (every ordered pair; `sdm transfer`'s defaults; geodesic on the source / sqrt(area) x 100,\n"
+void print_correspondence_table(const std::vector<CorrespondenceRow>& rows, bool turned_scaled, bool no_refine) {
+  std::cout << "\nCorrespondence error on FAUST (every ordered pair; `sdm transfer`'s defaults"
+            << (no_refine ? " with --no-refine" : "") << (turned_scaled ? "; each target turned 180 degrees about y and scaled 1.7" : "")
+            << "; geodesic on the source / sqrt(area) x 100,\n"
                "Dijkstra on edges, every target vertex; euclidean % of the diagonal; "
             << machine_line() << ")\n"
             << "| pair | target | fit RMS | geodesic mean | geodesic p90 | euclidean mean | euclidean p90 | transfer (s) | error (s) |\n"
@@ -624,13 +638,14 @@ int run_transfer_bench(const BenchOptions& o) {
     std::cerr << "bench: transfer " << a << " -> " << b << "\n";
     rows.push_back(time_transfer(gl, pa, pb, o.repeat));
   }
-  const std::vector<CorrespondenceRow> faust = faust_correspondences(gl, o.humans);
+  const std::vector<CorrespondenceRow> faust = faust_correspondences(gl, o.humans, o.turned_scaled, o.no_refine);
   if (o.json) {
     nlohmann::json j = nlohmann::json::array();
     for (const auto& r : rows)
       j.push_back({{"pair", r.pair}, {"vertices", r.vertices}, {"extract_s", r.extract}, {"transfer_s", r.transfer},
                    {"total_s", r.extract + r.transfer}, {"target_skeleton", r.kind}, {"fit_rms", r.rms}});
-    print_json({{"machine", machine_line()}, {"transfers", j}, {"faust_correspondence", correspondence_json(faust)}});
+    print_json({{"machine", machine_line()}, {"transfers", j}, {"faust_correspondence", correspondence_json(faust)},
+                {"targets_turned_scaled", o.turned_scaled}, {"refined", !o.no_refine}});
     return 0;
   }
   std::cout << "Texture transfer between different bodies (1024 atlas; fastest of " << o.repeat << "; " << machine_line() << ")\n"
@@ -638,7 +653,7 @@ int run_transfer_bench(const BenchOptions& o) {
   for (const auto& r : rows)
     std::cout << "| " << r.pair << " | " << r.vertices << " | " << std::fixed << std::setprecision(2) << r.extract << " | " << r.transfer
               << " | " << r.extract + r.transfer << " | " << r.kind << " | " << std::setprecision(3) << 100 * r.rms << " % |\n";
-  if (!faust.empty()) print_correspondence_table(faust);
+  if (!faust.empty()) print_correspondence_table(faust, o.turned_scaled, o.no_refine);
   return 0;
 }
 
@@ -772,6 +787,9 @@ Command add_bench_command(CLI::App& parent) {
                 "Time texture transfer between different bodies instead (FAUST 007 <-> 024, TOSCA gorilla -> man, from --humans),\n"
                 "and measure its correspondence error on every ordered pair of FAUST 001, 007, 010 and 024 against their ground truth");
   app->add_option("--humans", o->humans, "Folder of the human meshes for --transfer (skipped with a note when missing)")->capture_default_str();
+  app->add_flag("--turned-scaled", o->turned_scaled,
+                "With --transfer: measure the FAUST correspondence with each target turned 180 degrees about its vertical axis and scaled by 1.7");
+  app->add_flag("--no-refine", o->no_refine, "With --transfer: transfer as 'sdm transfer --no-refine' (no spectral refinement)");
   app->add_option("--load", o->load, "Time the loading stages (read, validate, build) of these meshes instead");
   app->add_option("--pipeline", o->pipeline,
                   "Take these meshes through every stage instead (load, skeleton, layout and encode at --size, decode at level 3)");

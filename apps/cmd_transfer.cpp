@@ -298,6 +298,7 @@ void print_transfer_json(const TransferArgs& o, const TransferInputs& in, const 
               {"bent_rms", finite_or_null(r.fitted ? r.fit_rms : INFINITY)},
               {"fit_rms", finite_or_null(r.fit_rms)},
               {"fit_p99", finite_or_null(r.fit_p99)},
+              {"refined", r.refined},
               {"branch_fit", branch_fit_json(r.branch_fit)},
               {"correspondence", o.correspondence.empty() ? nlohmann::json() : nlohmann::json(o.correspondence)},
               {"vertex_colors", o.vertex_colors.empty() ? nlohmann::json() : nlohmann::json(o.vertex_colors)},
@@ -427,6 +428,9 @@ void declare_options(CLI::App* app, TransferArgs& o) {
   app->add_option("--vertex-colors", o.vertex_colors,
                   "Also write the target with a colour per vertex (.ply, uchar red/green/blue): the source's vertex colours,\n"
                   "or its texture, at the source point each target vertex corresponds to (needs a correspondence, as above)");
+  app->add_flag("--no-refine", o.settings.no_refine,
+                "Between different bodies, keep the registration's closest points instead of refining the correspondence\n"
+                "in the Laplace-Beltrami eigenbases of both models (ZoomOut)");
   add_max_memory_option(app, o.max_memory);
   app->add_flag("--force", o.settings.force, "Write the result even when the registered source fits the target poorly, its branches disagree in length or meet the core at other places, or left and right are a tie");
   app->add_flag("--json", o.json, "Print one JSON object instead of text");

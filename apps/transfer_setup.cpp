@@ -41,6 +41,7 @@ TransferOptions transfer_command_options(const TransferSettings& settings, const
   // when the target turns out to be the source's shape (transfer_texture).
   to.carry_same_shape = !settings.target_skeleton_given;
   to.force = settings.force;
+  to.refine = !settings.no_refine;
   // An extracted skeleton may give way to its extraction's other candidate when the branchings
   // differ (TransferOptions::other_candidate); a skeleton given as a file is used as given.
   const bool source_given = settings.source_skeleton_given, target_given = settings.target_skeleton_given;

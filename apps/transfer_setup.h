@@ -31,6 +31,7 @@ struct TransferSettings {
   int size = 2048, margin = 8;
   std::vector<std::string> match;  // --match SOURCE_NODE=TARGET_NODE
   bool force = false;
+  bool no_refine = false;  // --no-refine
   bool source_skeleton_given = false, target_skeleton_given = false;  // --source-skeleton, --target-skeleton
 };
 

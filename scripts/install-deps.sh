@@ -7,7 +7,7 @@ PACKAGES=(
   build-essential cmake ninja-build pkg-config
   libeigen3-dev libopenmesh-dev libopenexr-dev libosd-dev
   libegl-dev libgl-dev libegl-mesa0 libgl1-mesa-dri
-  catch2 libcli11-dev nlohmann-json3-dev libstb-dev libsuitesparse-dev python3
+  catch2 libcli11-dev nlohmann-json3-dev libstb-dev libsuitesparse-dev libspectra-dev python3
   pybind11-dev python3-dev python3-numpy libtinygltf-dev zlib1g-dev libpng-dev
   python3-distributed  # sdm batch (python/sdm_batch.py)
   blender  # the Blender add-on's test (tests/blender): about 80 MB to fetch, 535 MB installed

@@ -179,8 +179,11 @@ std::vector<Eigen::Matrix3d> segment_rotations(const Skeleton& shared_a, const S
 // surfaces correspond, however far the fitted nodes are from where the target's own shape would
 // put them (capsule coordinates near a cap's pole turn fast: the fitted skeleton's own capsules
 // tore the spots at the back of a turned Spot's head).
+// `refinement`, when given, refines the target vertices' source points (zoomout) once mended; the
+// face centroids keep theirs (they choose each face's segment).
 StmCoordinates coordinates_through_source(const Mesh& source, const std::vector<Eigen::Vector3d>& placed, const Mesh& target,
-                                          const Skeleton& shared_a, const Layout& layout_a, std::vector<SourcePoint>& correspondence) {
+                                          const Skeleton& shared_a, const Layout& layout_a, std::vector<SourcePoint>& correspondence,
+                                          const ZoomOutOptions* refinement = nullptr) {
   const std::vector<int> fa = assign_faces(source, shared_a);
   // Source points under the target's vertices, then under its face centroids.
   std::vector<Eigen::Vector3d> points, normals(target.n_vertices(), Eigen::Vector3d::Zero());
@@ -208,6 +211,10 @@ StmCoordinates coordinates_through_source(const Mesh& source, const std::vector<
   }
   mend_islands(source, placed, islands, points, point_island, at);
   correspondence.assign(at.begin(), at.begin() + target.n_vertices());
+  if (refinement) {
+    correspondence = refine_correspondence(source, target, correspondence, *refinement);
+    std::copy(correspondence.begin(), correspondence.end(), at.begin());
+  }
   Mesh under = target;
   for (auto v : target.vertices()) {
     const Eigen::Vector3d p = position_of(source, at[v.idx()]);
@@ -462,8 +469,11 @@ TextureTransfer transfer_texture(GlContext& gl, const Mesh& source, const Image&
   ao.progress = opt.progress;
   r.atlas = render_atlas(gl, source, r.layout_a, texture, ao);
   report_progress(opt.progress, "target STM coordinates");
+  r.refined = r.registered && opt.refine;
+  if (r.refined) report_progress(opt.progress, "refining the correspondence in the Laplace-Beltrami eigenbases");
   StmCoordinates sc = tb.placed.empty() ? stm_coordinates(target, r.layout_b)
-                                        : coordinates_through_source(source, tb.placed, target, r.skeletons.a, r.layout_a, r.correspondence);
+                                        : coordinates_through_source(source, tb.placed, target, r.skeletons.a, r.layout_a, r.correspondence,
+                                                                     r.refined ? &opt.refinement : nullptr);
   r.target = std::move(sc.mesh);
   r.stretch = sc.stretch;
   r.seam_faces = sc.seam_faces;

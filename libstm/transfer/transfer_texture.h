@@ -13,6 +13,7 @@
 #include "libstm/layout/layout.h"
 #include "libstm/mesh/mesh.h"
 #include "libstm/registration/register_surfaces.h"
+#include "libstm/registration/zoomout.h"
 #include "libstm/transfer/register_bodies.h"
 #include "libstm/transfer/share_skeletons.h"
 #include "libstm/skeleton/skeleton.h"
@@ -115,6 +116,11 @@ struct TransferOptions {
   // tr_reg_085 scaled by 1 + 1e-7: no head end from the medial poles, one from the contraction).
   // Not tried with `fixed` pairs (they name nodes of the given skeletons).
   std::function<std::optional<Skeleton>(bool target)> other_candidate;
+  // A registered target's correspondence (closest points of the placed source) refined in the
+  // Laplace-Beltrami eigenbases of both models (zoomout; DESIGN 6.5, "Spectral refinement"). Not done
+  // for a target carried or bent (the source's shape or pose), where the closest points are right.
+  bool refine = true;
+  ZoomOutOptions refinement;
   bool force = false;
   Progress progress;
 };
@@ -145,6 +151,7 @@ struct TextureTransfer {
   // Carried, bent or registered: per target vertex, the source point it shows (source face and
   // barycentric coordinates), through which any per-vertex attribute can be carried.
   std::vector<SourcePoint> correspondence;
+  bool refined = false;  // registered and refined (TransferOptions::refine)
 };
 
 // `source` must have per-halfedge uv for `texture`; skeleton_a/b belong to source/target.

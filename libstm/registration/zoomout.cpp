@@ -1,0 +1,224 @@
+#include "libstm/registration/zoomout.h"
+
+#include "libstm/core/errors.h"
+#include "libstm/core/parallel.h"
+#include "libstm/mesh/mesh_geometry.h"
+
+#include <algorithm>
+#include <cmath>
+#include <unordered_map>
+
+namespace sdm {
+
+LaplaceBasis mesh_laplace_basis(const Mesh& mesh, int k) {
+  std::vector<Eigen::Vector3d> points;
+  points.reserve(mesh.n_vertices());
+  for (auto v : mesh.vertices()) points.push_back(point(mesh, v));
+  std::vector<std::array<int, 3>> triangles;
+  triangles.reserve(mesh.n_faces());
+  for (auto f : mesh.faces()) {
+    std::array<int, 3> t{};
+    int c = 0;
+    for (auto v : mesh.fv_range(f)) t[size_t(c++)] = v.idx();
+    triangles.push_back(t);
+  }
+  return laplace_basis(points, triangles, k);
+}
+
+namespace {
+
+using RowMatrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
+
+// The first k functions of a basis at unit area (M-orthonormal for the mass over the area).
+RowMatrix unit_functions(const LaplaceBasis& basis, int k) {
+  return RowMatrix(basis.vectors.leftCols(k) * std::sqrt(basis.mass.sum()));
+}
+
+// Per query point, the indices of `points` within `window` of it: a uniform grid of cell `window`.
+std::vector<std::vector<int>> search_windows(const std::vector<Eigen::Vector3d>& points, const std::vector<Eigen::Vector3d>& queries,
+                                             double window) {
+  struct CellHash {
+    size_t operator()(const Eigen::Vector3i& c) const { return size_t(c.x()) * 73856093u ^ size_t(c.y()) * 19349663u ^ size_t(c.z()) * 83492791u; }
+  };
+  std::unordered_map<Eigen::Vector3i, std::vector<int>, CellHash> grid;
+  auto cell = [&](const Eigen::Vector3d& p) { return Eigen::Vector3i((p / window).array().floor().cast<int>()); };
+  for (size_t i = 0; i < points.size(); ++i) grid[cell(points[i])].push_back(int(i));
+  std::vector<std::vector<int>> out(queries.size());
+  for (size_t t = 0; t < queries.size(); ++t) {
+    const Eigen::Vector3i c = cell(queries[t]);
+    for (int dx = -1; dx <= 1; ++dx)
+      for (int dy = -1; dy <= 1; ++dy)
+        for (int dz = -1; dz <= 1; ++dz) {
+          const auto it = grid.find(c + Eigen::Vector3i(dx, dy, dz));
+          if (it == grid.end()) continue;
+          for (int s : it->second)
+            if ((points[size_t(s)] - queries[t]).norm() <= window) out[t].push_back(s);
+        }
+    std::sort(out[t].begin(), out[t].end());
+  }
+  return out;
+}
+
+// Rows [phi * C, w * spatial] (C empty: phi alone), the spatial part left out when w = 0.
+RowMatrix embedding(const RowMatrix& phi, int k, const Eigen::MatrixXd& C, const std::vector<Eigen::Vector3d>& spatial, double w) {
+  RowMatrix e(phi.rows(), k + (w > 0 ? 3 : 0));
+  if (C.size()) e.leftCols(k) = phi.leftCols(k) * C;
+  else e.leftCols(k) = phi.leftCols(k);
+  if (w > 0)
+    for (Eigen::Index i = 0; i < e.rows(); ++i) e.row(i).tail(3) = w * spatial[size_t(i)].transpose();
+  return e;
+}
+
+// A vertex as a source point: a face around it, weight 1 at its corner.
+SourcePoint vertex_point(const Mesh& mesh, int vertex) {
+  const auto vh = mesh.vertex_handle(vertex);
+  const auto f = *mesh.vf_range(vh).begin();
+  int c = 0, at = 0;
+  for (auto v : mesh.fv_range(f)) at = v == vh ? c : at, ++c;
+  Eigen::Vector3d b = Eigen::Vector3d::Zero();
+  b[at] = 1;
+  return {f.idx(), b};
+}
+
+// Pi Phi_S: per target vertex, the source functions at its source point (barycentric blend).
+RowMatrix pulled_back(const Mesh& source, const std::vector<SourcePoint>& map, const RowMatrix& phi_s, int k) {
+  RowMatrix g = RowMatrix::Zero(Eigen::Index(map.size()), k);
+  for (size_t t = 0; t < map.size(); ++t) {
+    int c = 0;
+    for (auto v : source.fv_range(source.face_handle(map[t].face))) g.row(Eigen::Index(t)) += map[t].barycentric[c++] * phi_s.row(v.idx()).head(k);
+  }
+  return g;
+}
+
+// The source vertex nearest to each query row among `candidates` (all when empty), rows compared
+// over their first `dims` columns. Ties go to the lower index.
+std::vector<int> nearest_rows(const RowMatrix& queries, const RowMatrix& database, const std::vector<std::vector<int>>& candidates,
+                              int threads) {
+  const int n = int(queries.rows());
+  std::vector<int> best(size_t(n), 0);
+  if (!candidates.empty()) {
+    parallel_for(n, 256, [&](int t) {
+      double best_d = INFINITY;
+      for (int s : candidates[size_t(t)]) {
+        const double d = (database.row(s) - queries.row(t)).squaredNorm();
+        if (d < best_d) best_d = d, best[size_t(t)] = s;
+      }
+      // An empty window (a start point further than the window from every vertex): every row.
+      if (candidates[size_t(t)].empty()) (database.rowwise() - queries.row(t)).rowwise().squaredNorm().minCoeff(&best[size_t(t)]);
+    }, threads);
+    return best;
+  }
+  const Eigen::VectorXd dn = database.rowwise().squaredNorm();
+  const int block = 256;
+  parallel_for((n + block - 1) / block, 1, [&](int b) {
+    const int from = b * block, rows = std::min(block, n - from);
+    const Eigen::MatrixXd cross = queries.middleRows(from, rows) * database.transpose();
+    for (int r = 0; r < rows; ++r) {
+      Eigen::Index at;
+      (dn.transpose() - 2 * cross.row(r)).minCoeff(&at);
+      best[size_t(from + r)] = int(at);
+    }
+  }, threads);
+  return best;
+}
+
+// The point of the faces around source vertex s nearest to q in the rows' coordinates (the
+// triangle each face spans there), as a source point.
+SourcePoint nearest_point_around(const Mesh& source, int s, const Eigen::RowVectorXd& q, const RowMatrix& database) {
+  SourcePoint best_point;
+  double best_d = INFINITY;
+  for (auto f : source.vf_range(source.vertex_handle(s))) {
+    int corner[3], c = 0;
+    for (auto v : source.fv_range(f)) corner[c++] = v.idx();
+    const Eigen::RowVectorXd a = database.row(corner[0]), e1 = database.row(corner[1]) - a, e2 = database.row(corner[2]) - a;
+    const Eigen::RowVectorXd r = q - a;
+    const double m11 = e1.squaredNorm(), m12 = e1.dot(e2), m22 = e2.squaredNorm(), r1 = e1.dot(r), r2 = e2.dot(r);
+    const double det = m11 * m22 - m12 * m12;
+    // Candidates: the interior optimum when inside, else the best point of each edge.
+    std::vector<Eigen::Vector2d> tries;
+    if (det > 1e-300) {
+      const double b = (m22 * r1 - m12 * r2) / det, g = (m11 * r2 - m12 * r1) / det;
+      if (b >= 0 && g >= 0 && b + g <= 1) tries.emplace_back(b, g);
+    }
+    if (tries.empty()) {
+      tries.emplace_back(m11 > 0 ? std::clamp(r1 / m11, 0.0, 1.0) : 0.0, 0.0);
+      tries.emplace_back(0.0, m22 > 0 ? std::clamp(r2 / m22, 0.0, 1.0) : 0.0);
+      const Eigen::RowVectorXd e3 = e2 - e1;  // from corner 1 to corner 2
+      const double m33 = e3.squaredNorm();
+      const double u = m33 > 0 ? std::clamp((r - e1).dot(e3) / m33, 0.0, 1.0) : 0.0;
+      tries.emplace_back(1 - u, u);
+    }
+    for (const auto& bg : tries) {
+      const double d = (r - bg[0] * e1 - bg[1] * e2).squaredNorm();
+      if (d < best_d) best_d = d, best_point = {f.idx(), Eigen::Vector3d(1 - bg[0] - bg[1], bg[0], bg[1])};
+    }
+  }
+  return best_point;
+}
+
+void check_zoomout_input(const Mesh& source, const LaplaceBasis& sb, const Mesh& target, const LaplaceBasis& tb,
+                         const std::vector<SourcePoint>& start, const ZoomOutOptions& o) {
+  if (start.size() != target.n_vertices())
+    throw InputError("zoomout: " + std::to_string(start.size()) + " start points for " + std::to_string(target.n_vertices()) + " target vertices");
+  if (sb.vectors.rows() != Eigen::Index(source.n_vertices()) || tb.vectors.rows() != Eigen::Index(target.n_vertices()))
+    throw InputError("zoomout: a Laplace basis does not belong to its mesh");
+  if (o.k_start < 1 || o.step < 1 || sb.vectors.cols() < o.k_end || tb.vectors.cols() < o.k_end)
+    throw InputError("zoomout: the bases need k_end = " + std::to_string(o.k_end) + " functions and 1 <= k_start");
+  for (const auto& p : start)
+    if (p.face < 0 || p.face >= int(source.n_faces())) throw InputError("zoomout: a start point lies on no source face");
+}
+
+}  // namespace
+
+std::vector<SourcePoint> zoomout(const Mesh& source, const LaplaceBasis& source_basis, const Mesh& target,
+                                 const LaplaceBasis& target_basis, const std::vector<SourcePoint>& start, const ZoomOutOptions& o) {
+  check_zoomout_input(source, source_basis, target, target_basis, start, o);
+  const int nt = int(target.n_vertices()), k_end = o.k_end;
+  const RowMatrix phi_s = unit_functions(source_basis, k_end), phi_t = unit_functions(target_basis, k_end);
+  const Eigen::VectorXd mass_t = target_basis.mass / target_basis.mass.sum(), mass_s = source_basis.mass / source_basis.mass.sum();
+  const double source_scale = std::sqrt(source_basis.mass.sum());
+  // Spatial coordinates on the source: the start's points for the target's vertices.
+  std::vector<Eigen::Vector3d> start_points, source_points;
+  for (const auto& p : start) start_points.push_back(position_of(source, p));
+  for (auto v : source.vertices()) source_points.push_back(point(source, v));
+  std::vector<std::vector<int>> t_windows, s_windows;
+  if (o.window > 0) t_windows = search_windows(source_points, start_points, o.window * source_scale);
+  if (o.window > 0 && o.bidirectional) s_windows = search_windows(start_points, source_points, o.window * source_scale);
+  const double w = o.spatial_weight / source_scale;
+  std::vector<SourcePoint> map = start;
+  // The source's vertices' target vertices (bidirectional): at first the target vertex whose start
+  // point is nearest.
+  std::vector<int> s2t;
+  if (o.bidirectional) {
+    const RowMatrix none_s(Eigen::Index(source_points.size()), 0), none_t(nt, 0);
+    s2t = nearest_rows(embedding(none_s, 0, {}, source_points, 1), embedding(none_t, 0, {}, start_points, 1), s_windows, o.threads);
+  }
+  for (int k = std::min(o.k_start, k_end);; k = std::min(k + o.step, k_end)) {
+    // C = Phi_T^T M_T Pi Phi_S (k x k), then Pi Phi_S ~ Phi_T C row by row; with the map the other
+    // way too, C averaged with (Phi_S^T M_S Pi' Phi_T)^T.
+    Eigen::MatrixXd C = phi_t.leftCols(k).transpose() * (mass_t.asDiagonal() * pulled_back(source, map, phi_s, k));
+    if (o.bidirectional) {
+      RowMatrix g(Eigen::Index(s2t.size()), k);
+      for (size_t s = 0; s < s2t.size(); ++s) g.row(Eigen::Index(s)) = phi_t.row(s2t[s]).head(k);
+      C = 0.5 * (C + (phi_s.leftCols(k).transpose() * (mass_s.asDiagonal() * g)).transpose());
+    }
+    const RowMatrix queries = embedding(phi_t, k, C, start_points, w), database = embedding(phi_s, k, {}, source_points, w);
+    const std::vector<int> nearest = nearest_rows(queries, database, t_windows, o.threads);
+    if (k == k_end) {
+      parallel_for(nt, 256, [&](int t) { map[size_t(t)] = nearest_point_around(source, nearest[size_t(t)], queries.row(t), database); }, o.threads);
+      return map;
+    }
+    for (int t = 0; t < nt; ++t) map[size_t(t)] = vertex_point(source, nearest[size_t(t)]);
+    if (o.bidirectional)
+      s2t = nearest_rows(embedding(phi_s, k, C.transpose(), source_points, w), embedding(phi_t, k, {}, start_points, w), s_windows, o.threads);
+  }
+}
+
+std::vector<SourcePoint> refine_correspondence(const Mesh& source, const Mesh& target, const std::vector<SourcePoint>& start,
+                                               const ZoomOutOptions& options) {
+  LaplaceBasis sb, tb;
+  run_concurrently([&] { sb = mesh_laplace_basis(source, options.k_end); }, [&] { tb = mesh_laplace_basis(target, options.k_end); });
+  return zoomout(source, sb, target, tb, start, options);
+}
+
+}  // namespace sdm
