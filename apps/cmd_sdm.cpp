@@ -7,7 +7,9 @@
 #include "libsdm/map/sdm_exr.h"
 #include "libsdm/pose/deform_decoded.h"
 #include "libsdm/pose/pose_skeleton.h"
+#include "libsdm/pose/rig_skin.h"
 #include "libstm/geometry/triangle_bvh.h"
+#include "libstm/mesh/gltf_skin.h"
 #include "libstm/mesh/mesh_geometry.h"
 #include "libstm/mesh/self_intersections.h"
 #include "libstm/render/render_mesh.h"
@@ -23,9 +25,11 @@
 
 #include <unistd.h>
 
+#include <cctype>
 #include <cmath>
 #include <filesystem>
 #include <memory>
+#include <optional>
 #include <sstream>
 
 namespace sdm::cli {
@@ -310,13 +314,35 @@ Command add_encode_command(CLI::App& parent) {
           }};
 }
 
+namespace {
+
+// --rig writes a skin, which only glTF carries: InputError for another output format.
+void check_rig_output(const std::string& out) {
+  std::string ext = std::filesystem::path(out).extension().string();
+  for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
+  if (ext != ".glb" && ext != ".gltf")
+    throw sdm::InputError("--rig writes a glTF skin: the output must be .glb or .gltf, not '" + out + "'");
+}
+
+// Writes `mesh` (decoded at rest, `trace` its decode's) to `out` rigged by rig_skin: the bind pose
+// is the map's own skeleton; `posed`, when given, is the pose the file opens in.
+void write_rigged(const sdm::Mesh& mesh, const sdm::Layout& layout, const sdm::DecodeTrace& trace, const sdm::Skeleton* posed,
+                  const std::string& out) {
+  std::vector<Eigen::Vector3d> points;
+  points.reserve(mesh.n_vertices());
+  for (auto v : mesh.vertices()) points.push_back(sdm::point(mesh, v));
+  sdm::write_gltf_skinned(mesh, sdm::rig_skin(layout, points, trace.vertex_segment, posed), out);
+}
+
+}  // namespace
+
 Command add_decode_command(CLI::App& parent) {
   struct Opts {
     std::string map, out, skeleton, write_skeleton;
     int lod = 3;
     std::vector<std::string> segment_lod;
     std::string max_memory;
-    bool json = false;
+    bool json = false, rig = false;
   };
   auto o = std::make_shared<Opts>();
   auto* app = parent.add_subcommand(
@@ -331,10 +357,14 @@ Command add_decode_command(CLI::App& parent) {
                   "node_rotations and segment_radius_scale (README; as 'sdm pose')");
   app->add_option("--write-skeleton", o->write_skeleton,
                   "Also write the map's skeleton (.json, or .obj polyline): edit its node positions for --skeleton");
+  app->add_flag("--rig", o->rig,
+                "Write the mesh at rest with a glTF skin (.glb/.gltf only): a joint per skeleton node, 4 weights per vertex from "
+                "the decode's blending; with --skeleton the joints hold that pose");
   add_max_memory_option(app, o->max_memory);
   app->add_flag("--json", o->json, "Print one JSON object with the summary");
   return {app, [o]() {
             const sdm::Stopwatch clock;
+            if (o->rig) check_rig_output(o->out);
             const sdm::SdmImage im = sdm::read_sdm_exr(o->map);
             sdm::DecodeOptions d;
             d.level = o->lod;
@@ -343,11 +373,19 @@ Command add_decode_command(CLI::App& parent) {
             check_memory(e.bytes, o->max_memory, "decoding " + std::to_string(int64_t(e.triangles / 1e6)) + " million triangles",
                          "use a lower --lod (each level quadruples the triangles)");
             if (!o->skeleton.empty()) d.skeleton = sdm::read_skeleton_json(o->skeleton);
-            const sdm::Mesh mesh = sdm::decode_sdm(im, d);
+            std::optional<sdm::Skeleton> posed;
+            if (o->rig) posed.swap(d.skeleton);  // decoded at rest, the pose goes into the joints
+            const sdm::Layout layout = o->rig ? sdm::layout_from_json(im.layout) : sdm::Layout{};
+            if (posed) sdm::pose_skeleton(layout.skeleton, *posed);  // the graph checked before the work
+            sdm::DecodeTrace trace;
+            const sdm::Mesh mesh = sdm::decode_sdm(im, d, o->rig ? &trace : nullptr);
             const double s = clock.seconds();
             // The output's topology is checked on the second core while the file is written.
             SurfaceTopology top;
-            sdm::run_concurrently([&] { top = topology_of(mesh); }, [&] { sdm::write_mesh(mesh, o->out); });
+            sdm::run_concurrently([&] { top = topology_of(mesh); }, [&] {
+              if (o->rig) write_rigged(mesh, layout, trace, posed ? &*posed : nullptr, o->out);
+              else sdm::write_mesh(mesh, o->out);
+            });
             if (!o->write_skeleton.empty()) {
               const sdm::Skeleton sk = sdm::layout_from_json(im.layout).skeleton;
               if (o->write_skeleton.size() > 4 && o->write_skeleton.substr(o->write_skeleton.size() - 4) == ".obj")
@@ -473,7 +511,7 @@ Command add_pose_command(CLI::App& parent) {
     std::string map, out, skeleton, write_skeleton, max_memory;
     int lod = 3;
     std::vector<std::string> rotate, scale;
-    bool json = false;
+    bool json = false, rig = false;
   };
   auto o = std::make_shared<Opts>();
   auto* app = parent.add_subcommand(
@@ -489,10 +527,14 @@ Command add_pose_command(CLI::App& parent) {
   app->add_option("--scale-radius", o->scale, "Scale the surface's distance from segment SEG's axis: SEG=FACTOR (repeatable)");
   app->add_option("--skeleton", o->skeleton, "Start from this pose (a skeleton JSON of the map's graph) instead of the rest pose");
   app->add_option("--write-skeleton", o->write_skeleton, "Also write the posed skeleton (.json, with node_rotations), for --skeleton or 'sdm decode --skeleton'");
+  app->add_flag("--rig", o->rig,
+                "Write the mesh at rest with a glTF skin (.glb/.gltf only), the joints holding the pose (node rotations; linear blend "
+                "skinning, no stretch or radius scale)");
   add_max_memory_option(app, o->max_memory);
   app->add_flag("--json", o->json, "Print one JSON object: what moved (nodes, segments), the largest vertex displacement, the output");
   return {app, [o]() {
             const sdm::Stopwatch clock;
+            if (o->rig) check_rig_output(o->out);
             const sdm::SdmImage im = sdm::read_sdm_exr(o->map);
             const sdm::Layout layout = sdm::layout_from_json(im.layout);
             const sdm::Skeleton& rest = layout.skeleton;
@@ -512,6 +554,7 @@ Command add_pose_command(CLI::App& parent) {
             progress("decoding at rest");
             sdm::DecodeTrace trace;
             sdm::Mesh mesh = sdm::decode_sdm(im, d, &trace);
+            if (o->rig) write_rigged(mesh, layout, trace, &posed, o->out);
             progress("posing");
             std::vector<Eigen::Vector3d> points;
             for (auto v : mesh.vertices()) points.push_back(sdm::point(mesh, v));
@@ -523,7 +566,9 @@ Command add_pose_command(CLI::App& parent) {
               mesh.set_point(mesh.vertex_handle(int(i)), sdm::Mesh::Point(points[i].x(), points[i].y(), points[i].z()));
             }
             SurfaceTopology top;
-            sdm::run_concurrently([&] { top = topology_of(mesh); }, [&] { sdm::write_mesh(mesh, o->out); });
+            sdm::run_concurrently([&] { top = topology_of(mesh); }, [&] {
+              if (!o->rig) sdm::write_mesh(mesh, o->out);
+            });
             if (!o->write_skeleton.empty()) sdm::write_skeleton_json(posed, o->write_skeleton);
             const double diag = sdm::bounding_box_diagonal(mesh);
             const double s = clock.seconds();

@@ -60,6 +60,13 @@ void check_skin(const Mesh& mesh, const GltfSkin& skin, const std::string& what)
   size(skin.vertex_weights.size(), v, "vertex_weights", "mesh vertices");
   for (size_t j = 0; j < n; ++j)
     if (!skin.joint_position[j].allFinite()) throw InputError(what + ": joint " + std::to_string(j) + " has a position that is not finite");
+  if (!skin.joint_pose_rotation.empty() || !skin.joint_pose_position.empty()) {
+    size(skin.joint_pose_rotation.size(), n, "joint_pose_rotation", "joints");
+    size(skin.joint_pose_position.size(), n, "joint_pose_position", "joints");
+    for (size_t j = 0; j < n; ++j)
+      if (!skin.joint_pose_rotation[j].coeffs().allFinite() || !(skin.joint_pose_rotation[j].norm() > 0) || !skin.joint_pose_position[j].allFinite())
+        throw InputError(what + ": joint " + std::to_string(j) + " has a pose that is not finite");
+  }
   check_parents(skin.joint_parent, what);
   for (size_t i = 0; i < v; ++i) {
     float sum = 0;
@@ -119,8 +126,17 @@ int add_skin(tinygltf::Model& m, const GltfSkin& skin) {
     tinygltf::Node node;
     node.name = skin.joint_name.empty() ? "joint " + std::to_string(j) : skin.joint_name[j];
     const int p = skin.joint_parent[j];
-    const Eigen::Vector3d t = skin.joint_position[j] - (p >= 0 ? skin.joint_position[p] : Eigen::Vector3d::Zero());
-    node.translation = {t.x(), t.y(), t.z()};
+    if (skin.joint_pose_rotation.empty()) {
+      const Eigen::Vector3d t = skin.joint_position[j] - (p >= 0 ? skin.joint_position[p] : Eigen::Vector3d::Zero());
+      node.translation = {t.x(), t.y(), t.z()};
+    } else {  // local = parent's global^-1 * own global, globals x -> R x + position
+      const Eigen::Quaterniond rp = p >= 0 ? skin.joint_pose_rotation[p].normalized() : Eigen::Quaterniond::Identity();
+      const Eigen::Vector3d pp = p >= 0 ? skin.joint_pose_position[p] : Eigen::Vector3d::Zero();
+      const Eigen::Vector3d t = rp.conjugate() * (skin.joint_pose_position[j] - pp);
+      const Eigen::Quaterniond r = rp.conjugate() * skin.joint_pose_rotation[j].normalized();
+      node.translation = {t.x(), t.y(), t.z()};
+      if (r.angularDistance(Eigen::Quaterniond::Identity()) > 0) node.rotation = {r.x(), r.y(), r.z(), r.w()};
+    }
     m.nodes.push_back(node);
     if (p < 0) roots.push_back(j);
   }

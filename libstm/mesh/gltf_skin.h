@@ -10,6 +10,7 @@
 #include "libstm/mesh/mesh.h"
 
 #include <Eigen/Core>
+#include <Eigen/Geometry>
 
 #include <array>
 #include <string>
@@ -23,6 +24,12 @@ struct GltfSkin {
   std::vector<std::string> joint_name;               // per joint, or empty (then "joint 0", "joint 1", ...)
   std::vector<std::array<int, 4>> vertex_joints;     // per mesh vertex (per point when read): 4 joints
   std::vector<std::array<float, 4>> vertex_weights;  // their weights: >= 0, summing to 1
+  // Optional (both empty, or one per joint): a pose the file opens in, each joint's posed rotation
+  // and position in model space, the joint moving the rest point x to rotation (x - rest) + position.
+  // Written as the joint nodes' local rotation and translation; the bind pose (the inverse bind
+  // matrices) stays joint_position. read_gltf_skin leaves them empty.
+  std::vector<Eigen::Quaterniond> joint_pose_rotation;
+  std::vector<Eigen::Vector3d> joint_pose_position;
 };
 
 // Writes `mesh` rigged by `skin` as .glb or .gltf (by extension), as write_gltf writes the mesh
@@ -31,7 +38,9 @@ struct GltfSkin {
 // `skeleton` is the root joint and whose `inverseBindMatrices` (MAT4 float) translate by minus
 // each joint's position, JOINTS_0 (UNSIGNED_BYTE VEC4 for 256 joints or fewer, else
 // UNSIGNED_SHORT) and WEIGHTS_0 (FLOAT VEC4) for each written vertex (vertices split at uv seams
-// carry their mesh vertex's). The parents may form a forest: then an untransformed node named
+// carry their mesh vertex's). With joint_pose_rotation and joint_pose_position the joint nodes hold
+// that pose (local rotation R_parent^-1 R_joint, translation R_parent^-1 (p_joint - p_parent)), so
+// the file opens posed; without, at rest. The parents may form a forest: then an untransformed node named
 // "skeleton" holds the roots and is the skin's `skeleton`.
 // Each vertex's influences are written tidied: a joint named twice gets the sum of its weights in
 // its first slot, a slot of weight 0 holds joint 0 (a slot of weight 0 may name any joint, -1
@@ -39,7 +48,8 @@ struct GltfSkin {
 // the float sum of the slots in order is 1 (the validator asks for exactly 1 with one or two
 // joints). Slots keep their order otherwise. Atomic.
 // Throws InputError (message saying which) for: no joints or more than 65536, parents, names or
-// per-vertex arrays of the wrong size (vertex arrays: mesh.n_vertices()), a parent out of range
+// per-vertex arrays of the wrong size (vertex arrays: mesh.n_vertices(); pose arrays: empty or one
+// per joint, finite), a parent out of range
 // or parents forming a cycle, a joint position that is not finite, a weight that is negative or
 // not finite, a vertex whose weights are all 0, a joint of weight > 0 outside [0, joints); and for
 // what write_gltf refuses (the path's extension, a texture that is no PNG).
