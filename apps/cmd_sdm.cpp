@@ -25,9 +25,11 @@
 
 #include <unistd.h>
 
+#include <algorithm>
 #include <cctype>
 #include <cmath>
 #include <filesystem>
+#include <iostream>
 #include <memory>
 #include <optional>
 #include <sstream>
@@ -331,6 +333,9 @@ void write_rigged(const sdm::Mesh& mesh, const sdm::Layout& layout, const sdm::D
   std::vector<Eigen::Vector3d> points;
   points.reserve(mesh.n_vertices());
   for (auto v : mesh.vertices()) points.push_back(sdm::point(mesh, v));
+  if (posed && std::any_of(posed->segment_radius_scale.begin(), posed->segment_radius_scale.end(), [](double f) { return f != 1.0; }))
+    std::cerr << "warning: --rig writes a glTF skin, which carries joint motions only: the radius scales are left out of "
+              << out << " (write a mesh without --rig to keep them)\n";
   sdm::write_gltf_skinned(mesh, sdm::rig_skin(layout, points, trace.vertex_segment, posed), out);
 }
 
