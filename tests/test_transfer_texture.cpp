@@ -385,26 +385,31 @@ TEST_CASE("transfer onto a new tessellation of Spot with extracted skeletons rep
   check_views(p, 28.0);
 }
 
-// What `sdm remesh` and `sdm transfer` do by default (the remesh's own edge length, a 1024 atlas):
-// Spot onto its remesh over four unlit views framed alike, and no speck (correspondence_jumps: no
-// target vertex whose source point lies over 5 % of the diagonal from most of its neighbours').
-TEST_CASE("Spot onto its own isotropic remesh with the command's defaults: no speck, 31 dB or more", "[transfer_texture]") {
+// `a` (textured by `tex`) onto its own isotropic remesh with the commands' defaults: four unlit views
+// framed alike (0, 90, 180, 270 degrees) at 31 dB or more on average, and no speck
+// (correspondence_jumps: no target vertex whose source point lies over 5 % of the diagonal from most
+// of its neighbours').
+void check_onto_own_remesh(const sdm::Mesh& a, const sdm::Image& tex, const std::string& name) {
   sdm::GlContext gl;
-  std::string tex_path;
-  const sdm::Mesh a = sdm::load_mesh(std::string(SDM_EXAMPLES) + "/spot/spot_triangulated.obj", &tex_path);
-  const sdm::Image tex = sdm::read_png(tex_path);
   const sdm::Mesh b = remeshed_like_cli(a, 1.0);
   const sdm::TextureTransfer r = sdm::transfer_texture(gl, a, tex, extracted(a), b, extracted(b), sdm::TransferOptions{});
   const sdm::CorrespondenceJumps jumps = sdm::correspondence_jumps(a, b, r.correspondence, 0.05 * sdm::bounding_box_diagonal(a));
-  std::vector<double> p = compare_views(gl, a, tex, r.target, r.atlas, "spot_remesh_view");
+  std::vector<double> p = compare_views(gl, a, tex, r.target, r.atlas, name + "_remesh_view");
   std::vector<double> four;
   for (size_t v = 0; v < p.size(); v += 2) four.push_back(p[v]);  // 0, 90, 180, 270 degrees
   double mean = 0;
   for (double x : four) mean += x / double(four.size());
-  WARN("Spot onto its remesh (" << b.n_vertices() << " vertices, 1024 atlas): PSNR per view" << views_text(four) << ", mean " << mean
-                                << " dB; jumping share " << jumps.area_share << " (" << jumps.vertices << " vertices)");
+  WARN(name << " onto its remesh (" << b.n_vertices() << " vertices, 1024 atlas): PSNR per view" << views_text(four) << ", mean " << mean
+            << " dB; jumping share " << jumps.area_share << " (" << jumps.vertices << " vertices)");
   CHECK(jumps.area_share <= 0.001);
   CHECK(mean >= 31.0);
+}
+
+// What `sdm remesh` and `sdm transfer` do by default (the remesh's own edge length, a 1024 atlas).
+TEST_CASE("Spot onto its own isotropic remesh with the command's defaults: no speck, 31 dB or more", "[transfer_texture]") {
+  std::string tex_path;
+  const sdm::Mesh a = sdm::load_mesh(std::string(SDM_EXAMPLES) + "/spot/spot_triangulated.obj", &tex_path);
+  check_onto_own_remesh(a, sdm::read_png(tex_path), "spot");
 }
 
 // A second textured model for the remesh case: the Viewpoint cow of ../shared/models/wild (repaired on
@@ -434,21 +439,8 @@ TEST_CASE("The cow with a planar projected uv onto its own isotropic remesh: no 
     WARN("../shared/models/wild is not beside the repository: skipped");
     return;
   }
-  sdm::GlContext gl;
   const sdm::Image tex = sdm::read_png(std::string(SDM_EXAMPLES) + "/spot/spot_texture.png");
-  const sdm::Mesh a = planar_projected(sdm::load_mesh(cow, sdm::LoadOptions{}).mesh);
-  const sdm::Mesh b = remeshed_like_cli(a, 1.0);
-  const sdm::TextureTransfer r = sdm::transfer_texture(gl, a, tex, extracted(a), b, extracted(b), sdm::TransferOptions{});
-  const sdm::CorrespondenceJumps jumps = sdm::correspondence_jumps(a, b, r.correspondence, 0.05 * sdm::bounding_box_diagonal(a));
-  std::vector<double> p = compare_views(gl, a, tex, r.target, r.atlas, "cow_remesh_view");
-  std::vector<double> four;
-  for (size_t v = 0; v < p.size(); v += 2) four.push_back(p[v]);  // 0, 90, 180, 270 degrees
-  double mean = 0;
-  for (double x : four) mean += x / double(four.size());
-  WARN("cow onto its remesh (" << b.n_vertices() << " vertices, 1024 atlas): PSNR per view" << views_text(four) << ", mean " << mean
-                               << " dB; jumping share " << jumps.area_share << " (" << jumps.vertices << " vertices)");
-  CHECK(jumps.area_share <= 0.001);
-  CHECK(mean >= 31.0);
+  check_onto_own_remesh(planar_projected(sdm::load_mesh(cow, sdm::LoadOptions{}).mesh), tex, "cow");
 }
 
 // The band test with hand-made skeletons (the ideal ones, bent with the target) or extracted ones.
