@@ -109,7 +109,7 @@ PoseRow measure_pair(const std::string& source_path, const std::string& target_p
   DecodeTrace trace;
   const Mesh decoded = decode_sdm(image, {}, &trace);
   std::vector<Eigen::Vector3d> p = points_of(decoded);
-  pose_points(layout, posed, trace.vertex_segment, p);
+  pose_points(layout, posed, trace.vertex_segment, face_matrix(decoded), p);
   row.seconds = clock.seconds();
   const Mesh ours = with_points(decoded, p);
   const Mesh lbs = with_points(source, linear_blend(rest, motion, from));

@@ -336,7 +336,7 @@ void write_rigged(const sdm::Mesh& mesh, const sdm::Layout& layout, const sdm::D
   if (posed && std::any_of(posed->segment_radius_scale.begin(), posed->segment_radius_scale.end(), [](double f) { return f != 1.0; }))
     std::cerr << "warning: --rig writes a glTF skin, which carries joint motions only: the radius scales are left out of "
               << out << " (write a mesh without --rig to keep them)\n";
-  sdm::write_gltf_skinned(mesh, sdm::rig_skin(layout, points, trace.vertex_segment, posed), out);
+  sdm::write_gltf_skinned(mesh, sdm::rig_skin(layout, points, trace.vertex_segment, sdm::face_matrix(mesh), posed), out);
 }
 
 }  // namespace
@@ -564,7 +564,7 @@ Command add_pose_command(CLI::App& parent) {
             std::vector<Eigen::Vector3d> points;
             for (auto v : mesh.vertices()) points.push_back(sdm::point(mesh, v));
             const std::vector<Eigen::Vector3d> before = points;
-            sdm::pose_points(layout, posed, trace.vertex_segment, points);
+            sdm::pose_points(layout, posed, trace.vertex_segment, sdm::face_matrix(mesh), points);
             double moved = 0;
             for (size_t i = 0; i < points.size(); ++i) {
               moved = std::max(moved, (points[i] - before[i]).norm());

@@ -332,7 +332,7 @@ DecodedSurface decode_surface_beside(const SdmImage& image, const DecodeOptions&
   out.point_segment.resize(n);
   for (size_t i = 0; i < n; ++i) out.point_segment[i] = at[i].segment;
   // Decoded at rest, then posed by the segments' blended motions (deform_decoded.h).
-  if (options.skeleton) pose_points(layout, *options.skeleton, out.point_segment, out.points);
+  if (options.skeleton) pose_points(layout, *options.skeleton, out.point_segment, out.triangles, out.points);
   return out;
 }
 

@@ -1,5 +1,6 @@
 #include "libsdm/pose/deform_decoded.h"
 
+#include "libsdm/pose/smooth_pose_weights.h"
 #include "libstm/core/parallel.h"
 
 #include <algorithm>
@@ -93,11 +94,12 @@ void deform_points(const SkeletonPose& pose, const PoseWeights& weights, std::ve
   });
 }
 
-void pose_points(const Layout& layout, const Skeleton& posed, const std::vector<int>& point_segment, std::vector<Eigen::Vector3d>& points,
-                 double blend_radii) {
+void pose_points(const Layout& layout, const Skeleton& posed, const std::vector<int>& point_segment, const Eigen::MatrixX3i& triangles,
+                 std::vector<Eigen::Vector3d>& points, double blend_radii) {
   const SkeletonPose pose = pose_skeleton(layout.skeleton, posed);
   if (pose.identity()) return;
-  const PoseWeights weights = pose_weights(layout, points, point_segment, blend_radii);
+  PoseWeights weights = pose_weights(layout, points, point_segment, blend_radii);
+  smooth_pose_weights(weights, points, triangles, pose, layout);
   deform_points(pose, weights, points);
 }
 

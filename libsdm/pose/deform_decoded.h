@@ -17,9 +17,11 @@ namespace sdm {
 // Moves `points` (rest positions, the ones `weights` was computed for) in place.
 void deform_points(const SkeletonPose& pose, const PoseWeights& weights, std::vector<Eigen::Vector3d>& points);
 
-// All of it: the pose of `posed` against the layout's skeleton, the weights, the deformation.
+// All of it: the pose of `posed` against the layout's skeleton, the weights (pose_weights, smoothed
+// over `triangles`, the surface of `points`, where motions differ: smooth_pose_weights.h), the
+// deformation.
 // Throws InputError when the graphs differ (pose_skeleton).
-void pose_points(const Layout& layout, const Skeleton& posed, const std::vector<int>& point_segment, std::vector<Eigen::Vector3d>& points,
-                 double blend_radii = kPoseBlendRadii);
+void pose_points(const Layout& layout, const Skeleton& posed, const std::vector<int>& point_segment, const Eigen::MatrixX3i& triangles,
+                 std::vector<Eigen::Vector3d>& points, double blend_radii = kPoseBlendRadii);
 
 }  // namespace sdm

@@ -1,16 +1,18 @@
 #include "libsdm/pose/rig_skin.h"
 
-#include "libsdm/pose/pose_weights.h"
+#include "libsdm/pose/smooth_pose_weights.h"
 
 #include <string>
 
 namespace sdm {
 
 GltfSkin rig_skin(const Layout& layout, const std::vector<Eigen::Vector3d>& points, const std::vector<int>& point_segment,
-                  const Skeleton* posed) {
+                  const Eigen::MatrixX3i& triangles, const Skeleton* posed) {
   const Skeleton& rest = layout.skeleton;
   const SkeletonPose pose = pose_skeleton(rest, posed ? *posed : rest);
-  const RigWeights rig = rig_weights(pose, pose_weights(layout, points, point_segment));
+  PoseWeights weights = pose_weights(layout, points, point_segment);
+  smooth_rig_weights(weights, points, triangles, layout);
+  const RigWeights rig = rig_weights(pose, weights);
   GltfSkin skin;
   const size_t n = rest.nodes.size();
   for (size_t j = 0; j < n; ++j) {

@@ -12,8 +12,9 @@
 
 namespace sdm {
 
-// The skin of `points` (a decode at rest: the layout's own skeleton; one per mesh vertex), each on
-// segment point_segment[i] (DecodeTrace::vertex_segment). Joints: the layout's skeleton nodes, named
+// The skin of `points` (a decode at rest: the layout's own skeleton; one per mesh vertex, `triangles`
+// its faces), each on segment point_segment[i] (DecodeTrace::vertex_segment), with the weights
+// smoothed across the segments' borders (smooth_rig_weights). Joints: the layout's skeleton nodes, named
 // "node N", at their rest positions; parents: the bone tree. When `posed` is given (a pose of the
 // layout's skeleton, as sdm pose takes it), the joints also get that pose (joint_pose_rotation and
 // joint_pose_position): each node's posed position, and the rotation of the bone it heads when it
@@ -23,6 +24,6 @@ namespace sdm {
 // Throws InputError when `posed` has another graph than the layout's skeleton, std::invalid_argument
 // when the sizes differ or a segment is out of range (pose_weights).
 GltfSkin rig_skin(const Layout& layout, const std::vector<Eigen::Vector3d>& points, const std::vector<int>& point_segment,
-                  const Skeleton* posed = nullptr);
+                  const Eigen::MatrixX3i& triangles, const Skeleton* posed = nullptr);
 
 }  // namespace sdm
