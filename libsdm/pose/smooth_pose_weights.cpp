@@ -161,6 +161,11 @@ std::vector<std::pair<int, double>> ball_fit(const SurfaceGraph& g, const std::v
   double kept = 0;
   for (size_t c = 0; c < groups.size(); ++c)
     if (fit(0, Eigen::Index(c)) >= kPoseWeightFloor) out.push_back({groups[c], fit(0, Eigen::Index(c))}), kept += out.back().second;
+  if (!(kept > 0)) {  // nothing fitted (a degenerate ball): the point keeps its own weights
+    out.clear();
+    for (int e = w.start[size_t(i)]; e < w.start[size_t(i) + 1]; ++e) out.push_back({w.segment[size_t(e)], w.weight[size_t(e)]});
+    return out;
+  }
   for (auto& x : out) x.second /= kept;
   return out;
 }
