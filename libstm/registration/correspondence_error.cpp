@@ -54,29 +54,44 @@ SurfaceGraph surface_graph(const Mesh& mesh, int steiner) {
     const Eigen::Vector3d a = point(mesh, mesh.from_vertex_handle(h)), b = point(mesh, mesh.to_vertex_handle(h));
     for (int j = 1; j <= steiner; ++j) g.position.push_back(a + (b - a) * (double(j) / (steiner + 1)));
   }
-  // Arcs per face: p and q joined when they are neighbours around the face or on no common side.
+  // Across each face: boundary points on no common side (each such pair lies on one face only).
+  // Along each edge: its corners and points in order (once per edge).
   const int ring = 3 * (steiner + 1), side = steiner + 1;
-  auto joined = [&](int i, int j) {  // positions around the face, i < j
-    if (j - i == 1 || (i == 0 && j == ring - 1)) return true;
+  auto across = [&](int i, int j) {  // positions around the face, i < j
     for (int s = 0; s < 3; ++s) {
       const auto on = [&](int k) { return (k >= s * side && k <= (s + 1) * side) || (s == 2 && k == 0); };
       if (on(i) && on(j)) return false;
     }
     return true;
   };
-  std::vector<std::pair<int, int>> arcs;
+  std::vector<std::pair<int, int>> pairs;  // one of each joined pair
+  pairs.reserve(mesh.n_faces() * size_t(ring * ring / 3) + mesh.n_edges() * size_t(steiner + 1));
   for (auto f : mesh.faces()) {
     const std::vector<int> nodes = face_boundary(mesh, steiner, f);
     for (int i = 0; i < ring; ++i)
       for (int j = i + 1; j < ring; ++j)
-        if (joined(i, j)) arcs.emplace_back(nodes[size_t(i)], nodes[size_t(j)]), arcs.emplace_back(nodes[size_t(j)], nodes[size_t(i)]);
+        if (across(i, j)) pairs.emplace_back(nodes[size_t(i)], nodes[size_t(j)]);
   }
-  std::sort(arcs.begin(), arcs.end());
-  arcs.erase(std::unique(arcs.begin(), arcs.end()), arcs.end());
+  for (auto e : mesh.edges()) {
+    const auto h = mesh.halfedge_handle(e, 0);
+    int previous = mesh.from_vertex_handle(h).idx();
+    for (int j = 0; j <= steiner; ++j) {
+      const int next = j < steiner ? int(mesh.n_vertices()) + steiner * e.idx() + j : mesh.to_vertex_handle(h).idx();
+      pairs.emplace_back(previous, next);
+      previous = next;
+    }
+  }
   g.offset.assign(g.position.size() + 1, 0);
-  for (const auto& [u, v] : arcs) ++g.offset[size_t(u) + 1];
+  for (const auto& [u, v] : pairs) ++g.offset[size_t(u) + 1], ++g.offset[size_t(v) + 1];
   std::partial_sum(g.offset.begin(), g.offset.end(), g.offset.begin());
-  for (const auto& [u, v] : arcs) g.to.push_back(v), g.length.push_back((g.position[size_t(v)] - g.position[size_t(u)]).norm());
+  g.to.resize(size_t(g.offset.back()));
+  g.length.resize(g.to.size());
+  std::vector<int> fill(g.offset.begin(), g.offset.end() - 1);
+  for (const auto& [u, v] : pairs) {
+    const double l = (g.position[size_t(v)] - g.position[size_t(u)]).norm();
+    g.to[size_t(fill[size_t(u)])] = v, g.length[size_t(fill[size_t(u)]++)] = l;
+    g.to[size_t(fill[size_t(v)])] = u, g.length[size_t(fill[size_t(v)]++)] = l;
+  }
   return g;
 }
 
