@@ -179,7 +179,7 @@ TEST_CASE("sdm transfer between FAUST bodies, refined: the geodesic error per pa
 //
 // SDM_ZO_CACHE: a folder for the start correspondences (`sdm transfer --no-refine` of each ordered
 // pair of 001, 007, 010, 024, written once); SDM_ZO_VARIANTS: variants separated by ';', each
-// "k_start,k_end,step,spatial_weight,window[,bidirectional]"; SDM_ZO_PAIRS: how many of the 12 pairs (default all).
+// "k_start,k_end,step,spatial_weight,window[,bidirectional[,spatial_weight_end[,final_steps]]]"; SDM_ZO_PAIRS: how many of the 12 pairs (default all).
 TEST_CASE("zoomout: variants on the FAUST pairs", "[.][zoomout_measure]") {
   const char* names[] = {"tr_reg_001.off", "tr_reg_007.off", "tr_reg_010.off", "tr_reg_024.off"};
   for (const char* n : names)
@@ -197,7 +197,8 @@ TEST_CASE("zoomout: variants on the FAUST pairs", "[.][zoomout_measure]") {
     for (std::string v; std::getline(all, v, ';');) {
       sdm::ZoomOutOptions o;
       int bidirectional = 0;
-      std::sscanf(v.c_str(), "%d,%d,%d,%lf,%lf,%d", &o.k_start, &o.k_end, &o.step, &o.spatial_weight, &o.window, &bidirectional);
+      std::sscanf(v.c_str(), "%d,%d,%d,%lf,%lf,%d,%lf,%d", &o.k_start, &o.k_end, &o.step, &o.spatial_weight, &o.window, &bidirectional,
+                  &o.spatial_weight_end, &o.final_steps);
       o.bidirectional = bidirectional != 0;
       opts.push_back(o), k_max = std::max(k_max, o.k_end);
     }

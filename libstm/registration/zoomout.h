@@ -28,6 +28,8 @@ struct ZoomOutOptions {
   // The weight of the spatial coordinates against the spectral ones in the nearest-neighbour
   // search (both meshes at unit area; 0: spectral alone).
   double spatial_weight = 50;
+  double spatial_weight_end = -1;  // the weight at k_end (linear in k between; < 0: spatial_weight throughout)
+  int final_steps = 0;             // steps more at k_end
   // Each target vertex searches only the source vertices within this distance (at unit area) of
   // its start's point on the source (0: every source vertex).
   double window = 0.06;
