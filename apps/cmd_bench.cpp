@@ -23,9 +23,6 @@
 #include "libstm/skeleton/extract_skeleton.h"
 #include "libstm/transfer/transfer_texture.h"
 
-#include <chrono>
-#include <cstdio>
-#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <iomanip>
@@ -447,10 +444,6 @@ TransferRow time_transfer(GlContext& gl, const std::string& a_path, const std::s
   to.size = 1024;
   for (int r = 0; r < repeat; ++r) {
     Stopwatch sw;
-    if (std::getenv("SDM_BENCH_PROGRESS")) {
-      auto t0 = std::chrono::steady_clock::now();
-      to.progress = [t0](const std::string& l) { std::fprintf(stderr, "%7.2f %s\n", std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(), l.substr(0, 110).c_str()); };
-    }
     Skeleton sa, sb;
     run_concurrently([&] { sb = extract_skeleton(b, transfer_skeleton_options()); }, [&] { sa = extract_skeleton(a, transfer_skeleton_options()); });
     const double e = sw.lap();
