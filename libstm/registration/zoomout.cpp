@@ -27,11 +27,13 @@ LaplaceBasis mesh_laplace_basis(const Mesh& mesh, int k) {
 
 namespace {
 
-using RowMatrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
+// The functions and embeddings in single precision: the nearest rows and the small products
+// between them need no more, and take half the time (DESIGN 6.5, "Spectral refinement").
+using RowMatrix = Eigen::Matrix<float, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
 
 // The first k functions of a basis at unit area (M-orthonormal for the mass over the area).
 RowMatrix unit_functions(const LaplaceBasis& basis, int k) {
-  return RowMatrix(basis.vectors.leftCols(k) * std::sqrt(basis.mass.sum()));
+  return RowMatrix((basis.vectors.leftCols(k) * std::sqrt(basis.mass.sum())).cast<float>());
 }
 
 // Per query point, the indices of `points` within `window` of it: a uniform grid of cell `window`.
@@ -59,13 +61,16 @@ std::vector<std::vector<int>> search_windows(const std::vector<Eigen::Vector3d>&
   return out;
 }
 
-// Rows [phi * C, w * spatial] (C empty: phi alone), the spatial part left out when w = 0.
-RowMatrix embedding(const RowMatrix& phi, int k, const Eigen::MatrixXd& C, const std::vector<Eigen::Vector3d>& spatial, double w) {
-  RowMatrix e(phi.rows(), k + (w > 0 ? 3 : 0));
-  if (C.size()) e.leftCols(k) = phi.leftCols(k) * C;
-  else e.leftCols(k) = phi.leftCols(k);
+// Rows [w * spatial, phi * C] (C empty: phi alone), the spatial part left out when w = 0. The
+// spatial part first: it is most of the distance to a far candidate, so a partial sum over it
+// rules most candidates out (nearest_rows).
+RowMatrix embedding(const RowMatrix& phi, int k, const Eigen::MatrixXf& C, const std::vector<Eigen::Vector3d>& spatial, double w) {
+  const int d = w > 0 ? 3 : 0;
+  RowMatrix e(phi.rows(), k + d);
+  if (C.size()) e.rightCols(k) = phi.leftCols(k) * C;
+  else e.rightCols(k) = phi.leftCols(k);
   if (w > 0)
-    for (Eigen::Index i = 0; i < e.rows(); ++i) e.row(i).tail(3) = w * spatial[size_t(i)].transpose();
+    for (Eigen::Index i = 0; i < e.rows(); ++i) e.row(i).head(3) = (w * spatial[size_t(i)]).cast<float>().transpose();
   return e;
 }
 
@@ -85,22 +90,31 @@ RowMatrix pulled_back(const Mesh& source, const std::vector<SourcePoint>& map, c
   RowMatrix g = RowMatrix::Zero(Eigen::Index(map.size()), k);
   for (size_t t = 0; t < map.size(); ++t) {
     int c = 0;
-    for (auto v : source.fv_range(source.face_handle(map[t].face))) g.row(Eigen::Index(t)) += map[t].barycentric[c++] * phi_s.row(v.idx()).head(k);
+    for (auto v : source.fv_range(source.face_handle(map[t].face))) g.row(Eigen::Index(t)) += float(map[t].barycentric[c++]) * phi_s.row(v.idx()).head(k);
   }
   return g;
 }
 
-// The source vertex nearest to each query row among `candidates` (all when empty), rows compared
-// over their first `dims` columns. Ties go to the lower index.
+// The source vertex nearest to each query row among `candidates` (all when empty). Ties go to the
+// lower index. Among candidates the rows are compared in single precision, a block of columns at
+// a time, and a candidate is given up once its partial sum reaches the best distance so far.
 std::vector<int> nearest_rows(const RowMatrix& queries, const RowMatrix& database, const std::vector<std::vector<int>>& candidates,
                               int threads) {
   const int n = int(queries.rows());
   std::vector<int> best(size_t(n), 0);
   if (!candidates.empty()) {
+    const RowMatrix& q = queries;
+    const RowMatrix& db = database;
+    const Eigen::Index dims = db.cols();
+    constexpr Eigen::Index kBlock = 16;
     parallel_for(n, 256, [&](int t) {
-      double best_d = INFINITY;
+      float best_d = INFINITY;
       for (int s : candidates[size_t(t)]) {
-        const double d = (database.row(s) - queries.row(t)).squaredNorm();
+        float d = 0;
+        for (Eigen::Index c = 0; c < dims && d < best_d; c += kBlock) {
+          const Eigen::Index w = std::min(kBlock, dims - c);
+          d += (db.row(s).segment(c, w) - q.row(t).segment(c, w)).squaredNorm();
+        }
         if (d < best_d) best_d = d, best[size_t(t)] = s;
       }
       // An empty window (a start point further than the window from every vertex): every row.
@@ -108,11 +122,11 @@ std::vector<int> nearest_rows(const RowMatrix& queries, const RowMatrix& databas
     }, threads);
     return best;
   }
-  const Eigen::VectorXd dn = database.rowwise().squaredNorm();
+  const Eigen::VectorXf dn = database.rowwise().squaredNorm();
   const int block = 256;
   parallel_for((n + block - 1) / block, 1, [&](int b) {
     const int from = b * block, rows = std::min(block, n - from);
-    const Eigen::MatrixXd cross = queries.middleRows(from, rows) * database.transpose();
+    const Eigen::MatrixXf cross = queries.middleRows(from, rows) * database.transpose();
     for (int r = 0; r < rows; ++r) {
       Eigen::Index at;
       (dn.transpose() - 2 * cross.row(r)).minCoeff(&at);
@@ -124,14 +138,15 @@ std::vector<int> nearest_rows(const RowMatrix& queries, const RowMatrix& databas
 
 // The point of the faces around source vertex s nearest to q in the rows' coordinates (the
 // triangle each face spans there), as a source point.
-SourcePoint nearest_point_around(const Mesh& source, int s, const Eigen::RowVectorXd& q, const RowMatrix& database) {
+SourcePoint nearest_point_around(const Mesh& source, int s, const Eigen::RowVectorXf& q, const RowMatrix& database) {
   SourcePoint best_point;
   double best_d = INFINITY;
   for (auto f : source.vf_range(source.vertex_handle(s))) {
     int corner[3], c = 0;
     for (auto v : source.fv_range(f)) corner[c++] = v.idx();
-    const Eigen::RowVectorXd a = database.row(corner[0]), e1 = database.row(corner[1]) - a, e2 = database.row(corner[2]) - a;
-    const Eigen::RowVectorXd r = q - a;
+    const Eigen::RowVectorXd a = database.row(corner[0]).cast<double>();
+    const Eigen::RowVectorXd e1 = database.row(corner[1]).cast<double>() - a, e2 = database.row(corner[2]).cast<double>() - a;
+    const Eigen::RowVectorXd r = q.cast<double>() - a;
     const double m11 = e1.squaredNorm(), m12 = e1.dot(e2), m22 = e2.squaredNorm(), r1 = e1.dot(r), r2 = e2.dot(r);
     const double det = m11 * m22 - m12 * m12;
     // Candidates: the interior optimum when inside, else the best point of each edge.
@@ -175,7 +190,7 @@ std::vector<SourcePoint> zoomout(const Mesh& source, const LaplaceBasis& source_
   check_zoomout_input(source, source_basis, target, target_basis, start, o);
   const int nt = int(target.n_vertices()), k_end = o.k_end;
   const RowMatrix phi_s = unit_functions(source_basis, k_end), phi_t = unit_functions(target_basis, k_end);
-  const Eigen::VectorXd mass_t = target_basis.mass / target_basis.mass.sum(), mass_s = source_basis.mass / source_basis.mass.sum();
+  const Eigen::VectorXf mass_t = (target_basis.mass / target_basis.mass.sum()).cast<float>(), mass_s = (source_basis.mass / source_basis.mass.sum()).cast<float>();
   const double source_scale = std::sqrt(source_basis.mass.sum());
   // Spatial coordinates on the source: the start's points for the target's vertices.
   std::vector<Eigen::Vector3d> start_points, source_points;
@@ -184,7 +199,6 @@ std::vector<SourcePoint> zoomout(const Mesh& source, const LaplaceBasis& source_
   std::vector<std::vector<int>> t_windows, s_windows;
   if (o.window > 0) t_windows = search_windows(source_points, start_points, o.window * source_scale);
   if (o.window > 0 && o.bidirectional) s_windows = search_windows(start_points, source_points, o.window * source_scale);
-  const double w = o.spatial_weight / source_scale;
   std::vector<SourcePoint> map = start;
   // The source's vertices' target vertices (bidirectional): at first the target vertex whose start
   // point is nearest.
@@ -193,18 +207,28 @@ std::vector<SourcePoint> zoomout(const Mesh& source, const LaplaceBasis& source_
     const RowMatrix none_s(Eigen::Index(source_points.size()), 0), none_t(nt, 0);
     s2t = nearest_rows(embedding(none_s, 0, {}, source_points, 1), embedding(none_t, 0, {}, start_points, 1), s_windows, o.threads);
   }
+  std::vector<int> sizes;
   for (int k = std::min(o.k_start, k_end);; k = std::min(k + o.step, k_end)) {
+    sizes.push_back(k);
+    if (k == k_end) break;
+  }
+  sizes.insert(sizes.end(), size_t(std::max(0, o.final_steps)), k_end);
+  for (size_t i = 0; i < sizes.size(); ++i) {
+    const int k = sizes[i];
+    const double at = k_end > o.k_start ? double(k - o.k_start) / (k_end - o.k_start) : 1.0;
+    const double w_end = o.spatial_weight_end >= 0 ? o.spatial_weight_end : o.spatial_weight;
+    const double w = ((1 - at) * o.spatial_weight + at * w_end) / source_scale;
     // C = Phi_T^T M_T Pi Phi_S (k x k), then Pi Phi_S ~ Phi_T C row by row; with the map the other
     // way too, C averaged with (Phi_S^T M_S Pi' Phi_T)^T.
-    Eigen::MatrixXd C = phi_t.leftCols(k).transpose() * (mass_t.asDiagonal() * pulled_back(source, map, phi_s, k));
+    Eigen::MatrixXf C = phi_t.leftCols(k).transpose() * (mass_t.asDiagonal() * pulled_back(source, map, phi_s, k));
     if (o.bidirectional) {
       RowMatrix g(Eigen::Index(s2t.size()), k);
       for (size_t s = 0; s < s2t.size(); ++s) g.row(Eigen::Index(s)) = phi_t.row(s2t[s]).head(k);
-      C = 0.5 * (C + (phi_s.leftCols(k).transpose() * (mass_s.asDiagonal() * g)).transpose());
+      C = 0.5f * (C + (phi_s.leftCols(k).transpose() * (mass_s.asDiagonal() * g)).transpose());
     }
     const RowMatrix queries = embedding(phi_t, k, C, start_points, w), database = embedding(phi_s, k, {}, source_points, w);
     const std::vector<int> nearest = nearest_rows(queries, database, t_windows, o.threads);
-    if (k == k_end) {
+    if (i + 1 == sizes.size()) {
       parallel_for(nt, 256, [&](int t) { map[size_t(t)] = nearest_point_around(source, nearest[size_t(t)], queries.row(t), database); }, o.threads);
       return map;
     }
@@ -212,6 +236,7 @@ std::vector<SourcePoint> zoomout(const Mesh& source, const LaplaceBasis& source_
     if (o.bidirectional)
       s2t = nearest_rows(embedding(phi_s, k, C.transpose(), source_points, w), embedding(phi_t, k, {}, start_points, w), s_windows, o.threads);
   }
+  return map;
 }
 
 std::vector<SourcePoint> refine_correspondence(const Mesh& source, const Mesh& target, const std::vector<SourcePoint>& start,

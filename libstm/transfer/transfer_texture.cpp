@@ -179,11 +179,12 @@ std::vector<Eigen::Matrix3d> segment_rotations(const Skeleton& shared_a, const S
 // surfaces correspond, however far the fitted nodes are from where the target's own shape would
 // put them (capsule coordinates near a cap's pole turn fast: the fitted skeleton's own capsules
 // tore the spots at the back of a turned Spot's head).
-// `refinement`, when given, refines the target vertices' source points (zoomout) once mended; the
+// `refine`, when given, refines the target vertices' source points (zoomout) once mended; the
 // face centroids keep theirs (they choose each face's segment).
+using Refinement = std::function<std::vector<SourcePoint>(const std::vector<SourcePoint>&)>;
 StmCoordinates coordinates_through_source(const Mesh& source, const std::vector<Eigen::Vector3d>& placed, const Mesh& target,
                                           const Skeleton& shared_a, const Layout& layout_a, std::vector<SourcePoint>& correspondence,
-                                          const ZoomOutOptions* refinement = nullptr) {
+                                          const Refinement& refine = nullptr) {
   const std::vector<int> fa = assign_faces(source, shared_a);
   // Source points under the target's vertices, then under its face centroids.
   std::vector<Eigen::Vector3d> points, normals(target.n_vertices(), Eigen::Vector3d::Zero());
@@ -211,8 +212,8 @@ StmCoordinates coordinates_through_source(const Mesh& source, const std::vector<
   }
   mend_islands(source, placed, islands, points, point_island, at);
   correspondence.assign(at.begin(), at.begin() + target.n_vertices());
-  if (refinement) {
-    correspondence = refine_correspondence(source, target, correspondence, *refinement);
+  if (refine) {
+    correspondence = refine(correspondence);
     std::copy(correspondence.begin(), correspondence.end(), at.begin());
   }
   Mesh under = target;
@@ -460,6 +461,16 @@ TextureTransfer transfer_texture(GlContext& gl, const Mesh& source, const Image&
   }
   report_progress(opt.progress, "shared graph: " + std::to_string(r.skeletons.a.nodes.size()) + " nodes, " +
                                     std::to_string(r.skeletons.a.edges.size()) + " segments");
+  // The refinement's Laplace bases depend on the meshes alone: computed beside the layout, the
+  // atlas and the source points under the target (DESIGN 6.5, "Spectral refinement").
+  r.refined = r.registered && opt.refine && !tb.placed.empty();
+  LaplaceBasis source_basis, target_basis;
+  std::unique_ptr<BackgroundTask> bases;
+  if (r.refined)
+    bases = std::make_unique<BackgroundTask>([&] {
+      run_concurrently([&] { source_basis = mesh_laplace_basis(source, opt.refinement.k_end); },
+                       [&] { target_basis = mesh_laplace_basis(target, opt.refinement.k_end); });
+    });
   r.layout_a = source_layout(source, r.skeletons.a, opt);
   const std::vector<Eigen::Matrix3d> segment_rotation =
       r.fitted ? segment_rotations(r.skeletons.a, skeleton_a, tb.node_rotation) : std::vector<Eigen::Matrix3d>();
@@ -469,11 +480,16 @@ TextureTransfer transfer_texture(GlContext& gl, const Mesh& source, const Image&
   ao.progress = opt.progress;
   r.atlas = render_atlas(gl, source, r.layout_a, texture, ao);
   report_progress(opt.progress, "target STM coordinates");
-  r.refined = r.registered && opt.refine;
-  if (r.refined) report_progress(opt.progress, "refining the correspondence in the Laplace-Beltrami eigenbases");
+  Refinement refine;
+  if (r.refined)
+    refine = [&](const std::vector<SourcePoint>& start) {
+      bases->wait();
+      report_progress(opt.progress, "refining the correspondence in the Laplace-Beltrami eigenbases");
+      return zoomout(source, source_basis, target, target_basis, start, opt.refinement);
+    };
   StmCoordinates sc = tb.placed.empty() ? stm_coordinates(target, r.layout_b)
                                         : coordinates_through_source(source, tb.placed, target, r.skeletons.a, r.layout_a, r.correspondence,
-                                                                     r.refined ? &opt.refinement : nullptr);
+                                                                     refine);
   r.target = std::move(sc.mesh);
   r.stretch = sc.stretch;
   r.seam_faces = sc.seam_faces;
