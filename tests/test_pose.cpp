@@ -15,6 +15,7 @@
 #include "libstm/mesh/validate_mesh.h"
 #include "libstm/skeleton/extract_skeleton.h"
 #include "faust_pairs.h"
+#include "tests/pose_scenes.h"
 #include "libsdm/map/sdm_exr.h"
 #include "test_util.h"
 
@@ -28,36 +29,27 @@
 #include <functional>
 
 using namespace sdm;
+using pose_scenes::Encoded;
+using pose_scenes::encode_on;
+using pose_scenes::nearest_node;
 
 namespace {
-
-struct Encoded {
-  Mesh mesh;
-  Layout layout;
-  SdmImage image;
-};
 
 // The capsule primitive (radius 1) with its cylinder stretched from length 2 to 5 (z in [-2.5, 2.5],
 // hemispheres centred at z = +-2.5) and its ideal chain skeleton: nodes at z = -2.5, 0, 2.5, each
 // vertex on the nearest; two segments 2.5 radii long, kept whole (split_ratio 0).
 Encoded encode_capsule() {
-  Encoded e;
-  e.mesh = make_primitive("capsule", 4000);
-  for (auto v : e.mesh.vertices()) {
-    Eigen::Vector3d p = point(e.mesh, v);
+  Mesh mesh = make_primitive("capsule", 4000);
+  for (auto v : mesh.vertices()) {
+    Eigen::Vector3d p = point(mesh, v);
     p.z() = std::abs(p.z()) <= 1 ? 2.5 * p.z() : p.z() + std::copysign(1.5, p.z());
-    e.mesh.set_point(v, Mesh::Point(p.x(), p.y(), p.z()));
+    mesh.set_point(v, Mesh::Point(p.x(), p.y(), p.z()));
   }
   Skeleton s;
   s.nodes = {{0, 0, -2.5}, {0, 0, 0}, {0, 0, 2.5}};
   s.edges = {{0, 1}, {1, 2}};
-  for (auto v : e.mesh.vertices()) s.vertex_node.push_back(int(std::lround(std::clamp(point(e.mesh, v).z(), -2.5, 2.5) / 2.5)) + 1);
-  LayoutOptions lo;
-  lo.size = 512;
-  lo.split_ratio = 0;
-  e.layout = compute_layout(e.mesh, s, lo);
-  e.image = encode_sdm(e.mesh, e.layout);
-  return e;
+  for (auto v : mesh.vertices()) s.vertex_node.push_back(int(std::lround(std::clamp(point(mesh, v).z(), -2.5, 2.5) / 2.5)) + 1);
+  return encode_on(std::move(mesh), s);
 }
 
 // Signed volume (divergence theorem).
@@ -113,13 +105,6 @@ bool closed_genus_0(const Mesh& m) {
   return r.usable() && r.boundary_loops == 0 && r.genus_per_part == std::vector<int>{0};
 }
 
-// The node of `s` nearest p.
-int nearest_node(const Skeleton& s, const Eigen::Vector3d& p) {
-  int best = 0;
-  for (size_t n = 0; n < s.nodes.size(); ++n)
-    if ((s.nodes[n] - p).squaredNorm() < (s.nodes[size_t(best)] - p).squaredNorm()) best = int(n);
-  return best;
-}
 
 // What a pose must do away from its pivot: the rest decode's vertices farther than `clear` from the
 // pivot's rest position are moved by `motion` when the skeleton node nearest them hangs below the

@@ -10,6 +10,7 @@
 #include "libstm/mesh/mesh_geometry.h"
 #include "libstm/mesh/primitives.h"
 #include "tests/glb_check.h"
+#include "tests/pose_scenes.h"
 #include "tests/test_util.h"
 
 #include <catch2/catch.hpp>
@@ -24,6 +25,9 @@
 #include <vector>
 
 using namespace sdm;
+using pose_scenes::Encoded;
+using pose_scenes::encode_on;
+using pose_scenes::nearest_node;
 
 namespace {
 
@@ -31,38 +35,15 @@ namespace {
 // (0.78, 0.78, 0)) with its ideal skeleton: the junction at the origin, the three ends, and a node
 // halfway along the left arm (a bend there turns the outer half of the arm); every vertex on the
 // nearest node; segments kept whole (split_ratio 0).
-struct Encoded {
-  Mesh mesh;
-  Layout layout;
-  SdmImage image;
-};
 const Eigen::Vector3d kMidLeft(-0.39, 0.39, 0);
 
 Encoded encode_ypsilon() {
-  Encoded e;
-  e.mesh = make_primitive("ypsilon", 3000);
+  Mesh mesh = make_primitive("ypsilon", 3000);
   Skeleton s;
   s.nodes = {{0, 0, 0}, {0, -1.1, 0}, kMidLeft, {-0.78, 0.78, 0}, {0.78, 0.78, 0}};
   s.edges = {{0, 1}, {0, 2}, {2, 3}, {0, 4}};
-  for (auto v : e.mesh.vertices()) {
-    int best = 0;
-    for (size_t n = 0; n < s.nodes.size(); ++n)
-      if ((s.nodes[n] - point(e.mesh, v)).norm() < (s.nodes[size_t(best)] - point(e.mesh, v)).norm()) best = int(n);
-    s.vertex_node.push_back(best);
-  }
-  LayoutOptions lo;
-  lo.size = 512;
-  lo.split_ratio = 0;
-  e.layout = compute_layout(e.mesh, s, lo);
-  e.image = encode_sdm(e.mesh, e.layout);
-  return e;
-}
-
-int nearest_node(const Skeleton& s, const Eigen::Vector3d& p) {
-  int best = 0;
-  for (size_t n = 0; n < s.nodes.size(); ++n)
-    if ((s.nodes[n] - p).squaredNorm() < (s.nodes[size_t(best)] - p).squaredNorm()) best = int(n);
-  return best;
+  for (auto v : mesh.vertices()) s.vertex_node.push_back(nearest_node(s, point(mesh, v)));
+  return encode_on(std::move(mesh), s);
 }
 
 // The written vertices (POSITION) with their influences (JOINTS_0, WEIGHTS_0), in the file's order.
