@@ -3,12 +3,16 @@ BUILD ?= build
 JOBS ?= $(shell nproc)
 DEMO_OUT ?= demo-out
 
-.PHONY: all deps configure build demo test sanitize fuzz bench clean
+.PHONY: all deps test-deps configure build demo test sanitize fuzz bench clean
 
 all: build
 
 deps:
 	@bash scripts/install-deps.sh
+
+# What only the tests need beside the build's packages (Blender, for the add-on's test).
+test-deps:
+	@bash scripts/install-deps.sh --tests
 
 configure: deps
 	@cmake -S . -B $(BUILD) -G Ninja -DCMAKE_BUILD_TYPE=Release >/dev/null
@@ -21,7 +25,7 @@ demo: build
 	@bash examples/demo.sh $(BUILD)/sdm $(DEMO_OUT)
 
 # Builds and runs every test.
-test: build
+test: test-deps build
 	@cd $(BUILD) && ctest --output-on-failure -j $(JOBS)
 
 # The test suite under AddressSanitizer and UndefinedBehaviorSanitizer.

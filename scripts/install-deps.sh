@@ -1,6 +1,8 @@
 #!/usr/bin/env bash
 # Installs the Debian 12 packages sdm needs, and only those that are missing.
 # Idempotent: a second run installs nothing and does not touch the network.
+# `--tests` adds what only the tests use (Blender for the add-on's test: 535 MB installed), so
+# `make demo` does not fetch it; `make test` passes it.
 set -euo pipefail
 
 PACKAGES=(
@@ -10,8 +12,12 @@ PACKAGES=(
   catch2 libcli11-dev nlohmann-json3-dev libstb-dev libsuitesparse-dev libspectra-dev python3
   pybind11-dev python3-dev python3-numpy libtinygltf-dev zlib1g-dev libpng-dev
   python3-distributed  # sdm batch (python/sdm_batch.py)
-  blender  # the Blender add-on's test (tests/blender): about 80 MB to fetch, 535 MB installed
 )
+if [ "${1:-}" = "--tests" ]; then
+  PACKAGES+=(
+    blender  # the Blender add-on's test (tests/blender): about 80 MB to fetch, 535 MB installed
+  )
+fi
 
 missing=()
 for p in "${PACKAGES[@]}"; do

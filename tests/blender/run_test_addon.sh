@@ -4,12 +4,12 @@
 # Without --zip: tests/blender/test_addon.py on the add-on in the repository. With --zip: the zip of
 # scripts/blender_addon_zip.sh installed into temporary user folders (tests/blender/test_addon_zip.py).
 # Blender is `blender` on PATH, or $BLENDER; without it the test fails, saying how to install it
-# (scripts/install-deps.sh does).
+# (scripts/install-deps.sh --tests does).
 set -euo pipefail
 here=$(cd "$(dirname "$0")" && pwd)
 blender=${BLENDER:-blender}
 if ! command -v "$blender" >/dev/null 2>&1; then
-  echo "blender.addon: '$blender' was not found: install Debian's Blender (bash scripts/install-deps.sh, or" \
+  echo "blender.addon: '$blender' was not found: install Debian's Blender (bash scripts/install-deps.sh --tests, or" \
        "apt-get install --no-install-recommends blender), or set BLENDER=/path/to/blender" >&2
   exit 1
 fi
