@@ -5,6 +5,7 @@
 #include "libsdm/decode/decode_sdm.h"
 #include "libsdm/encode/encode_sdm.h"
 #include "libsdm/map/sdm_exr.h"
+#include "libsdm/pose/pose_skeleton.h"
 #include "libstm/core/errors.h"
 #include "libstm/core/version.h"
 #include "libstm/layout/layout.h"
@@ -19,8 +20,12 @@
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
+#include <cmath>
+#include <map>
 #include <memory>
 #include <string>
+#include <tuple>
+#include <vector>
 
 namespace py = pybind11;
 using RowMatrix3d = Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor>;
@@ -146,11 +151,76 @@ py::dict encode(const RowMatrix3d& V, const RowMatrix3i& F, const std::string& p
   return d;
 }
 
-py::tuple decode(const std::string& path, int level) {
+// decode_sdm with the GIL released: other Python threads run meanwhile.
+sdm::Mesh decode_without_gil(const sdm::SdmImage& im, const sdm::DecodeOptions& o) {
+  py::gil_scoped_release release;
+  return sdm::decode_sdm(im, o);
+}
+
+py::tuple decode(const std::string& path, int level, const std::map<int, int>& segment_levels) {
   const sdm::SdmImage im = sdm::read_sdm_exr(path);
   sdm::DecodeOptions o;
   o.level = level;
-  return mesh_arrays(sdm::decode_sdm(im, o));
+  o.segment_level = segment_levels;
+  return mesh_arrays(decode_without_gil(im, o));
+}
+
+// The map's own skeleton (the rest pose that `pose` moves): nodes, edges, and per edge its segment id
+// (segments are the skeleton's edges, the ids of --lod-segment and segment_levels), and the root of
+// its bone tree (pose_skeleton's).
+py::dict map_skeleton(const std::string& path) {
+  const sdm::Skeleton s = sdm::layout_from_json(sdm::read_sdm_exr(path).layout).skeleton;
+  py::dict d = skeleton_dict(s);
+  d.attr("pop")("vertex_node");  // the encoded mesh's vertices, not the decode's
+  d["root"] = sdm::skeleton_root(s);
+  return d;
+}
+
+// `posed` set from the dict of `pose` (nodes, optionally node_rotations and segment_radius_scale).
+void apply_pose_dict(const py::dict& d, sdm::Skeleton& posed) {
+  const RowMatrix3d nodes = d["nodes"].cast<RowMatrix3d>();
+  if (size_t(nodes.rows()) != posed.nodes.size())
+    throw sdm::InputError("skeleton['nodes'] has " + std::to_string(nodes.rows()) + " rows but the map's skeleton has " +
+                          std::to_string(posed.nodes.size()) + " nodes (see map_skeleton)");
+  for (Eigen::Index i = 0; i < nodes.rows(); ++i) posed.nodes[size_t(i)] = nodes.row(i).transpose();
+  if (d.contains("node_rotations") && !d["node_rotations"].is_none()) {
+    const auto q = d["node_rotations"].cast<Eigen::Matrix<double, Eigen::Dynamic, 4, Eigen::RowMajor>>();
+    if (size_t(q.rows()) != posed.nodes.size())
+      throw sdm::InputError("skeleton['node_rotations'] needs one row [x, y, z, w] per node (NaN rows: derived)");
+    posed.node_rotations.assign(posed.nodes.size(), std::nullopt);
+    for (Eigen::Index i = 0; i < q.rows(); ++i)
+      if (q.row(i).allFinite()) posed.node_rotations[size_t(i)] = Eigen::Quaterniond(q(i, 3), q(i, 0), q(i, 1), q(i, 2)).normalized();
+  }
+  if (d.contains("segment_radius_scale") && !d["segment_radius_scale"].is_none())
+    posed.segment_radius_scale = d["segment_radius_scale"].cast<std::vector<double>>();
+}
+
+// Decodes the map at `level` posed through its skeleton, as 'sdm pose' and 'sdm decode --skeleton'.
+py::tuple pose(const std::string& path, int level, const std::optional<py::dict>& skeleton,
+               const std::vector<std::tuple<int, Eigen::Vector3d, double>>& rotate, const std::map<int, double>& scale_radius,
+               const std::map<int, int>& segment_levels) {
+  const sdm::SdmImage im = sdm::read_sdm_exr(path);
+  const sdm::Skeleton rest = sdm::layout_from_json(im.layout).skeleton;
+  sdm::Skeleton posed = rest;
+  if (skeleton) apply_pose_dict(*skeleton, posed);
+  for (const auto& [node, axis, degrees] : rotate) {
+    if (!(axis.norm() > 0) || !axis.allFinite() || !std::isfinite(degrees))
+      throw sdm::InputError("rotate (" + std::to_string(node) + ", axis, degrees): the axis needs a direction and the angle a finite value");
+    sdm::rotate_subtree(rest, posed, node, Eigen::Quaterniond(Eigen::AngleAxisd(degrees * M_PI / 180, axis.normalized())));
+  }
+  for (const auto& [segment, factor] : scale_radius) {
+    if (segment < 0 || size_t(segment) >= posed.edges.size() || !(factor > 0) || !std::isfinite(factor))
+      throw sdm::InputError("scale_radius {" + std::to_string(segment) + ": factor}: the segment must be one of the map's " +
+                            std::to_string(posed.edges.size()) + " and the factor > 0");
+    if (posed.segment_radius_scale.empty()) posed.segment_radius_scale.assign(posed.edges.size(), 1.0);
+    posed.segment_radius_scale[size_t(segment)] *= factor;
+  }
+  sdm::pose_skeleton(rest, posed);  // the graph and the pose fields checked before the work
+  sdm::DecodeOptions o;
+  o.level = level;
+  o.segment_level = segment_levels;
+  o.skeleton = std::move(posed);
+  return mesh_arrays(decode_without_gil(im, o));
 }
 
 py::dict transfer(const RowMatrix3d& Vs, const RowMatrix3i& Fs, const RowMatrix3d& Vt, const RowMatrix3i& Ft,
@@ -221,8 +291,19 @@ PYBIND11_MODULE(sdm_py, m) {
         "segments, skeleton and the layout as JSON text.");
   m.def("encode", &encode, py::arg("V"), py::arg("F"), py::arg("path"), py::arg("size") = 1024, py::arg("precision") = "10",
         "Encodes the mesh as a skeleton displacement map (OpenEXR) at path; returns its statistics.");
-  m.def("decode", &decode, py::arg("path"), py::arg("level") = 3,
-        "Rebuilds the surface from a skeleton displacement map at a level of detail: returns (V, F).");
+  m.def("decode", &decode, py::arg("path"), py::arg("level") = 3, py::arg("segment_levels") = std::map<int, int>{},
+        "Rebuilds the surface from a skeleton displacement map at a level of detail: returns (V, F). segment_levels "
+        "{segment: level} sets some segments' own level, as 'sdm decode --lod-segment'.");
+  m.def("map_skeleton", &map_skeleton, py::arg("path"),
+        "The skeleton a map was encoded on, its rest pose: dict with nodes (k, 3), edges (e, 2) (edge i is segment i), "
+        "cycles, ends, branch_nodes, root (the node its bone tree hangs from).");
+  m.def("pose", &pose, py::arg("path"), py::arg("level") = 3, py::arg("skeleton") = py::none(),
+        py::arg("rotate") = std::vector<std::tuple<int, Eigen::Vector3d, double>>{}, py::arg("scale_radius") = std::map<int, double>{},
+        py::arg("segment_levels") = std::map<int, int>{},
+        "Decodes a map posed through its skeleton, as 'sdm pose': returns (V, F). skeleton: dict with the posed nodes "
+        "(k, 3) of map_skeleton's graph, optionally node_rotations (k, 4) [x, y, z, w] (NaN rows: derived) and "
+        "segment_radius_scale (e,); rotate: [(node, axis (3,), degrees)], each turning the part below node about it "
+        "(applied in order after skeleton); scale_radius: {segment: factor}; segment_levels as decode's.");
   m.def("transfer", &transfer, py::arg("source_V"), py::arg("source_F"), py::arg("target_V"), py::arg("target_F"),
         py::arg("uv") = py::none(), py::arg("texture") = py::none(), py::arg("size") = 1024, py::arg("force") = false,
         "Texture transfer between models with the same skeleton branching: dict with face (n,) and barycentric "

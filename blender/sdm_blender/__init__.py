@@ -1,6 +1,6 @@
-"""SDM for Blender: skeleton, STM layout, skeleton displacement maps and texture transfer of the
-active mesh, through the Python module sdm_py of this repository (no algorithm is re-implemented
-here). Posing is not available yet."""
+"""SDM for Blender: skeleton, STM layout, skeleton displacement maps (decoded per segment at its own
+level of detail, posed through the map by an armature) and texture transfer of the active mesh,
+through the Python module sdm_py of this repository (no algorithm is re-implemented here)."""
 
 bl_info = {
     "name": "SDM: skeleton texture and displacement maps",
@@ -8,7 +8,7 @@ bl_info = {
     "version": (0, 1, 0),
     "blender": (3, 4, 0),
     "location": "View3D > Sidebar > SDM; Object > SDM",
-    "description": "Curve skeleton, skeleton texture map (STM uv), SDM encode/decode and texture transfer via sdm_py",
+    "description": "Curve skeleton, skeleton texture map (STM uv), SDM encode/decode/pose and texture transfer via sdm_py",
     "category": "Mesh",
 }
 

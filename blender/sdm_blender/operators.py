@@ -1,7 +1,6 @@
 """The add-on's operators: each reads the active mesh into arrays, calls sdm_py and turns the
 result into Blender data. Nothing is computed here that sdm_py computes; a failure (sdm_py's
 ValueError names the problem and its fix) is reported as an error and changes nothing."""
-import collections
 import os
 import time
 
@@ -10,7 +9,7 @@ import bpy
 import numpy as np
 from bpy.props import BoolProperty, EnumProperty, IntProperty, StringProperty
 
-from . import arrays, images, loader
+from . import armature, arrays, images, loader
 
 
 class Progress:
@@ -113,46 +112,6 @@ class SdmOperator:
         return {'FINISHED'}
 
 
-def adjacency(n_nodes, edges):
-    """For every node, its (neighbour, edge index) pairs."""
-    adjacent = [[] for _ in range(n_nodes)]
-    for e, (a, b) in enumerate(edges.tolist()):
-        adjacent[a].append((b, e))
-        adjacent[b].append((a, e))
-    return adjacent
-
-
-def chains(n_nodes, edges):
-    """The skeleton's edges grouped into chains between nodes of degree other than 2 (segments),
-    then any cycles of degree-2 nodes: a list of node lists, each with its edge indices."""
-    adjacent = adjacency(n_nodes, edges)
-    used = np.zeros(len(edges), dtype=bool)
-    out = []
-
-    def walk(start, first):
-        nodes, ids, node, edge = [start], [], start, first
-        while True:
-            used[edge] = True
-            a, b = edges[edge]
-            node = b if a == node else a
-            nodes.append(node)
-            ids.append(edge)
-            nxt = [(m, f) for m, f in adjacent[node] if not used[f]]
-            if len(adjacent[node]) != 2 or not nxt:
-                return nodes, ids
-            edge = nxt[0][1]
-
-    for start in range(n_nodes):
-        if len(adjacent[start]) != 2:
-            for _, e in adjacent[start]:
-                if not used[e]:
-                    out.append(walk(start, e))
-    for e in range(len(edges)):
-        if not used[e]:
-            out.append(walk(int(edges[e][0]), e))
-    return out
-
-
 class SDM_OT_skeleton(SdmOperator, bpy.types.Operator):
     """Curve skeleton of the active mesh (sdm_py.skeleton) as an armature or a curve object"""
     bl_idname = "sdm.skeleton"
@@ -174,10 +133,10 @@ class SDM_OT_skeleton(SdmOperator, bpy.types.Operator):
         s = sdm.skeleton(data.V, data.F)
         progress.step("building the " + self.output.lower())
         nodes, edges = np.asarray(s["nodes"]), np.asarray(s["edges"])
-        parts = chains(len(nodes), edges)
+        parts = armature.chains(len(nodes), edges)
         name = obj.name + ".skeleton"
         if self.output == 'ARMATURE':
-            new = self.armature(context, name, nodes, edges, parts)
+            new = armature.build(context, name, nodes, edges)
         else:
             new = self.curve(name, nodes, parts, 0.004 * diagonal(data.V))
         new.matrix_world = obj.matrix_world
@@ -186,54 +145,6 @@ class SDM_OT_skeleton(SdmOperator, bpy.types.Operator):
         new["sdm_nodes"], new["sdm_edges"], new["sdm_segments"] = len(nodes), len(edges), len(parts)
         return (f"{len(nodes)} nodes, {len(edges)} edges in {len(parts)} segments ({s['ends']} ends, "
                 f"{s['branch_nodes']} branch nodes, {s['cycles']} cycles) -> {self.output.lower()} '{new.name}'")
-
-    def armature(self, context, name, nodes, edges, parts):
-        arm = bpy.data.armatures.new(name)
-        new = bpy.data.objects.new(name, arm)
-        context.collection.objects.link(new)
-        before = context.view_layer.objects.active
-        context.view_layer.objects.active = new
-        made = False
-        try:
-            bpy.ops.object.mode_set(mode='EDIT')
-            label = {}
-            for c, (_, ids) in enumerate(parts):
-                for k, e in enumerate(ids):
-                    label[e] = f"segment{c}.{k:02d}"
-            # Edges oriented away from the root, breadth first; each bone's parent arrives at its head.
-            degree = np.bincount(edges.reshape(-1), minlength=len(nodes))
-            root = int(np.argmax(degree))
-            adjacent = adjacency(len(nodes), edges)
-            arriving, done, bones = {}, set(), {}  # node -> edge whose bone ends there; edges made; their bones
-            for start in [root] + list(range(len(nodes))):  # the root's component, then any other
-                if start in arriving or not adjacent[start]:
-                    continue
-                arriving[start] = None
-                queue = collections.deque([start])
-                while queue:
-                    a = queue.popleft()
-                    for b, e in adjacent[a]:
-                        if e in done:
-                            continue
-                        done.add(e)
-                        bone = arm.edit_bones.new(label[e])
-                        bone.head, bone.tail = nodes[a], nodes[b]
-                        if arriving[a] is not None:
-                            bone.parent = bones[arriving[a]]
-                            bone.use_connect = True
-                        bones[e] = bone
-                        if b not in arriving:
-                            arriving[b] = e
-                            queue.append(b)
-            made = True
-        finally:
-            if new.mode == 'EDIT':
-                bpy.ops.object.mode_set(mode='OBJECT')
-            context.view_layer.objects.active = before
-            if not made:  # nothing half-built stays behind
-                bpy.data.objects.remove(new)
-                bpy.data.armatures.remove(arm)
-        return new
 
     def curve(self, name, nodes, parts, bevel):
         cu = bpy.data.curves.new(name, 'CURVE')
@@ -342,16 +253,42 @@ class SDM_OT_encode(SdmOperator, bpy.types.Operator):
                 f"{hits} of {st['texels']} texel rays hit the surface, {st['base_faces']} base faces")
 
 
+def segment_levels(text):
+    """"3=1, 5=2" -> {3: 1, 5: 2}: the segments decoded at their own level (sdm decode --lod-segment)."""
+    out = {}
+    for item in text.replace(";", ",").split(","):
+        if not item.strip():
+            continue
+        sid, eq, level = item.partition("=")
+        try:
+            sid, level = int(sid), int(level)
+        except ValueError:
+            raise OperatorError(f"segment levels: '{item.strip()}' is not of the form SEGMENT=LEVEL (e.g. 3=1)") from None
+        if not eq or sid < 0 or not 0 <= level <= 6:
+            raise OperatorError(f"segment levels: '{item.strip()}' needs a segment >= 0 and a level 0..6")
+        out[sid] = level
+    return out
+
+
 class SDM_OT_decode(SdmOperator, bpy.types.Operator):
-    """Rebuild a surface from a skeleton displacement map at a level of detail (sdm_py.decode), as a new mesh object"""
+    """Rebuild a surface from a skeleton displacement map at a level of detail (sdm_py.decode), as a new mesh object,
+    with an armature of the map's skeleton to pose it (SDM Pose)"""
     bl_idname = "sdm.decode"
     bl_label = "SDM Decode"
     title = "decode"
+    steps = 4
 
     filepath: StringProperty(name="File Path", subtype='FILE_PATH', description="The SDM .exr file to read")
     filter_glob: StringProperty(default="*.exr", options={'HIDDEN'})
     level: IntProperty(name="Level of detail", default=3, min=0, max=6,
                        description="Subdivision level: 4^level triangles per base face (level 6: millions)")
+    segment_levels: StringProperty(name="Segment levels", default="",
+                                   description="Segments at their own level, SEGMENT=LEVEL separated by commas "
+                                               "(e.g. 3=1, 5=4), as `sdm decode --lod-segment`; segment i is "
+                                               "skeleton edge i (bone names: see the armature's sdm_bones)")
+    make_armature: BoolProperty(name="Armature", default=True,
+                                description="Also make an armature of the map's skeleton: move its bones in Pose "
+                                            "Mode, then SDM Pose poses the decoded mesh through the map")
 
     def invoke(self, context, event):
         obj = context.active_object
@@ -362,22 +299,63 @@ class SDM_OT_decode(SdmOperator, bpy.types.Operator):
 
     def run(self, context, sdm, progress):
         path = exr_path(self.filepath, must_exist=True)
+        levels = segment_levels(self.segment_levels)
         progress.step(f"decoding {os.path.basename(path)} at level {self.level}")
-        V, F = sdm.decode(path, level=self.level)
+        V, F = sdm.decode(path, level=self.level, segment_levels=levels)
         progress.step(f"building a mesh of {len(F)} triangles")
         name = f"{os.path.splitext(os.path.basename(path))[0]} LOD{self.level}"
         mesh = arrays.new_mesh(name, V, F, smooth=True)
-        mesh["sdm_exr"], mesh["sdm_level"] = path, self.level
+        mesh["sdm_exr"], mesh["sdm_level"], mesh["sdm_segment_levels"] = path, self.level, self.segment_levels
         new = bpy.data.objects.new(name, mesh)
         context.collection.objects.link(new)
         source = context.active_object
         if source is not None and source.type == 'MESH':
             new.matrix_world = source.matrix_world  # the map holds the encoded object's local coordinates
             source.select_set(False)
+        line = f"'{new.name}': {len(V)} vertices, {len(F)} triangles"
+        if self.make_armature:
+            progress.step("building the armature of the map's skeleton")
+            k = sdm.map_skeleton(path)
+            arm = armature.build(context, name + ".armature", np.asarray(k["nodes"]), np.asarray(k["edges"]), int(k["root"]))
+            arm.matrix_world = new.matrix_world
+            new["sdm_armature"], arm["sdm_mesh"] = arm.name, new.name
+            line += f", armature '{arm.name}' of {len(k['edges'])} bones"
         new.select_set(True)
         context.view_layer.objects.active = new
         progress.step("done")
-        return f"'{new.name}': {len(V)} vertices, {len(F)} triangles"
+        return line
+
+
+class SDM_OT_pose(SdmOperator, bpy.types.Operator):
+    """Pose a decoded mesh through its skeleton displacement map as its armature (made by SDM Decode) is posed
+    (sdm_py.pose): the surface follows the segments and blends at the joints, not Blender's skinning"""
+    bl_idname = "sdm.pose"
+    bl_label = "SDM Pose"
+    title = "pose"
+
+    @classmethod
+    def poll(cls, context):
+        return context.mode in ('OBJECT', 'POSE')
+
+    def run(self, context, sdm, progress):
+        obj = context.active_object
+        if obj is not None and obj.type == 'ARMATURE' and obj.get("sdm_mesh") in bpy.data.objects:
+            obj = bpy.data.objects[obj["sdm_mesh"]]
+        if obj is None or obj.type != 'MESH' or "sdm_exr" not in obj.data or obj.get("sdm_armature") not in bpy.data.objects:
+            raise OperatorError("select a mesh made by SDM Decode with its armature (or that armature)")
+        arm = bpy.data.objects[obj["sdm_armature"]]
+        path = exr_path(obj.data["sdm_exr"], must_exist=True)
+        progress.step(f"posing {os.path.basename(path)} by '{arm.name}'")
+        posed = armature.posed_skeleton(arm, sdm.map_skeleton(path)["nodes"])
+        V, F = sdm.pose(path, level=int(obj.data["sdm_level"]), skeleton=posed,
+                        segment_levels=segment_levels(obj.data.get("sdm_segment_levels", "")))
+        if len(V) != len(obj.data.vertices):
+            raise OperatorError(f"the map decodes to {len(V)} vertices but '{obj.name}' has {len(obj.data.vertices)}: "
+                                "decode it again with SDM Decode")
+        obj.data.vertices.foreach_set("co", V.astype(np.float32).reshape(-1))
+        obj.data.update()
+        progress.step("done")
+        return f"'{obj.name}' posed by '{arm.name}': {len(V)} vertices"
 
 
 class SDM_OT_transfer(SdmOperator, bpy.types.Operator):
@@ -436,4 +414,4 @@ class SDM_OT_transfer(SdmOperator, bpy.types.Operator):
         return line
 
 
-classes = (SDM_OT_skeleton, SDM_OT_layout, SDM_OT_encode, SDM_OT_decode, SDM_OT_transfer)
+classes = (SDM_OT_skeleton, SDM_OT_layout, SDM_OT_encode, SDM_OT_decode, SDM_OT_pose, SDM_OT_transfer)

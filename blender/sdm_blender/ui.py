@@ -17,9 +17,9 @@ class VIEW3D_PT_sdm(bpy.types.Panel):
         col.separator()
         col.operator("sdm.encode", icon='EXPORT')
         col.operator("sdm.decode", icon='IMPORT')
+        col.operator("sdm.pose", icon='POSE_HLT')
         col.separator()
         col.operator("sdm.transfer", icon='TEXTURE')
-        col.label(text="Posing: not yet", icon='POSE_HLT')
         obj = context.active_object
         if obj is not None and obj.type == 'MESH' and "sdm_stm_coverage" in obj.data:
             box = self.layout.box()
@@ -34,7 +34,7 @@ class VIEW3D_MT_sdm(bpy.types.Menu):
     bl_label = "SDM"
 
     def draw(self, context):
-        for op in ("sdm.skeleton", "sdm.layout", "sdm.encode", "sdm.decode", "sdm.transfer"):
+        for op in ("sdm.skeleton", "sdm.layout", "sdm.encode", "sdm.decode", "sdm.pose", "sdm.transfer"):
             self.layout.operator(op)
 
 

@@ -54,11 +54,19 @@ SurfaceGraph surface_graph(const Eigen::MatrixX3i& triangles, const std::vector<
   return g;
 }
 
+// Two bones move alike when their motions differ by less than a pose can be told apart in single
+// precision: a skeleton posed in Blender or read from glTF holds its node positions and rotations in
+// float32 (relative rounding 6e-8), so a bone that did not move differs from the identity by about
+// 1e-7 of the model's extent. Tolerance 1e-6 in stretch, in turn (radians) and in translation over
+// the extent; with exact ties (1e-12) such noise split every bone into its own group and moved
+// points near an edited joint by 3e-4 of the diagonal (Spot, a leg turned 45 degrees in Blender).
+constexpr double kAlike = 1e-6;
+
 bool alike(const Bone& a, const Bone& b, double extent) {
-  if (a.radius_scale != b.radius_scale) return false;
-  if (std::abs(a.stretch - 1) > 1e-12 || std::abs(b.stretch - 1) > 1e-12) return false;
-  const double turn = std::abs(std::abs(a.motion.rotation.coeffs().dot(b.motion.rotation.coeffs())) - 1);
-  return turn <= 1e-12 && (a.motion.translation - b.motion.translation).norm() <= 1e-9 * extent;
+  if (std::abs(a.radius_scale - b.radius_scale) > kAlike) return false;
+  if (std::abs(a.stretch - 1) > kAlike || std::abs(b.stretch - 1) > kAlike) return false;
+  return a.motion.rotation.angularDistance(b.motion.rotation) <= kAlike &&
+         (a.motion.translation - b.motion.translation).norm() <= kAlike * extent;
 }
 
 // Per point, its ball's radius before the spread to its neighbours: the smaller of kPoseSmoothRadii

@@ -12,6 +12,7 @@ transferred image pixel for pixel; the error paths must report an ERROR and chan
 """
 import argparse
 import json
+import subprocess
 import math
 import os
 import sys
@@ -22,6 +23,7 @@ import traceback
 import addon_utils
 import bpy
 import numpy as np
+from mathutils import Matrix, Vector
 from mathutils.bvhtree import BVHTree
 
 sys.dont_write_bytecode = True  # keep __pycache__ out of the source tree
@@ -40,6 +42,8 @@ def arguments():
     p = argparse.ArgumentParser(prog="test_addon.py")
     p.add_argument("--sdm-py", default="", help="folder holding sdm_py")
     p.add_argument("--examples", default="", help="folder holding spot/spot_triangulated.obj")
+    p.add_argument("--sdm", default="", help="the sdm command, to compare SDM Pose and segment levels with "
+                                            "`sdm pose` and `sdm decode --lod-segment` (skipped without it)")
     return p.parse_args(argv)
 
 
@@ -277,6 +281,66 @@ def test_round_trip(spot, sdm_py, folder):
     return path
 
 
+def sdm_mesh(sdm_py, sdm, *args):
+    """The mesh `sdm ARGS -o OUT.obj` writes, as (V, F)."""
+    with tempfile.TemporaryDirectory() as folder:
+        out = os.path.join(folder, "out.obj")
+        subprocess.run([sdm, *args, "-o", out], check=True, stdout=subprocess.DEVNULL)
+        return sdm_py.read_mesh(out)
+
+
+def test_segment_levels(spot, sdm_py, path, sdm):
+    activate(spot)
+    check(bpy.ops.sdm.decode(filepath=path, level=1, segment_levels="0=3, 2=2", make_armature=False) == {'FINISHED'},
+          "sdm.decode (level 1, segment 0 at 3 and 2 at 2) finished")
+    dec = bpy.context.active_object
+    BV, BF, _ = triangles(dec.data)
+    V, F = sdm_mesh(sdm_py, sdm, "decode", path, "--lod", "1", "--lod-segment", "0=3", "--lod-segment", "2=2")
+    n1 = len(sdm_py.decode(path, level=1)[1])
+    err = np.abs(BV - V).max() / diagonal(V) if len(BV) == len(V) else math.inf
+    check(len(BF) > n1 and np.array_equal(BF, F) and err < 1e-6,
+          f"per-segment levels: {len(BF)} triangles (all at level 1: {n1}), the mesh of `sdm decode --lod-segment` "
+          f"(largest vertex difference {err:.1e} of the diagonal)")
+    bpy.data.objects.remove(dec)
+
+
+def test_pose(spot, sdm_py, path, sdm):
+    activate(spot)
+    check(bpy.ops.sdm.decode(filepath=path, level=2) == {'FINISHED'}, "sdm.decode (level 2) finished")
+    dec = bpy.context.active_object
+    arm = bpy.data.objects[dec["sdm_armature"]]
+    k = sdm_py.map_skeleton(path)
+    nodes, edges = np.asarray(k["nodes"]), np.asarray(k["edges"])
+    check(len(arm.data.bones) == len(edges), f"armature '{arm.name}': a bone per segment ({len(edges)})")
+    # A leg: the chain holding the lowest end node; its bone whose head is the chain's middle node.
+    ends = {n for n in range(len(nodes)) if np.count_nonzero(edges == n) == 1}
+    foot = min(ends, key=lambda n: nodes[n, 1])
+    heads = {name: tuple(ab) for name, ab in arm["sdm_bones"].items()}
+    from sdm_blender import armature
+    leg = next(chain for chain, _ in armature.chains(len(nodes), edges) if foot in chain)
+    middle = leg[len(leg) // 2]
+    name = next(n for n, (a, _) in heads.items() if a == middle)
+    axis = np.array([1.0, 0.0, 0.0])
+    pb = arm.pose.bones[name]
+    h = pb.head.copy()
+    turn = Matrix.Translation(h) @ Matrix.Rotation(math.radians(45), 4, Vector(axis)) @ Matrix.Translation(-h)
+    pb.matrix = turn @ pb.matrix
+    bpy.context.view_layer.update()
+    rest, _, _ = triangles(dec.data)
+    activate(dec)
+    check(bpy.ops.sdm.pose() == {'FINISHED'}, f"sdm.pose finished (bone {name} turned 45 degrees about x at node {middle})")
+    BV, BF, _ = triangles(dec.data)
+    V, F = sdm_mesh(sdm_py, sdm, "pose", path, "--lod", "2", "--rotate", f"{middle}=1,0,0,45")
+    d = diagonal(V)
+    err = np.abs(BV - V).max() / d
+    moved = np.linalg.norm(BV - rest, axis=1).max() / d
+    check(np.array_equal(BF, F) and err < 1e-6 and moved > 0.01,
+          f"posed by the armature as `sdm pose --rotate {middle}=1,0,0,45`: largest vertex difference {err:.1e} "
+          f"of the diagonal (< 1e-6); the leg moved up to {100 * moved:.1f} %")
+    bpy.data.objects.remove(dec)
+    bpy.data.objects.remove(arm)
+
+
 def test_transfer(spot, sdm_py, path):
     activate(spot)
     check(bpy.ops.sdm.decode(filepath=path, level=2) == {'FINISHED'}, "sdm.decode (level 2) finished")
@@ -330,6 +394,13 @@ def main():
         t = time.perf_counter()
         path = test_round_trip(spot, sdm_py, folder)
         print(f"      (round trip: {time.perf_counter() - t:.1f} s)")
+        if args.sdm:
+            t = time.perf_counter()
+            test_segment_levels(spot, sdm_py, path, args.sdm)
+            test_pose(spot, sdm_py, path, args.sdm)
+            print(f"      (segment levels and pose: {time.perf_counter() - t:.1f} s)")
+        else:
+            print("skip  SDM Pose and segment levels against the sdm command: no --sdm given")
         t = time.perf_counter()
         test_transfer(spot, sdm_py, path)
         print(f"      (transfer: {time.perf_counter() - t:.1f} s)")

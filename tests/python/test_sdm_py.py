@@ -95,6 +95,45 @@ def test_maps(V, F, folder):
           f"largest {100 * d.max():.4f} % of the diagonal (< 0.05 %, < 0.5 %)")
 
 
+def test_segment_levels_and_pose(path):
+    rest_V, rest_F = sdm_py.decode(path, level=2)
+    k = sdm_py.map_skeleton(path)
+    nodes, edges = k["nodes"], k["edges"]
+    # One segment at level 3, the others at 1: more triangles than all at 1, fewer than all at 3.
+    n1 = len(sdm_py.decode(path, level=1)[1])
+    n3 = len(sdm_py.decode(path, level=3)[1])
+    mixed = len(sdm_py.decode(path, level=1, segment_levels={0: 3})[1])
+    check(n1 < mixed < n3, f"segment 0 at level 3, the others at 1: {n1} < {mixed} < {n3} triangles")
+    # The rest pose given back is the decode itself.
+    P, G = sdm_py.pose(path, level=2, skeleton={"nodes": nodes})
+    check(np.array_equal(G, rest_F) and np.abs(P - rest_V).max() == 0, "the rest pose decodes as decode does")
+    # A node inside the chain turned 60 degrees about z: the points beyond 2 r of it on the side that
+    # moved follow the exact rigid motion, those on the other side stay.
+    degree = np.bincount(edges.reshape(-1), minlength=len(nodes))
+    inner = [i for i in range(len(nodes)) if degree[i] == 2]
+    pivot = min(inner, key=lambda i: abs(nodes[i, 0] - 0.3))
+    c = nodes[pivot]
+    a = np.radians(60)
+    rot = np.array([[np.cos(a), -np.sin(a), 0], [np.sin(a), np.cos(a), 0], [0, 0, 1]])
+    P, _ = sdm_py.pose(path, level=2, rotate=[(pivot, np.array([0.0, 0.0, 1.0]), 60.0)])
+    rigid = (rest_V - c) @ rot.T + c
+    far = np.abs(rest_V[:, 0] - c[0]) > 2 * R
+    moved = np.linalg.norm(P - rest_V, axis=1) > 1e-9
+    side = far & moved
+    d = diagonal(rest_V)
+    err_moved = np.abs(P[side] - rigid[side]).max() / d
+    err_still = np.abs(P[far & ~moved] - rest_V[far & ~moved]).max() / d if np.any(far & ~moved) else 0.0
+    sides = np.sign(rest_V[side, 0] - c[0])
+    check(side.sum() > 100 and np.all(sides == sides[0]) and err_moved < 1e-9 and err_still == 0,
+          f"node {pivot} turned 60 degrees: {side.sum()} points beyond 2 r on one side move rigidly "
+          f"(largest deviation {err_moved:.1e} of the diagonal), the other side stays")
+    try:
+        sdm_py.pose(path, rotate=[(len(nodes), np.array([0.0, 0.0, 1.0]), 10.0)])
+        check(False, "a node out of range is refused")
+    except ValueError as e:
+        check("node" in str(e), f"a node out of range is refused: {str(e)[:80]}")
+
+
 def test_transfer(examples):
     V, F = sdm_py.read_mesh(os.path.join(examples, "spot", "spot_triangulated.obj"))
     T = 2.0 * V + np.array([3.0, -1.0, 0.5])  # vertex i of the target is vertex i of the source
@@ -131,6 +170,7 @@ def main():
     test_layout(V, F, s)
     with tempfile.TemporaryDirectory() as folder:
         test_maps(V, F, folder)
+        test_segment_levels_and_pose(os.path.join(folder, "capsule.exr"))
     test_transfer(examples)
     test_errors(V, F)
     print(f"sdm_py {sdm_py.__version__}: all checks passed")
