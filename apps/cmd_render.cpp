@@ -1,6 +1,7 @@
 #include "apps/cli_common.h"
 #include "apps/commands.h"
 #include "apps/memory_budget.h"
+#include "apps/view_up.h"
 #include "libstm/core/limits.h"
 #include "libstm/layout/draw_atlas.h"
 #include "libstm/core/errors.h"
@@ -28,6 +29,7 @@ struct RenderArgs {
   double azimuth = 30, elevation = 20;
   bool unlit = false, orthographic = false, flat = false, no_texture = false, json = false, compare_uv = false;
   std::string max_memory;
+  std::string up;
 };
 
 void declare_render_options(CLI::App* app, RenderArgs* o) {
@@ -35,7 +37,7 @@ void declare_render_options(CLI::App* app, RenderArgs* o) {
   app->add_option("-o,--output", o->output, "Output image (.png)")->required();
   app->add_option("--width", o->width, "Image width in pixels")->capture_default_str()->check(CLI::Range(1, 16384));
   app->add_option("--height", o->height, "Image height in pixels")->capture_default_str()->check(CLI::Range(1, 16384));
-  app->add_option("--azimuth", o->azimuth, "Camera angle around the up (+y) axis in degrees; 0 looks along -z")
+  app->add_option("--azimuth", o->azimuth, "Camera angle around the up axis (--up) in degrees; 0 looks at the model's front (along -z for +y up, along +y for +z up)")
       ->capture_default_str();
   app->add_option("--elevation", o->elevation, "Camera angle above the horizontal plane in degrees")->capture_default_str();
   app->add_option("--texture", o->texture, "Texture image (.png) overriding the mesh's material; needs uv in the mesh");
@@ -57,6 +59,7 @@ void declare_render_options(CLI::App* app, RenderArgs* o) {
       ->capture_default_str();
   add_max_memory_option(app, o->max_memory);
   app->add_flag("--json", o->json, "Print one JSON object describing the render");
+  add_up_option(app, o->up);
   add_repair_options(app);
 }
 
@@ -182,7 +185,7 @@ sdm::Image contact_sheet_of(const RenderArgs& o, const std::vector<sdm::Image>& 
 }
 
 void report_render(const RenderArgs& o, const sdm::GlContext& gl, const sdm::Image& img, const RenderedViews& v,
-                   const std::string& texture_path, bool vertex_colors) {
+                   const std::string& texture_path, bool vertex_colors, const ViewUp& up) {
   double min_psnr = std::numeric_limits<double>::infinity(), mean_psnr = 0;
   for (double p : v.psnrs) min_psnr = std::min(min_psnr, p), mean_psnr += p / v.psnrs.size();
   if (o.json) {
@@ -193,6 +196,8 @@ void report_render(const RenderArgs& o, const sdm::GlContext& gl, const sdm::Ima
                         {"texture", o.stm.empty() ? texture_path : o.stm},
                         {"vertex_colors", vertex_colors},
                         {"covered_pixels", v.covered},
+                        {"up", up.name},
+                        {"up_from", up.known() ? up.from : "assumed (give --up for a file of another convention)"},
                         {"renderer", gl.renderer()},
                         {"gl_version", gl.version()},
                         {"platform", gl.platform()}};
@@ -211,6 +216,7 @@ void report_render(const RenderArgs& o, const sdm::GlContext& gl, const sdm::Ima
 
 int run_render(const RenderArgs& o) {
   check_render_size(o);
+  const ViewUp up = view_up(o.up, o.mesh);
   std::string material_texture;
   sdm::Image embedded;
   std::vector<Eigen::Vector3f> colors;
@@ -233,6 +239,7 @@ int run_render(const RenderArgs& o) {
   sdm::GlContext gl;
   progress("GL renderer: " + gl.renderer() + " (" + gl.version() + ", " + gl.platform() + ")");
   sdm::RenderOptions ro;
+  ro.frame = sdm::up_view_frame(up.axis);
   ro.width = o.width;
   ro.height = o.height;
   ro.elevation_deg = o.elevation;
@@ -245,7 +252,7 @@ int run_render(const RenderArgs& o) {
   const RenderedViews views = render_views(o, gl, mesh, ro, from_stm ? &layout : nullptr, atlas);
   const sdm::Image img = contact_sheet_of(o, views.cells);
   sdm::write_png(img, o.output);
-  report_render(o, gl, img, views, texture_path, draw_colors);
+  report_render(o, gl, img, views, texture_path, draw_colors, up);
   return 0;
 }
 

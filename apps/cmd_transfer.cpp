@@ -2,6 +2,7 @@
 #include "apps/commands.h"
 #include "apps/memory_budget.h"
 #include "apps/transfer_setup.h"
+#include "apps/view_up.h"
 #include "libsdm/decode/decode_sdm.h"
 #include "libsdm/map/sdm_exr.h"
 #include "libstm/core/parallel.h"
@@ -31,6 +32,7 @@ struct TransferArgs {
   sdm::cli::TransferSettings settings;  // size, margin, --match, --force (the skeletons given are set on running)
   int lod = 3;
   bool json = false;
+  std::string up, source_up, target_up;  // --up for both, or each its own
 };
 
 // path with its extension replaced by suffix (OUT.obj -> OUT_atlas.png).
@@ -152,20 +154,34 @@ TransferInputs read_inputs(const TransferArgs& o) {
   return in;
 }
 
+// The up of the source and of the target: --source-up / --target-up, else --up, else the file's
+// own (glTF), else unknown.
+std::pair<ViewUp, ViewUp> preview_ups(const TransferArgs& o) {
+  return {view_up(o.source_up.empty() ? o.up : o.source_up, o.source, o.source_up.empty() ? "--up" : "--source-up"),
+          view_up(o.target_up.empty() ? o.up : o.target_up, o.target, o.target_up.empty() ? "--up" : "--target-up")};
+}
+
+// How a model of the preview is seen: in its own principal frame (principal_view_frame), looked at
+// along its shortest axis square to up (a person from the front or back, Spot from its side), up
+// its known up, else guessed: a model lying down (TOSCA's lie along z) stood up along its longest
+// axis, any other with +y up.
+Eigen::Matrix3d preview_frame(const sdm::Mesh& mesh, const ViewUp& up) {
+  return sdm::principal_view_frame(mesh, up.known() ? std::optional<Eigen::Vector3d>(up.axis) : std::nullopt);
+}
+
 // Source (its own texture) and target (the transferred atlas) side by side, 512 x 512 each, each
-// seen in its own principal frame (principal_view_frame), looked at along its shortest axis: a
-// model lying down (TOSCA's lie along z) stood up along its longest axis, any other with +y up,
-// so a person is seen upright from the front or back and Spot from its side.
-sdm::Image render_preview(sdm::GlContext& gl, const TransferInputs& in, const sdm::TextureTransfer& r) {
+// seen upright (preview_frame).
+sdm::Image render_preview(sdm::GlContext& gl, const TransferInputs& in, const sdm::TextureTransfer& r, const TransferArgs& o) {
   progress("rendering the preview");
+  const auto [source_up, target_up] = preview_ups(o);
   sdm::RenderOptions ro;
   ro.width = ro.height = 512;
   ro.azimuth_deg = ro.elevation_deg = 0;
   ro.texture = &in.texture;
-  ro.frame = sdm::principal_view_frame(in.source);
+  ro.frame = preview_frame(in.source, source_up);
   const sdm::Image left = sdm::render_mesh(gl, in.source, ro);
   ro.texture = &r.atlas;
-  ro.frame = sdm::principal_view_frame(r.target);
+  ro.frame = preview_frame(r.target, target_up);
   const sdm::Image right = sdm::render_mesh(gl, r.target, ro);
   return sdm::side_by_side({left, right});
 }
@@ -351,6 +367,7 @@ void print_transfer_text(const TransferArgs& o, const TransferInputs& in, const 
 // The texture transfer: inputs, transfer_texture, preview, files, report.
 int run_texture_transfer(const TransferArgs& o) {
   check_atlas_memory(o.settings.size, 60, o.max_memory);
+  preview_ups(o);  // a bad axis named before the work
   TransferInputs in = read_inputs(o);
   sdm::GlContext gl;
   progress("GL renderer: " + gl.renderer() + " (" + gl.version() + ", " + gl.platform() + ")");
@@ -393,7 +410,7 @@ int run_texture_transfer(const TransferArgs& o) {
              " vertices, e.g. vertex " + std::to_string(jumps.example) +
              ") shows source points that jump away from their neighbours': specks of another part's texture");
   const std::vector<Eigen::Vector3f> colors = o.vertex_colors.empty() ? std::vector<Eigen::Vector3f>() : target_vertex_colors(in, r);
-  const sdm::Image preview = render_preview(gl, in, r);
+  const sdm::Image preview = render_preview(gl, in, r, o);
   const OutputPaths out(o);
   write_outputs(r, preview, out, colors);
   if (o.json) print_transfer_json(o, in, r, out, jumps);
@@ -434,6 +451,9 @@ void declare_options(CLI::App* app, TransferArgs& o) {
   add_max_memory_option(app, o.max_memory);
   app->add_flag("--force", o.settings.force, "Write the result even when the registered source fits the target poorly, its branches disagree in length or meet the core at other places, or left and right are a tie");
   app->add_flag("--json", o.json, "Print one JSON object instead of text");
+  add_up_option(app, o.up, "--up", "both models (for the preview)");
+  add_up_option(app, o.source_up, "--source-up", "the source (for the preview; overrides --up)");
+  add_up_option(app, o.target_up, "--target-up", "the target (for the preview; overrides --up)");
   add_repair_options(app);
 }
 

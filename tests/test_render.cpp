@@ -18,6 +18,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <limits>
 #include <random>
 
@@ -553,4 +554,43 @@ TEST_CASE("sdm render draws an OBJ's vertex colours (v x y z r g b), blended acr
   CHECK((reddest > 0 || greenest > 0 || bluest > 0));
   CHECK(greenest + bluest > 0);
   CHECK(grey > object * 9 / 10);
+}
+
+TEST_CASE("sdm render --up shows a Z-up (or -Y-up) file as its Y-up original; a bad axis exits 2", "[render]") {
+  // An irregular tetrahedron with coloured corners, written as it is (+y up), turned so that its
+  // +y becomes +z (x, y, z) -> (x, -z, y), and turned upside down about z (x, y, z) -> (-x, -y, z).
+  // up_view_frame is the rotation that undoes each, so the pictures are the original's.
+  test_util::TempDir dir;
+  const std::vector<Eigen::Vector3d> corners = {{0, 0, 0}, {1, 0.2, 0}, {0.1, 1.6, 0.3}, {0.2, 0.1, 0.9}};
+  const std::string faces = "f 1 3 2\nf 1 2 4\nf 2 3 4\nf 3 1 4\n";
+  const char* colors[] = {" 1 0 0\n", " 0 1 0\n", " 0 0 1\n", " 1 1 0\n"};
+  auto write = [&](const std::string& name, const std::function<Eigen::Vector3d(const Eigen::Vector3d&)>& turn) {
+    std::string text;
+    for (size_t i = 0; i < corners.size(); ++i) {
+      const Eigen::Vector3d p = turn(corners[i]);
+      text += "v " + std::to_string(p.x()) + " " + std::to_string(p.y()) + " " + std::to_string(p.z()) + colors[i];
+    }
+    test_util::write_file(dir / name, text + faces);
+  };
+  write("y.obj", [](const Eigen::Vector3d& p) { return p; });
+  write("z.obj", [](const Eigen::Vector3d& p) { return Eigen::Vector3d(p.x(), -p.z(), p.y()); });
+  write("-y.obj", [](const Eigen::Vector3d& p) { return Eigen::Vector3d(-p.x(), -p.y(), p.z()); });
+  auto render = [&](const std::string& in, const std::string& up, const std::string& out) {
+    const auto r = test_util::run_sdm("render " + (dir / in) + up + " --unlit --width 160 --height 160 -o " + (dir / out));
+    INFO(r.output);
+    REQUIRE(r.exit_code == 0);
+    return sdm::read_png(dir / out);
+  };
+  const sdm::Image original = render("y.obj", "", "y.png");
+  const double z_up = sdm::psnr(original, render("z.obj", " --up z", "z.png"));
+  const double minus_y = sdm::psnr(original, render("-y.obj", " --up -y", "-y.png"));
+  const double lying = sdm::psnr(original, render("z.obj", "", "z-default.png"));
+  WARN("PSNR against the +y original: --up z " << z_up << " dB, --up -y " << minus_y << " dB, the Z-up file without --up " << lying << " dB");
+  CHECK(z_up > 40);
+  CHECK(minus_y > 40);
+  CHECK(lying < 25);
+  const auto bad = test_util::run_sdm("render " + (dir / "y.obj") + " --up w -o " + (dir / "w.png"));
+  CHECK(bad.exit_code == 2);
+  CHECK(bad.output.find("--up 'w'") != std::string::npos);
+  CHECK(!std::filesystem::exists(dir / "w.png"));
 }

@@ -64,11 +64,11 @@ Camera frame_camera(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi, double
   return cam;
 }
 
-Eigen::Matrix3d principal_view_frame(const Mesh& mesh) {
+Eigen::Matrix3d principal_view_frame(const Mesh& mesh, const std::optional<Eigen::Vector3d>& up) {
   // The surface's exact moments, face by face (a triangle's second moment about the origin is
   // A / 12 (sum v v^T + (sum v)(sum v)^T)), so the axes do not depend on the tessellation; taken
   // about the box centre, for precision far from the origin.
-  if (mesh.n_faces() == 0) return Eigen::Matrix3d::Identity();
+  if (mesh.n_faces() == 0) return up ? up_view_frame(*up) : Eigen::Matrix3d::Identity();
   Eigen::Vector3d lo, hi;
   bounding_box(mesh, lo, hi);
   const Eigen::Vector3d centre = 0.5 * (lo + hi);
@@ -85,7 +85,7 @@ Eigen::Matrix3d principal_view_frame(const Mesh& mesh) {
     first += area / 3 * sum;
     second += area / 12 * (v[0] * v[0].transpose() + v[1] * v[1].transpose() + v[2] * v[2].transpose() + sum * sum.transpose());
   }
-  if (!(total > 0)) return Eigen::Matrix3d::Identity();
+  if (!(total > 0)) return up ? up_view_frame(*up) : Eigen::Matrix3d::Identity();
   const Eigen::Vector3d mean = first / total;
   const Eigen::Matrix3d moment = second / total - mean * mean.transpose();
   const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eig(moment);  // eigenvalues ascending
@@ -98,10 +98,19 @@ Eigen::Matrix3d principal_view_frame(const Mesh& mesh) {
   };
   const bool lying = std::abs(smallest.y()) > std::cos(45.0 * M_PI / 180.0);  // y through the model's thinnest dimension
   Eigen::Matrix3d frame;
-  frame.col(1) = lying ? towards_world(longest) : Eigen::Vector3d::UnitY();
-  frame.col(2) = towards_world((smallest - smallest.dot(frame.col(1)) * frame.col(1)).normalized());
+  frame.col(1) = up ? up->normalized() : lying ? towards_world(longest) : Eigen::Vector3d::UnitY();
+  // Looked at along the shortest axis made square to up, or the middle one where up is the shortest.
+  Eigen::Vector3d along = smallest - smallest.dot(frame.col(1)) * frame.col(1);
+  if (along.norm() < 0.5) along = eig.eigenvectors().col(1) - eig.eigenvectors().col(1).dot(frame.col(1)) * frame.col(1);
+  frame.col(2) = towards_world(along.normalized());
   frame.col(0) = frame.col(1).cross(frame.col(2));
   return frame;
+}
+
+Eigen::Matrix3d up_view_frame(const Eigen::Vector3d& up) {
+  const Eigen::Vector3d u = up.normalized();
+  if (u.y() < -1 + 1e-12) return Eigen::AngleAxisd(M_PI, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  return Eigen::Quaterniond::FromTwoVectors(Eigen::Vector3d::UnitY(), u).toRotationMatrix();
 }
 
 namespace {

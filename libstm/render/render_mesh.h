@@ -9,6 +9,7 @@
 #include <array>
 #include <cstdint>
 #include <functional>
+#include <optional>
 #include <vector>
 
 namespace sdm {
@@ -43,7 +44,13 @@ Camera frame_camera(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi, double
 // to rump and would stand it on its head. Looked along (z, at azimuth and elevation 0): the
 // shortest axis, made square to up, so a person is seen from the front or back and a quadruped
 // from its side. Signs: up and z point the way of the world axis each is closest to; x = y cross z.
-Eigen::Matrix3d principal_view_frame(const Mesh& mesh);
+// `up`, when given (a unit vector: the file's up, known), is up instead of the guess.
+Eigen::Matrix3d principal_view_frame(const Mesh& mesh, const std::optional<Eigen::Vector3d>& up = std::nullopt);
+
+// The frame that shows a model whose up direction is `up` (any non-zero vector) upright: the
+// smallest rotation taking +y onto up (for -y a half turn about z). A +z-up model (Blender's, most
+// CAD and STL files) is then looked at from -y, its front in Blender; +y gives the identity.
+Eigen::Matrix3d up_view_frame(const Eigen::Vector3d& up);
 
 struct RenderOptions {
   int width = 800, height = 800;
