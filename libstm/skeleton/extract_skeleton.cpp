@@ -243,7 +243,14 @@ Skeleton extract_skeleton(const Mesh& mesh, const SkeletonOptions& opt, const Pr
   Skeleton sk;
   // An open mesh is extracted with its holes filled (the contraction and the inside tests need a
   // closed surface); the patches' vertices then leave the map.
-  const FilledMesh filled = fill_holes(vertex_matrix(mesh), face_matrix(mesh));
+  // The stages work on the model moved to its bounding box's centre, so that the contraction's
+  // solves and the absolute tolerances see the same numbers wherever the model lies (Spot moved by
+  // +1e4 gave a 103-node star); the nodes go back to the input's frame at the end.
+  Eigen::MatrixX3d centred = vertex_matrix(mesh);
+  const Eigen::RowVector3d centre =
+      centred.rows() ? Eigen::RowVector3d(0.5 * (centred.colwise().minCoeff() + centred.colwise().maxCoeff())) : Eigen::RowVector3d::Zero();
+  centred.rowwise() -= centre;
+  const FilledMesh filled = fill_holes(centred, face_matrix(mesh));
   const Eigen::MatrixX3d& V = filled.V;
   const Eigen::MatrixX3i& F = filled.F;
   st.filled_loops = filled.loops;
@@ -260,7 +267,7 @@ Skeleton extract_skeleton(const Mesh& mesh, const SkeletonOptions& opt, const Pr
     std::vector<int> owner;
     const SkeletonGraph g = ps.choose(owner);
     const int base = int(sk.nodes.size());
-    for (size_t a = 0; a < g.pos.size(); ++a) sk.nodes.push_back(g.pos[a]);
+    for (size_t a = 0; a < g.pos.size(); ++a) sk.nodes.push_back(g.pos[a] + centre.transpose());
     for (size_t v = 0; v < part.global.size(); ++v) sk.vertex_node[part.global[v]] = base + owner[v];
     for (const auto& e : g.edges) sk.edges.push_back({base + e.first, base + e.second});
   }
