@@ -24,7 +24,7 @@ std::vector<std::string> commands() {
   const test_util::RunResult r = run_sdm("--help");
   REQUIRE(r.exit_code == 0);
   std::vector<std::string> out;
-  std::istringstream in(r.output.substr(r.output.find("SUBCOMMANDS:")));
+  std::istringstream in(r.output.substr(r.output.find("Subcommands:")));
   std::string line;
   const std::regex entry(R"(^  ([a-z]+)\s)");
   std::smatch m;
@@ -44,7 +44,8 @@ std::vector<NumericOption> numeric_options(const std::string& command) {
   std::smatch m;
   while (std::getline(in, line)) {
     if (!std::regex_search(line, m, option)) continue;
-    NumericOption o{command, m[1], m[2]};
+    NumericOption o;
+    o.command = command, o.name = m[1], o.type = m[2];
     if (m[3].matched) {
       o.open_low = m[3] == "(";
       o.lo = std::stod(m[4]), o.hi = std::stod(m[5]);

@@ -6,6 +6,7 @@
 #include "tests/test_util.h"
 
 #include <catch2/catch.hpp>
+#include <algorithm>
 #include <charconv>
 #include <cstdio>
 #include <string>
@@ -74,9 +75,9 @@ TEST_CASE("PLY is written in float while float keeps every coordinate, in double
   CHECK(sdm::float32_rounding(mesh) == 0);
   mesh.set_point(v[0], {kCorners[0].x(), kCorners[0].y(), kCorners[0].z()});
   CHECK(sdm::ply_bytes(mesh).find("property double x") != std::string::npos);
-  // 1000000.317288 rounds to 1000000.3125 in float: 0.0048 of the model's 1.2 diagonal.
-  const double diag = sdm::bounding_box_diagonal(mesh);
-  CHECK(sdm::float32_rounding(mesh) == Approx((kCorners[0] - kCorners[0].cast<float>().cast<double>()).norm() / diag).epsilon(0.2));
+  // Only corner 0 moves, 1000000.317288 to 1000000.3125 in x and its y, z to their floats.
+  const Eigen::Vector3d p = kCorners[0];
+  CHECK(sdm::float32_rounding(mesh) == Approx((p - p.cast<float>().cast<double>()).norm() / sdm::bounding_box_diagonal(mesh)).epsilon(1e-9));
 }
 
 TEST_CASE("STL and glTF say what float32 costs a model far from the origin", "[write_positions][convert]") {
@@ -87,9 +88,14 @@ TEST_CASE("STL and glTF say what float32 costs a model far from the origin", "[w
     INFO(r.output);
     REQUIRE(r.exit_code == 0);
     CHECK(r.output.find("warning: " + dir / name + " holds 32-bit floats") != std::string::npos);
-    const double rounding = test_util::last_json(r).at("float32_rounding").get<double>();
-    CHECK(rounding > 1e-3);  // 0.0048 of the diagonal at 1000000.317288
-    CHECK(rounding < 1e-2);
+    // The corner float moves farthest, over the tetrahedron's diagonal.
+    Eigen::Vector3d lo = kCorners[0], hi = kCorners[0];
+    double worst = 0;
+    for (const auto& p : kCorners) {
+      lo = lo.cwiseMin(p), hi = hi.cwiseMax(p);
+      worst = std::max(worst, (p - p.cast<float>().cast<double>()).norm());
+    }
+    CHECK(test_util::last_json(r).at("float32_rounding").get<double>() == Approx(worst / (hi - lo).norm()).epsilon(1e-9));
   }
   // Near the origin the same tetrahedron loses under 1e-7 of its diagonal: no warning.
   std::string near = ascii_ply();
