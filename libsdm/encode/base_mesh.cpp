@@ -7,6 +7,7 @@
 #include "libstm/geometry/capsule_ray.h"
 #include "libstm/layout/segments.h"
 #include "libstm/geometry/triangle_bvh.h"
+#include "libstm/geometry/working_origin.h"
 #include "libstm/mesh/collapse_ok.h"
 #include "libstm/mesh/isotropic_remesh.h"
 #include "libstm/mesh/spatial_order.h"
@@ -403,14 +404,14 @@ BaseMesh BaseMeshSource::decimate(const std::vector<char>& keep, const Progress&
     if (!keep.empty() && keep[size_t(v.idx())]) m.status(v).set_locked(true), ++kept;
   }
   const int target = impl_->target_vertices + kept;
-  // A quadric holds its planes' offsets from the origin: far from it (Spot at +1e6) the errors lose
-  // their digits to cancellation and the collapses go astray (RMS 1.7x), so the decimater works on
-  // the mesh moved to its centre, and the vertices it keeps take back their own positions.
+  // The decimater works on the mesh moved near the origin (working_origin.h: far from it the
+  // quadrics' plane offsets cancel), and the vertices it keeps take back their own positions.
   OpenMesh::VPropHandleT<Mesh::Point> own;
   m.add_property(own);
   Eigen::Vector3d lo, hi;
   bounding_box(m, lo, hi);
-  const Mesh::Point centre(0.5 * (lo.x() + hi.x()), 0.5 * (lo.y() + hi.y()), 0.5 * (lo.z() + hi.z()));
+  const Eigen::Vector3d shift = working_origin(lo, hi);
+  const Mesh::Point centre(shift.x(), shift.y(), shift.z());
   for (auto v : m.vertices()) m.property(own, v) = m.point(v), m.point(v) -= centre;
   if (target < int(m.n_vertices())) decimate_base(m, node, layout.skeleton, target, kMaxBaseEdge * longest_edge(impl_->input), progress);
   for (auto v : m.vertices()) m.point(v) = m.property(own, v);

@@ -6,6 +6,7 @@
 #include "libstm/mesh/fill_holes.h"
 #include "libstm/mesh/inside_mesh.h"
 #include "libstm/geometry/triangle_bvh.h"
+#include "libstm/geometry/working_origin.h"
 #include "libstm/skeleton/choose_candidate.h"
 #include "libstm/skeleton/contraction_proxy.h"
 #include "libstm/skeleton/medial_poles.h"
@@ -243,12 +244,11 @@ Skeleton extract_skeleton(const Mesh& mesh, const SkeletonOptions& opt, const Pr
   Skeleton sk;
   // An open mesh is extracted with its holes filled (the contraction and the inside tests need a
   // closed surface); the patches' vertices then leave the map.
-  // The stages work on the model moved to its bounding box's centre, so that the contraction's
-  // solves and the absolute tolerances see the same numbers wherever the model lies (Spot moved by
-  // +1e4 gave a 103-node star); the nodes go back to the input's frame at the end.
+  // The stages work on the model moved near the origin (working_origin.h), the nodes going back to
+  // the input's frame at the end.
   Eigen::MatrixX3d centred = vertex_matrix(mesh);
-  const Eigen::RowVector3d centre =
-      centred.rows() ? Eigen::RowVector3d(0.5 * (centred.colwise().minCoeff() + centred.colwise().maxCoeff())) : Eigen::RowVector3d::Zero();
+  Eigen::RowVector3d centre = Eigen::RowVector3d::Zero();
+  if (centred.rows()) centre = working_origin(centred.colwise().minCoeff().transpose(), centred.colwise().maxCoeff().transpose()).transpose();
   centred.rowwise() -= centre;
   const FilledMesh filled = fill_holes(centred, face_matrix(mesh));
   const Eigen::MatrixX3d& V = filled.V;
