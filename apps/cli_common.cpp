@@ -5,7 +5,12 @@
 #include "libstm/core/stopwatch.h"
 #include "libstm/mesh/fill_holes.h"
 #include "libstm/mesh/mesh_geometry.h"
+#include "libstm/mesh/write_positions.h"
 #include "libstm/skeleton/extract_skeleton.h"
+
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
 
 namespace sdm::cli {
 namespace {
@@ -63,7 +68,7 @@ void add_weld_tolerance_option(CLI::App* app) {
   app->add_option("--weld-tolerance", input_settings().weld_tolerance,
                   "Weld boundary vertices closer than this fraction of the bounding-box diagonal (0: exact duplicates only)")
       ->capture_default_str()
-      ->check(CLI::Range(0.0, 0.01));
+      ->check(number_in(0.0, 0.01));
 }
 
 void add_repair_options(CLI::App* app) {
@@ -117,7 +122,54 @@ void add_min_part_option(CLI::App* app, double& value) {
   app->add_option("--min-part", value,
                   "Drop separate parts smaller than this fraction of the model's bounding-box diagonal (specks\n"
                   "too small for any texel), naming each")
-      ->check(CLI::Range(0.0, 1.0));
+      ->check(number_in(0.0, 1.0));
 }
+
+double note_float32_rounding(const Mesh& mesh, const std::string& path) {
+  if (!sdm::writes_float32(path)) return 0;
+  const double rounding = sdm::float32_rounding(mesh);
+  if (rounding > kFloat32Warning) {
+    char line[160];
+    std::snprintf(line, sizeof line, "%.2g of the bounding-box diagonal", rounding);
+    progress("warning: " + path + " holds 32-bit floats: rounding moved vertices by up to " + line +
+             " (the model lies far from the origin for its size); write .obj, .off or .ply to keep every digit");
+  }
+  return rounding;
+}
+
+namespace {
+
+// A bound as %g writes it, its exponent without sign or leading zeros (1e+06 reads as 1e6).
+std::string bound_text(double x) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%g", x);
+  std::string s = buf;
+  const size_t e = s.find('e');
+  if (e == std::string::npos) return s;
+  std::string exponent = s.substr(e + 1);
+  const bool negative = exponent[0] == '-';
+  exponent = exponent.substr(exponent.find_first_not_of("+-0"));
+  return s.substr(0, e) + "e" + (negative ? "-" : "") + exponent;
+}
+
+CLI::Validator number_check(double lo, double hi, bool open_low) {
+  const std::string range = std::string(open_low ? "(" : "[") + bound_text(lo) + ", " + bound_text(hi) + "]";
+  return CLI::Validator(
+      [lo, hi, open_low, range](std::string& input) -> std::string {
+        char* end = nullptr;
+        const double x = std::strtod(input.c_str(), &end);
+        if (input.empty() || end != input.c_str() + input.size())
+          return "'" + input + "' is not a number; give one in " + range;
+        const bool inside = std::isfinite(x) && (open_low ? x > lo : x >= lo) && x <= hi;
+        if (!inside) return input + " is out of range; give a finite number in " + range;
+        return std::string();
+      },
+      "in " + range);
+}
+
+}  // namespace
+
+CLI::Validator number_in(double lo, double hi) { return number_check(lo, hi, false); }
+CLI::Validator number_above(double lo, double hi) { return number_check(lo, hi, true); }
 
 }  // namespace sdm::cli

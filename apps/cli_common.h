@@ -60,4 +60,17 @@ void add_fill_holes_option(CLI::App* app, bool& value);
 // Adds --min-part to a command (encode, stm, roundtrip: the commands that compute a layout).
 void add_min_part_option(CLI::App* app, double& value);
 
+// After `mesh` was written to `path`: the largest move rounding to float32 made there, as a fraction
+// of the diagonal (0 where the format keeps doubles: OBJ, OFF, PLY), with a warning on stderr
+// naming the format when it exceeds kFloat32Warning (STL and glTF hold float32 only).
+constexpr double kFloat32Warning = 1e-6;
+double note_float32_rounding(const Mesh& mesh, const std::string& path);
+
+// The check of every numeric option (`->check(number_in(lo, hi))`): a finite number from lo to hi,
+// both included; number_above excludes lo. CLI11 runs it on the text before converting it, so nan,
+// inf, -inf and values outside the range are refused (exit 2) with a message that names the option,
+// the value and the range; --help shows the range after the type ("FLOAT:in [0, 1]").
+CLI::Validator number_in(double lo, double hi);
+CLI::Validator number_above(double lo, double hi);
+
 }  // namespace sdm::cli

@@ -778,8 +778,8 @@ Command add_bench_command(CLI::App& parent) {
                "configured with -DSDM_WITH_CHOLMOD=ON) on the five shapes, Spot and bunny00's contraction proxy, and how far their results differ.");
   app->add_option("--bunny", o->bunny, "Large mesh for the skeleton timing (skipped with a note when missing)")->capture_default_str();
   app->add_option("--spot", o->spot, "Spot mesh for --solvers (skipped with a note when missing)")->capture_default_str();
-  app->add_option("--repeat", o->repeat, "Runs per measurement; the fastest is kept")->capture_default_str()->check(CLI::Range(1, 20));
-  app->add_option("--size", o->size, "Atlas size for packing and composing")->capture_default_str()->check(CLI::Range(64, 8192));
+  app->add_option("--repeat", o->repeat, "Runs per measurement; the fastest is kept")->capture_default_str()->check(number_in(1, 20));
+  app->add_option("--size", o->size, "Atlas size for packing and composing")->capture_default_str()->check(number_in(64, 8192));
   app->add_flag("--no-sdm", o->no_sdm, "Skip the SDM encode/decode timings");
   app->add_flag("--no-gl", o->no_gl, "Skip the GL atlas composing timing");
   app->add_flag("--solvers", o->solvers, "Compare the contraction's sparse Cholesky solvers instead (docs/BENCHMARKS.md)");

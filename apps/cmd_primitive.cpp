@@ -1,3 +1,4 @@
+#include "apps/cli_common.h"
 #include "apps/commands.h"
 #include "libstm/mesh/isotropic_remesh.h"
 #include "libstm/mesh/mesh.h"
@@ -23,7 +24,7 @@ Command add_primitive_command(CLI::App& parent) {
   app->add_option("-o,--output", o->output, "Output mesh (.obj, .off, .ply, .stl, .glb, .gltf)")->required();
   app->add_option("--resolution", o->resolution,
                   "Approximate number of vertices (0 = the paper's count for its shapes, 1200 for cylinder/capsule)")
-      ->check(CLI::NonNegativeNumber);
+      ->check(number_in(0, 1e6));
   app->add_flag("--json", o->json, "Print one JSON object instead of text");
   return {app, [o]() {
             sdm::Mesh mesh = sdm::make_primitive(o->name, o->resolution);

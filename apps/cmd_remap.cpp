@@ -33,10 +33,10 @@ Command add_remap_command(CLI::App& parent) {
   app->add_option("--texture", o->texture, "Source texture (.png); default: the map_Kd of the mesh's MTL");
   app->add_option("--layout", o->layout, "Use this layout (.json from 'sdm stm' or 'sdm remap') instead of computing one");
   app->add_option("--size", o->size, "Atlas width and height in texels (when the layout is computed)")
-      ->check(CLI::Range(16, 16384))
+      ->check(number_in(16, 16384))
       ->capture_default_str();
   app->add_option("--margin", o->margin, "Texels of margin around every rectangle (when the layout is computed)")
-      ->check(CLI::Range(0, 256))
+      ->check(number_in(0, 256))
       ->capture_default_str();
   app->add_flag("--json", o->json, "Print one JSON object instead of text");
   add_max_memory_option(app, o->max_memory);

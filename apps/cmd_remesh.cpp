@@ -43,9 +43,9 @@ Command add_remesh_command(CLI::App& parent) {
   app->add_option("mesh", o->mesh, "Input mesh (.obj, .off, .ply, .stl, .glb, .gltf)")->required();
   app->add_option("-o,--output", o->out, "Output mesh")->required();
   app->add_option("--edge-length", o->edge, "Target edge length in model units (default: the equilateral edge for the input's area and vertex count, times --factor)")
-      ->check(CLI::PositiveNumber);
-  app->add_option("--factor", o->factor, "Scale of the default target edge length")->capture_default_str()->check(CLI::Range(0.1, 10.0));
-  app->add_option("--iterations", o->iterations, "Remeshing iterations")->capture_default_str()->check(CLI::Range(1, 100));
+      ->check(number_above(0, 1e30));
+  app->add_option("--factor", o->factor, "Scale of the default target edge length")->capture_default_str()->check(number_in(0.1, 10.0));
+  app->add_option("--iterations", o->iterations, "Remeshing iterations")->capture_default_str()->check(number_in(1, 100));
   add_max_memory_option(app, o->max_memory);
   add_repair_options(app);
   return {app, [o]() {
@@ -61,6 +61,7 @@ Command add_remesh_command(CLI::App& parent) {
                                   [&](const Eigen::Vector3d& p) { return bvh.closest_point(p).point; });
             mesh = sdm::spatially_ordered(mesh);  // neighbours near in the file: every later pass reads faster
             sdm::write_mesh(mesh, o->out);
+            note_float32_rounding(mesh, o->out);
             std::cout << o->out << ": " << mesh.n_vertices() << " vertices, " << mesh.n_faces() << " faces (input "
                       << input.n_vertices() << "), edge length " << edge << ", smallest angle "
                       << sdm::min_triangle_angle_degrees(mesh) << " degrees\n";

@@ -35,11 +35,12 @@ struct RenderArgs {
 void declare_render_options(CLI::App* app, RenderArgs* o) {
   app->add_option("mesh", o->mesh, "Input mesh (.obj, .off, .ply, .stl, .glb, .gltf)")->required();
   app->add_option("-o,--output", o->output, "Output image (.png)")->required();
-  app->add_option("--width", o->width, "Image width in pixels")->capture_default_str()->check(CLI::Range(1, 16384));
-  app->add_option("--height", o->height, "Image height in pixels")->capture_default_str()->check(CLI::Range(1, 16384));
+  app->add_option("--width", o->width, "Image width in pixels")->capture_default_str()->check(number_in(1, 16384));
+  app->add_option("--height", o->height, "Image height in pixels")->capture_default_str()->check(number_in(1, 16384));
   app->add_option("--azimuth", o->azimuth, "Camera angle around the up axis (--up) in degrees; 0 looks at the model's front (along -z for +y up, along +y for +z up)")
-      ->capture_default_str();
-  app->add_option("--elevation", o->elevation, "Camera angle above the horizontal plane in degrees")->capture_default_str();
+      ->capture_default_str()
+      ->check(number_in(-360, 360));
+  app->add_option("--elevation", o->elevation, "Camera angle above the horizontal plane in degrees")->capture_default_str()->check(number_in(-90, 90));
   app->add_option("--texture", o->texture, "Texture image (.png) overriding the mesh's material; needs uv in the mesh");
   app->add_flag("--no-texture", o->no_texture, "Ignore the mesh's texture and vertex colours and draw it in a flat colour");
   app->add_flag("--unlit", o->unlit, "No shading: draw the texture (or vertex, or flat) colour as it is, for pixel comparisons");
@@ -55,7 +56,7 @@ void declare_render_options(CLI::App* app, RenderArgs* o) {
                 "With --stm: also draw the mesh with its own uv and texture, put both side by side and print the PSNR "
                 "(dB, over the pixels either render covers; use with --unlit for a pure texture comparison)");
   app->add_option("--views", o->views, "Number of views around the up axis, starting at --azimuth (a contact sheet)")
-      ->check(CLI::Range(1, 64))
+      ->check(number_in(1, 64))
       ->capture_default_str();
   add_max_memory_option(app, o->max_memory);
   app->add_flag("--json", o->json, "Print one JSON object describing the render");

@@ -229,7 +229,7 @@ void add_face_error_option(CLI::App* app, double& error) {
                   "Base faces that decode (level 3) farther than this fraction of the diagonal from the input are placed on their flat "
                   "triangle, or the base mesh is made finer there (0: no check)")
       ->capture_default_str()
-      ->check(CLI::Range(0.0, 1.0));
+      ->check(number_in(0.0, 1.0));
 }
 
 void encode_check_options(sdm::EncodeOptions& eo, double face_error) {
@@ -242,7 +242,7 @@ void add_min_carried_option(CLI::App* app, double& floor) {
                   "Share of the input's surface the decoded map must carry within 1 % of the diagonal; below it a warning, "
                   "or a refusal with --strict")
       ->capture_default_str()
-      ->check(CLI::Range(0.0, 1.0));
+      ->check(number_in(0.0, 1.0));
 }
 
 }  // namespace
@@ -261,7 +261,7 @@ Command add_encode_command(CLI::App& parent) {
                 "with the layout and base mesh in its header, so 'sdm decode' needs nothing else.");
   app->add_option("mesh", o->mesh, "Input mesh (.obj, .off, .ply, .stl, .glb, .gltf)")->required();
   app->add_option("-o,--output", o->out, "Output map (.exr)")->required();
-  app->add_option("--size", o->size, "Atlas size in texels")->capture_default_str()->check(CLI::Range(16, 16384));
+  app->add_option("--size", o->size, "Atlas size in texels")->capture_default_str()->check(number_in(16, 16384));
   app->add_option("--layout", o->layout, "Use this layout (from 'sdm stm') instead of computing one");
   app->add_option("--skeleton", o->skeleton, "Use this skeleton (from 'sdm skeleton') instead of extracting one");
   app->add_option("--png", o->png, "Also write a false-colour picture of the map (.png)");
@@ -355,7 +355,7 @@ Command add_decode_command(CLI::App& parent) {
                 "or per segment, optionally around a skeleton with moved nodes (same graph).");
   app->add_option("map", o->map, "Input map (.exr from 'sdm encode')")->required();
   app->add_option("-o,--output", o->out, "Output mesh (.obj, .ply, .off, .stl, .glb, .gltf)")->required();
-  app->add_option("--lod", o->lod, "Level of detail: every base edge is cut into 2^L pieces")->capture_default_str()->check(CLI::Range(0, 8));
+  app->add_option("--lod", o->lod, "Level of detail: every base edge is cut into 2^L pieces")->capture_default_str()->check(number_in(0, 8));
   app->add_option("--lod-segment", o->segment_lod, "Per-segment level, ID=L (repeatable)");
   app->add_option("--skeleton", o->skeleton,
                   "Decode posed by this skeleton: the map's own skeleton (see --write-skeleton) with moved nodes, optionally "
@@ -391,6 +391,7 @@ Command add_decode_command(CLI::App& parent) {
               if (o->rig) write_rigged(mesh, layout, trace, posed ? &*posed : nullptr, o->out);
               else sdm::write_mesh(mesh, o->out);
             });
+            note_float32_rounding(mesh, o->out);
             if (!o->write_skeleton.empty()) {
               const sdm::Skeleton sk = sdm::layout_from_json(im.layout).skeleton;
               if (o->write_skeleton.size() > 4 && o->write_skeleton.substr(o->write_skeleton.size() - 4) == ".obj")
@@ -525,7 +526,7 @@ Command add_pose_command(CLI::App& parent) {
               "(dual quaternions). Node and segment numbers: 'sdm decode MAP --write-skeleton S.json'.");
   app->add_option("map", o->map, "Input map (.exr from 'sdm encode')")->required();
   app->add_option("-o,--output", o->out, "Output mesh (.obj, .ply, .off, .stl, .glb, .gltf)")->required();
-  app->add_option("--lod", o->lod, "Level of detail: every base edge is cut into 2^L pieces")->capture_default_str()->check(CLI::Range(0, 8));
+  app->add_option("--lod", o->lod, "Level of detail: every base edge is cut into 2^L pieces")->capture_default_str()->check(number_in(0, 8));
   app->add_option("--rotate", o->rotate,
                   "Turn the part below NODE (away from the skeleton's root) about NODE: NODE=AX,AY,AZ,DEG (axis and degrees), "
                   "NODE=x|y|z,DEG, or NODE=twist,DEG (about the axis from NODE to its only child); repeatable, applied in order");
@@ -610,10 +611,10 @@ Command add_roundtrip_command(CLI::App& parent) {
                    "distance by dense sampling, as fractions of the bounding-box diagonal, and PSNR.\n"
                    "Exits 3 when the RMS exceeds --max-rms.");
   app->add_option("mesh", o->mesh, "Input mesh (.obj, .off, .ply, .stl, .glb, .gltf)")->required();
-  app->add_option("--size", o->size, "Atlas size in texels")->capture_default_str()->check(CLI::Range(16, 16384));
-  app->add_option("--lod", o->lod, "Level of detail of the decode")->capture_default_str()->check(CLI::Range(0, 8));
-  app->add_option("--samples", o->samples, "Points sampled on each surface")->capture_default_str()->check(CLI::Range(1000, 10000000));
-  app->add_option("--max-rms", o->max_rms, "Fail (exit 3) when the RMS error, as a fraction of the diagonal, is larger");
+  app->add_option("--size", o->size, "Atlas size in texels")->capture_default_str()->check(number_in(16, 16384));
+  app->add_option("--lod", o->lod, "Level of detail of the decode")->capture_default_str()->check(number_in(0, 8));
+  app->add_option("--samples", o->samples, "Points sampled on each surface")->capture_default_str()->check(number_in(1000, 1e7));
+  app->add_option("--max-rms", o->max_rms, "Fail (exit 3) when the RMS error, as a fraction of the diagonal, is larger")->check(number_in(0, 1));
   app->add_option("--precision", o->precision, kPrecisionHelp)->capture_default_str();
   app->add_option("-o,--output", o->out, "Also write the decoded mesh");
   app->add_option("--png", o->png,
@@ -702,7 +703,7 @@ Command add_compare_command(CLI::App& parent) {
                  "diagonal. For comparing any other tool's output (a Draco decode, a decimation) with sdm's.");
   app->add_option("reference", o->reference, "Reference mesh (.obj, .off, .ply, .stl, .glb, .gltf)")->required();
   app->add_option("other", o->other, "Mesh to measure against it")->required();
-  app->add_option("--samples", o->samples, "Points sampled on each surface")->capture_default_str()->check(CLI::Range(1000, 10000000));
+  app->add_option("--samples", o->samples, "Points sampled on each surface")->capture_default_str()->check(number_in(1000, 1e7));
   app->add_flag("--json", o->json, "Print one JSON object");
   add_repair_options(app);
   return {app, [o]() {

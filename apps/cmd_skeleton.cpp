@@ -29,15 +29,16 @@ Command add_skeleton_command(CLI::App& parent) {
       ->check(CLI::IsMember({"auto", "contraction", "medial"}));
   app->add_flag("--uniform", o->uniform, "Contract the proxy with uniform instead of cotangent weights (Au et al.)");
   app->add_option("--prune-radius", o->sk.prune_radius,
-                  "End branches shorter than this multiple of their junction's radius are pruned");
-  app->add_option("--proxy-vertices", o->sk.proxy_max_vertices, "Parts with more vertices are contracted through a remeshed proxy of about this size (0: never)");
-  app->add_option("--laplacian-weight", o->sk.contraction.laplacian_weight, "Initial Laplacian weight of the proxy contraction (relative)");
-  app->add_option("--laplacian-scale", o->sk.contraction.laplacian_scale, "Growth of the proxy Laplacian weight per iteration");
-  app->add_option("--max-iterations", o->sk.contraction.max_iterations, "Most proxy contraction iterations");
+                  "End branches shorter than this multiple of their junction's radius are pruned")
+      ->check(number_in(0, 100));
+  app->add_option("--proxy-vertices", o->sk.proxy_max_vertices, "Parts with more vertices are contracted through a remeshed proxy of about this size (0: never)")->check(number_in(0, 1e7));
+  app->add_option("--laplacian-weight", o->sk.contraction.laplacian_weight, "Initial Laplacian weight of the proxy contraction (relative)")->check(number_above(0, 1e6));
+  app->add_option("--laplacian-scale", o->sk.contraction.laplacian_scale, "Growth of the proxy Laplacian weight per iteration")->check(number_above(1, 100));
+  app->add_option("--max-iterations", o->sk.contraction.max_iterations, "Most proxy contraction iterations")->check(number_in(1, 1000));
   app->add_option("--cot-min", o->sk.contraction.cot_min, "Lower clamp of the proxy's cotangent weights (the upper clamp is 5)")
-      ->check(CLI::Range(-100.0, 4.0));
-  app->add_option("--medial-smoothing", o->sk.medial_smoothing, "Umbrella smoothing steps of the medial poles before their surgery");
-  app->add_option("--sampling-weight", o->sk.sampling_weight, "Weight of the sampling term of the collapse cost");
+      ->check(number_in(-100.0, 4.0));
+  app->add_option("--medial-smoothing", o->sk.medial_smoothing, "Umbrella smoothing steps of the medial poles before their surgery")->check(number_in(0, 1000));
+  app->add_option("--sampling-weight", o->sk.sampling_weight, "Weight of the sampling term of the collapse cost")->check(number_in(0, 1000));
   return {app, [o]() {
             const sdm::Mesh mesh = load_mesh_min_part(o->mesh);
             if (o->uniform) o->sk.contraction = sdm::uniform_contraction();

@@ -50,8 +50,8 @@ Command add_stm_command(CLI::App& parent) {
   app->add_option("--skeleton", o->skeleton,
                   "Use this skeleton (JSON, format sdm-skeleton, made for this mesh) instead of extracting one\n"
                   "with the default options of `sdm skeleton`");
-  app->add_option("--size", o->size, "Atlas width and height in texels")->check(CLI::Range(16, sdm::kMaxImageSide))->capture_default_str();
-  app->add_option("--margin", o->margin, "Texels of margin around every rectangle")->check(CLI::Range(0, 256))->capture_default_str();
+  app->add_option("--size", o->size, "Atlas width and height in texels")->check(number_in(16, sdm::kMaxImageSide))->capture_default_str();
+  app->add_option("--margin", o->margin, "Texels of margin around every rectangle")->check(number_in(0, 256))->capture_default_str();
   app->add_option("--uv-obj", o->uv_obj, "Also write the mesh with its STM coordinates as uv (OBJ; seam vertices duplicated)");
   app->add_option("--atlas-png", o->atlas_png, "Also draw the atlas: rectangles and each segment's triangles in its colour (PNG)");
   add_min_part_option(app, o->min_part);

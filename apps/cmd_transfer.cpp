@@ -431,15 +431,15 @@ void declare_options(CLI::App* app, TransferArgs& o) {
       ->required();
   app->add_option("--sdm", o.sdm, "Displacement map (.exr from 'sdm encode') to decode around --target-skeleton");
   app->add_option("--lod", o.lod, "With --sdm: level of detail of the decode (every base edge cut into 2^L pieces)")
-      ->check(CLI::Range(0, 8))
+      ->check(number_in(0, 8))
       ->capture_default_str();
   app->add_option("--source-skeleton", o.source_skeleton, "Source skeleton (.json from 'sdm skeleton') instead of extracting one");
   app->add_option("--target-skeleton", o.target_skeleton, "Target skeleton (.json from 'sdm skeleton') instead of extracting one");
   app->add_option("--match", o.settings.match,
                   "Force a pair of junction or end nodes to correspond: SOURCE_NODE=TARGET_NODE (skeleton node\n"
                   "indices; repeatable), for symmetric models whose pose does not tell the branches apart");
-  app->add_option("--size", o.settings.size, "Atlas width and height in texels")->check(CLI::Range(16, 16384))->capture_default_str();
-  app->add_option("--margin", o.settings.margin, "Texels of margin around every rectangle")->check(CLI::Range(0, 256))->capture_default_str();
+  app->add_option("--size", o.settings.size, "Atlas width and height in texels")->check(number_in(16, 16384))->capture_default_str();
+  app->add_option("--margin", o.settings.margin, "Texels of margin around every rectangle")->check(number_in(0, 256))->capture_default_str();
   app->add_option("--correspondence", o.correspondence,
                   "Also write, per target vertex, the source face and barycentric coordinates it takes (.txt or .json)");
   app->add_option("--vertex-colors", o.vertex_colors,

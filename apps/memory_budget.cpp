@@ -3,6 +3,7 @@
 #include "libstm/core/errors.h"
 
 #include <cctype>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <unistd.h>
@@ -26,7 +27,7 @@ double memory_budget(const std::string& value) {
   for (auto& c : unit) c = char(std::toupper(static_cast<unsigned char>(c)));
   if (!unit.empty() && unit.back() == 'B') unit.pop_back();
   const double scale = unit.empty() ? 1 : unit == "K" ? 1024.0 : unit == "M" ? 1048576.0 : unit == "G" ? 1073741824.0 : unit == "T" ? 1099511627776.0 : -1;
-  if (end == value.c_str() || scale < 0 || !(x > 0))
+  if (end == value.c_str() || scale < 0 || !(x > 0) || !std::isfinite(x * scale))
     throw InputError("--max-memory " + value + " is not a size (write e.g. 8G, 512M or a number of bytes)");
   return x * scale;
 }

@@ -7,6 +7,7 @@
 #include "libstm/geometry/capsule_ray.h"
 #include "libstm/layout/segments.h"
 #include "libstm/geometry/triangle_bvh.h"
+#include "libstm/geometry/working_origin.h"
 #include "libstm/mesh/collapse_ok.h"
 #include "libstm/mesh/isotropic_remesh.h"
 #include "libstm/mesh/spatial_order.h"
@@ -403,7 +404,18 @@ BaseMesh BaseMeshSource::decimate(const std::vector<char>& keep, const Progress&
     if (!keep.empty() && keep[size_t(v.idx())]) m.status(v).set_locked(true), ++kept;
   }
   const int target = impl_->target_vertices + kept;
+  // The decimater works on the mesh moved near the origin (working_origin.h: far from it the
+  // quadrics' plane offsets cancel), and the vertices it keeps take back their own positions.
+  OpenMesh::VPropHandleT<Mesh::Point> own;
+  m.add_property(own);
+  Eigen::Vector3d lo, hi;
+  bounding_box(m, lo, hi);
+  const Eigen::Vector3d shift = working_origin(lo, hi);
+  const Mesh::Point centre(shift.x(), shift.y(), shift.z());
+  for (auto v : m.vertices()) m.property(own, v) = m.point(v), m.point(v) -= centre;
   if (target < int(m.n_vertices())) decimate_base(m, node, layout.skeleton, target, kMaxBaseEdge * longest_edge(impl_->input), progress);
+  for (auto v : m.vertices()) m.point(v) = m.property(own, v);
+  if (m.has_face_normals()) m.update_face_normals();
   // Segments of the base faces: the skeleton's map restricted to the surviving vertices.
   Skeleton sk = layout.skeleton;
   sk.vertex_node.resize(m.n_vertices());

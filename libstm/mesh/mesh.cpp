@@ -10,6 +10,7 @@
 #include "libstm/mesh/read_plain_text.h"
 #include "libstm/mesh/triangulate_polygon.h"
 #include "libstm/mesh/validate_mesh.h"
+#include "libstm/mesh/write_positions.h"
 
 #include <OpenMesh/Core/IO/MeshIO.hh>
 #include <OpenMesh/Core/IO/importer/BaseImporter.hh>
@@ -530,7 +531,13 @@ void write_mesh(const Mesh& mesh, const std::string& path, const std::string& te
       write_obj(mesh, tmp, path, texture);
       return;
     }
-    OpenMesh::IO::Options opt = ext == ".ply" || ext == ".stl" ? OpenMesh::IO::Options::Binary : OpenMesh::IO::Options::Default;
+    if (ext == ".off" || ext == ".ply") {
+      // OpenMesh's OFF and PLY writers round positions to float (write_positions.h).
+      const std::string bytes = ext == ".off" ? off_text(mesh) : ply_bytes(mesh);
+      write_bytes_checked(tmp, bytes.data(), bytes.size(), path);
+      return;
+    }
+    const OpenMesh::IO::Options opt = OpenMesh::IO::Options::Binary;  // STL
     write_through_openmesh(mesh, tmp, path, ext, opt);
   });
 }

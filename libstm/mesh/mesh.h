@@ -75,8 +75,8 @@ Mesh mesh_from_arrays(const Eigen::MatrixX3d& V, const Eigen::MatrixX3i& F, cons
                       const std::string& what = "the mesh");
 
 // Writes OBJ (with uv and an MTL naming `texture` when the mesh has uv), PLY, OFF, STL or glTF (.glb,
-// .gltf: uv and the PNG `texture` embedded, gltf_io.h), chosen by
-// extension. Written to a temporary name and renamed, so a failure leaves nothing behind.
+// .gltf: uv and the PNG `texture` embedded, gltf_io.h), chosen by extension; OBJ, OFF and PLY keep every
+// double, STL and glTF hold float (write_positions.h). Written atomically: a failure leaves nothing.
 void write_mesh(const Mesh& mesh, const std::string& path, const std::string& texture = "");
 
 // Writes `mesh` as binary PLY with a colour per vertex (`colors`, RGB in [0, 1], clamped and

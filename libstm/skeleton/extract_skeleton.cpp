@@ -6,6 +6,7 @@
 #include "libstm/mesh/fill_holes.h"
 #include "libstm/mesh/inside_mesh.h"
 #include "libstm/geometry/triangle_bvh.h"
+#include "libstm/geometry/working_origin.h"
 #include "libstm/skeleton/choose_candidate.h"
 #include "libstm/skeleton/contraction_proxy.h"
 #include "libstm/skeleton/medial_poles.h"
@@ -243,7 +244,13 @@ Skeleton extract_skeleton(const Mesh& mesh, const SkeletonOptions& opt, const Pr
   Skeleton sk;
   // An open mesh is extracted with its holes filled (the contraction and the inside tests need a
   // closed surface); the patches' vertices then leave the map.
-  const FilledMesh filled = fill_holes(vertex_matrix(mesh), face_matrix(mesh));
+  // The stages work on the model moved near the origin (working_origin.h), the nodes going back to
+  // the input's frame at the end.
+  Eigen::MatrixX3d centred = vertex_matrix(mesh);
+  Eigen::RowVector3d centre = Eigen::RowVector3d::Zero();
+  if (centred.rows()) centre = working_origin(centred.colwise().minCoeff().transpose(), centred.colwise().maxCoeff().transpose()).transpose();
+  centred.rowwise() -= centre;
+  const FilledMesh filled = fill_holes(centred, face_matrix(mesh));
   const Eigen::MatrixX3d& V = filled.V;
   const Eigen::MatrixX3i& F = filled.F;
   st.filled_loops = filled.loops;
@@ -260,7 +267,7 @@ Skeleton extract_skeleton(const Mesh& mesh, const SkeletonOptions& opt, const Pr
     std::vector<int> owner;
     const SkeletonGraph g = ps.choose(owner);
     const int base = int(sk.nodes.size());
-    for (size_t a = 0; a < g.pos.size(); ++a) sk.nodes.push_back(g.pos[a]);
+    for (size_t a = 0; a < g.pos.size(); ++a) sk.nodes.push_back(g.pos[a] + centre.transpose());
     for (size_t v = 0; v < part.global.size(); ++v) sk.vertex_node[part.global[v]] = base + owner[v];
     for (const auto& e : g.edges) sk.edges.push_back({base + e.first, base + e.second});
   }
