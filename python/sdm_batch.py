@@ -187,7 +187,7 @@ def resident_bytes(pid):
     return 0
 
 
-def stop_child(p, grace=3.0):
+def stop_child(p, grace=1.0):
     """Ends the command `p` (its process group): SIGTERM first, so that sdm removes its temporary
     files, SIGKILL after `grace` seconds; returns its (stdout, stderr)."""
     for sig, wait in ((signal.SIGTERM, grace), (signal.SIGKILL, None)):
@@ -570,7 +570,11 @@ def run_batch(inputs, outdir, steps, sdm='sdm', scheduler=None, workers=2, timeo
         close(client, cluster, running)
     if quiet.signum:
         raise Interrupted(quiet.signum)
-    write_summary(rows, outdir)
+    try:
+        write_summary(rows, outdir)
+    except BatchFailure as e:
+        e.rows = rows  # the table can still be printed
+        raise
     return rows
 
 
@@ -622,6 +626,8 @@ def main(argv=None):
         print('sdm batch: %s' % e, file=sys.stderr)
         return 2
     except BatchFailure as e:
+        if getattr(e, 'rows', None):
+            print_table(e.rows)
         print('sdm batch: failed: %s' % e, file=sys.stderr)
         return 1
     except KeyboardInterrupt as e:
