@@ -275,21 +275,22 @@ def full_disk(tmp):
         code, stdout, stderr = batch(model, '-o', out, '--do', 'stm')
         check(code == 0, 'the batch fits the disk (exit %d)' % code)
         before = open(os.path.join(out, 'summary.csv'), 'rb').read()
-        with open(os.path.join(disk, 'filler'), 'wb') as f:
-            try:
+        try:
+            with open(os.path.join(disk, 'filler'), 'wb', buffering=0) as f:
                 while True:
                     f.write(b'\0' * 4096)
-                    f.flush()
-            except OSError:
-                pass
+        except OSError:  # full
+            pass
         code, stdout, stderr = batch(model, '-o', out, '--do', 'stm')
         clean_failure(code, stderr, 1, 'cannot write the summary', 'a full disk at the summary')
         check('skipped (done before)' in stdout, 'the table still printed, the model skipped')
         check(open(os.path.join(out, 'summary.csv'), 'rb').read() == before, 'the old summary kept whole')
-        # roundtrip writes no output: the model finishes, its record does not fit.
-        code, stdout, stderr = batch(model, '-o', out, '--do', 'roundtrip')
+        # roundtrip writes no output: a model new to the folder finishes, its record does not fit.
+        fresh = os.path.join(tmp, 'fresh.obj')
+        shutil.copyfile(model, fresh)
+        code, stdout, stderr = batch(fresh, '-o', out, '--do', 'roundtrip')
         print(stdout + stderr)
-        row = [l for l in stdout.splitlines() if l.startswith('| sp-2 |')]
+        row = [l for l in stdout.splitlines() if l.startswith('| fresh |')]
         check(code == 1 and row and '| ok |' in row[0] and 'could not be written' in row[0] and 'Traceback' not in stderr,
               'a finished model whose record does not fit stays ok, saying so: %s' % row)
         check(not leftovers(disk), 'no temporary file on the full disk: %s' % leftovers(disk))
