@@ -13,6 +13,8 @@
 #include <cstring>
 #include <fcntl.h>
 #include <filesystem>
+#include <fstream>
+#include <iterator>
 #include <string>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -79,6 +81,12 @@ std::vector<std::string> files_in(const fs::path& dir) {
   for (const auto& f : fs::recursive_directory_iterator(dir))
     if (!f.is_directory()) names.push_back(fs::relative(f.path(), dir).string());
   return names;
+}
+
+// The bytes on disk at `path`.
+std::string file_bytes(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  return std::string(std::istreambuf_iterator<char>(in), {});
 }
 
 struct Folders {
@@ -152,8 +160,9 @@ TEST_CASE("An OutputCommit renames every output at once; destroyed uncommitted, 
     sdm::OutputCommit commit;
     sdm::write_text_file(a, "new a");
     sdm::write_text_file(b, "new b");
-    CHECK(sdm::read_text_file(a) == "old a");  // still the old one: nothing renamed before the commit
+    CHECK(file_bytes(a) == "old a");  // still the old one on disk: nothing renamed before the commit
     CHECK_FALSE(fs::exists(b));
+    CHECK(sdm::read_text_file(b) == "new b");  // the command itself reads what it wrote (a glTF embedding its atlas)
     CHECK(files_in(dir.path).size() == 3);  // a and the two temporaries
   }
   CHECK(files_in(dir.path) == std::vector<std::string>{"a.txt"});

@@ -114,6 +114,17 @@ bool defer_rename(int slot, const std::string& tmp, const std::string& target) {
   return true;
 }
 
+// Where the file `path` is now: the temporary of an output the open OutputCommit has not renamed
+// yet (a glTF embedding the atlas written just before), else `path`.
+std::string written_path(const std::string& path) {
+  std::lock_guard<std::mutex> lock(g_temporaries_mutex);
+  if (g_pending.empty()) return path;
+  const fs::path wanted = fs::absolute(path).lexically_normal();
+  for (const Pending& p : g_pending)
+    if (fs::absolute(p.target).lexically_normal() == wanted) return p.tmp;
+  return path;
+}
+
 }  // namespace
 
 void remove_temporaries_on_signal() {
@@ -237,7 +248,7 @@ void write_text_file(const std::string& path, const std::string& text) {
 }
 
 std::string read_text_file(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
+  std::ifstream in(written_path(path), std::ios::binary);
   if (!in) throw InputError("cannot read " + path + ": no such file or not readable");
   std::stringstream ss;
   ss << in.rdbuf();
