@@ -14,6 +14,7 @@
 #include "libstm/mesh/self_intersections.h"
 #include "libstm/render/render_mesh.h"
 #include "libstm/mesh/surface_distance.h"
+#include "libstm/core/atomic_file.h"
 #include "libstm/core/errors.h"
 #include "libstm/core/image.h"
 #include "libstm/core/parallel.h"
@@ -114,19 +115,12 @@ constexpr const char* kPrecisionHelp =
     "from 4 to 11: the residual against the flat base mesh, quantised (the smallest file; docs/BENCHMARKS.md)";
 
 // The bytes of the map as `sdm encode` would write it, and the map as a reader sees it: written to a
-// temporary file next to nothing the user owns, read back, removed.
+// temporary file next to nothing the user owns, read back, removed (also by a signal).
 std::pair<sdm::SdmImage, uintmax_t> through_file(const sdm::SdmImage& im, sdm::SdmPrecision precision) {
   namespace fs = std::filesystem;
-  const fs::path tmp = fs::temp_directory_path() / ("sdm-roundtrip-" + std::to_string(::getpid()) + ".exr");
-  struct Remove {
-    fs::path p;
-    ~Remove() {
-      std::error_code ec;
-      fs::remove(p, ec);
-    }
-  } remove{tmp};
-  sdm::write_sdm_exr(im, tmp.string(), precision);
-  return {sdm::read_sdm_exr(tmp.string()), fs::file_size(tmp)};
+  const sdm::ScratchFile tmp((fs::temp_directory_path() / ("sdm-roundtrip-" + std::to_string(::getpid()) + ".exr")).string());
+  sdm::write_sdm_exr(im, tmp.path(), precision);
+  return {sdm::read_sdm_exr(tmp.path()), fs::file_size(tmp.path())};
 }
 
 std::string point_text(const Eigen::Vector3d& p) {

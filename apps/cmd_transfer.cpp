@@ -234,31 +234,17 @@ std::string correspondence_text(const std::vector<sdm::SourcePoint>& c, bool jso
   return o.str();
 }
 
-// Everything is computed; now the files, each atomically, removed again if a later one fails.
+// Everything is computed; now the files, each to its temporary name: the command's OutputCommit
+// (main.cpp) renames them together once it returns, and removes them if a later one fails.
 void write_outputs(const sdm::TextureTransfer& r, const sdm::Image& preview, const OutputPaths& out,
                    const std::vector<Eigen::Vector3f>& vertex_colors) {
-  std::vector<std::string> written;
-  try {
-    if (!out.correspondence.empty()) {
-      sdm::write_text_file(out.correspondence,
-                           correspondence_text(r.correspondence, std::filesystem::path(out.correspondence).extension() == ".json"));
-      written.push_back(out.correspondence);
-    }
-    if (!out.vertex_colors.empty()) {
-      sdm::write_colored_ply(r.target, vertex_colors, out.vertex_colors);
-      written.push_back(out.vertex_colors);
-    }
-    sdm::write_png(r.atlas, out.atlas);
-    written.push_back(out.atlas);
-    sdm::write_png(preview, out.preview);
-    written.push_back(out.preview);
-    written.push_back(out.mtl);
-    sdm::write_mesh(r.target, out.mesh, std::filesystem::absolute(out.atlas).string());
-  } catch (...) {
-    std::error_code ec;
-    for (const auto& f : written) std::filesystem::remove(f, ec);
-    throw;
-  }
+  if (!out.correspondence.empty())
+    sdm::write_text_file(out.correspondence,
+                         correspondence_text(r.correspondence, std::filesystem::path(out.correspondence).extension() == ".json"));
+  if (!out.vertex_colors.empty()) sdm::write_colored_ply(r.target, vertex_colors, out.vertex_colors);
+  sdm::write_png(r.atlas, out.atlas);
+  sdm::write_png(preview, out.preview);
+  sdm::write_mesh(r.target, out.mesh, std::filesystem::absolute(out.atlas).string());
 }
 
 // x, or null when it is not finite (a stage that was not tried).

@@ -83,7 +83,7 @@ int main(int argc, char** argv) {
     std::cerr << "sdm: failed: " << e.what() << std::endl;
     return 1;
   }
-  // An interrupted write leaves no hidden temporary file behind (atomic_file.h).
+  // An interrupted command leaves no temporary file behind (atomic_file.h).
   sdm::remove_temporaries_on_signal();
   try {
     app.parse(argc, argv);
@@ -96,7 +96,11 @@ int main(int argc, char** argv) {
     try {
       sdm::cli::check_output_paths(*c.app);
       outputs = sdm::cli::record_outputs(*c.app);
-      return c.run();
+      // Every output of the command appears when it returns, together; none when it fails or a signal ends it.
+      sdm::OutputCommit commit;
+      const int code = c.run();
+      commit.commit();
+      return code;
     } catch (const sdm::InputError& e) {
       sdm::cli::remove_written_outputs(outputs);  // a failed run leaves none of its outputs
       std::cerr << "sdm " << c.app->get_name() << ": error: " << e.what() << std::endl;

@@ -22,10 +22,47 @@ void write_text_file(const std::string& path, const std::string& text);
 // or `path` when it is empty.
 void write_bytes_checked(const std::string& path, const void* data, size_t size, const std::string& name = "");
 
-// Installs SIGINT, SIGTERM and SIGHUP handlers that remove the temporary files write_atomically
-// has open, then die of the signal as before (the exit status still says which signal). Called
-// once by the program, not by the libraries. SIGKILL cannot be caught: its temporary stays.
+// Installs SIGINT, SIGTERM, SIGHUP and SIGPIPE handlers that remove the registered temporary files
+// (those write_atomically has open, an OutputCommit's, ScratchFiles), then die of the signal as
+// before (the exit status still says which signal), and removes them at exit() too. A signal the
+// program was started with ignored (nohup, a batch's workers) stays ignored. Called once by the
+// program, not by the libraries. SIGKILL cannot be caught: its temporaries stay.
 void remove_temporaries_on_signal();
+
+// The outputs of one run, all of them or none (DESIGN 6): while an OutputCommit is open, every
+// write_atomically leaves its file under its temporary name (registered, so a signal removes it)
+// and commit() renames them all, with the signals of remove_temporaries_on_signal held back until
+// the last rename is done. Destroyed uncommitted (an exception, a failed command), it removes the
+// temporaries: the targets stay as they were. One at a time (std::logic_error otherwise).
+class OutputCommit {
+ public:
+  OutputCommit();
+  ~OutputCommit();
+  OutputCommit(const OutputCommit&) = delete;
+  OutputCommit& operator=(const OutputCommit&) = delete;
+  // Renames every temporary to its target, in the order written. A rename that fails removes the
+  // targets already renamed and the other temporaries and throws std::runtime_error naming it.
+  void commit();
+
+ private:
+  bool done_ = false;
+};
+
+// A file of the program's own, not an output (a map written only to be read back): registered
+// so that a signal or exit() removes it, removed by the destructor, and written at once by
+// write_atomically even while an OutputCommit is open.
+class ScratchFile {
+ public:
+  explicit ScratchFile(std::string path);
+  ~ScratchFile();
+  ScratchFile(const ScratchFile&) = delete;
+  ScratchFile& operator=(const ScratchFile&) = delete;
+  const std::string& path() const { return path_; }
+
+ private:
+  std::string path_;
+  int slot_ = -1;
+};
 
 // Reads a whole file; throws InputError naming the path when it cannot be read.
 std::string read_text_file(const std::string& path);
