@@ -6,6 +6,7 @@ include(CMakePackageConfigHelpers)
 install(TARGETS sdm RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
 install(TARGETS sdm-full RUNTIME DESTINATION ${CMAKE_INSTALL_LIBEXECDIR}/sdm)
 install(PROGRAMS ${PROJECT_SOURCE_DIR}/python/sdm_batch.py DESTINATION ${CMAKE_INSTALL_DATADIR}/sdm)
+install(FILES ${PROJECT_SOURCE_DIR}/python/sdm_batch_report.py DESTINATION ${CMAKE_INSTALL_DATADIR}/sdm)
 install(TARGETS sdm_core sdm_render sdm_transfer sdm_maps sdm_stm sdm_all osd_cpu EXPORT sdmTargets
         ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR}
         INCLUDES DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/sdm)

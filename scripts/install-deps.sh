@@ -1,8 +1,8 @@
 #!/usr/bin/env bash
 # Installs the Debian 12 packages sdm needs, and only those that are missing.
 # Idempotent: a second run installs nothing and does not touch the network.
-# `--tests` adds what only the tests use (Blender for the add-on's test: 535 MB installed), so
-# `make demo` does not fetch it; `make test` passes it.
+# `--tests` adds what only the tests use (Blender for the add-on's test: 535 MB installed; Chromium
+# for the batch report's), so `make demo` does not fetch them; `make test` passes it.
 set -euo pipefail
 
 PACKAGES=(
@@ -16,6 +16,7 @@ PACKAGES=(
 if [ "${1:-}" = "--tests" ]; then
   PACKAGES+=(
     blender  # the Blender add-on's test (tests/blender): about 80 MB to fetch, 535 MB installed
+    chromium  # the batch report's test (tests/python/test_batch_report.py) opens the page headless
   )
 fi
 
