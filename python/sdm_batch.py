@@ -13,7 +13,8 @@ task that finishes writes OUTDIR/NAME/batch.json last, with the size and SHA-256
 of a transfer's source), and a later run skips every model whose batch.json says it finished the
 same steps on the same content and whose outputs are all there; a model whose file changed runs
 again. At the end: OUTDIR/summary.csv and OUTDIR/summary.json, one row per model (status, exit
-code, error, seconds, the commands' figures).
+code, error, seconds, the commands' figures); with --report also OUTDIR/report.html, one
+self-contained page to look at them: a row per model with its pictures, sortable by any column.
 
 Steps (--do, comma-separated, in this order for each model):
   skeleton            sdm skeleton MODEL -o NAME.skeleton.json
@@ -612,7 +613,22 @@ def arguments():
     ap.add_argument('--max-memory', default='', help="resident memory a model's command may use (e.g. 8G); above it the model is killed")
     ap.add_argument('--sdm', default=os.environ.get('SDM_BINARY', 'sdm'), help='the sdm program to run (default: sdm on PATH)')
     ap.add_argument('--json', action='store_true', help='print the summary as JSON instead of a table')
+    ap.add_argument('--report', action='store_true',
+                    help='also write OUTDIR/report.html: a self-contained page with a row per model (status, reason, '
+                         'figures, pictures of the model, its skeleton and its STM checker), sortable by any column')
+    ap.add_argument('--up', default='', help="the models' up axis for the report's pictures (x, y, z, -x, -y, -z; default: "
+                                              "as sdm render decides)")
     return ap
+
+
+def write_report(a, rows):
+    """OUTDIR/report.html for `rows` (--report); its path, or raises BatchFailure."""
+    import sdm_batch_report  # beside this file
+    try:
+        return sdm_batch_report.write_report(rows, find_models(a.inputs), a.output, a.sdm, (STATUS_OK, STATUS_SKIPPED),
+                                             up=a.up, workers=a.workers)
+    except OSError as e:
+        raise BatchFailure('cannot write the report %s: %s' % (shown(os.path.join(a.output, 'report.html')), e.strerror or e))
 
 
 def raise_interrupted(signum, frame):
@@ -629,14 +645,19 @@ def main(argv=None):
         signal.signal(sig, raise_interrupted)
     try:
         a = arguments().parse_args(argv)
+        if a.up and a.up.lstrip('+-') not in ('x', 'y', 'z'):
+            raise BatchError("--up '%s' is not an axis: give x, y, z, -x, -y or -z" % a.up)
         rows = run_batch(a.inputs, a.output, a.do, sdm=a.sdm, scheduler=a.scheduler, workers=a.workers, timeout=a.timeout,
                          max_memory=a.max_memory, progress=True)
+        report = write_report(a, rows) if a.report else None
         if a.json:
             json.dump(json.load(open(os.path.join(a.output, 'summary.json'), encoding='utf-8')), sys.stdout, indent=1)
             print()
         else:
             print_table(rows)
             print('summary: %s, %s' % (shown(os.path.join(a.output, 'summary.csv')), shown(os.path.join(a.output, 'summary.json'))))
+            if report:
+                print('report: %s' % shown(report))
         return 0 if all(r['status'] in (STATUS_OK, STATUS_SKIPPED) for r in rows) else 1
     except BatchError as e:
         print('sdm batch: %s' % e, file=sys.stderr)
