@@ -104,7 +104,9 @@ Mesh load_mesh_min_part(const std::string& path, double min_part, bool fill) { r
 
 void print_json(nlohmann::json j) {
   if (j.is_object() && !repairs_seen().empty()) j["repair"] = repairs_seen();
-  std::cout << j.dump(2) << std::endl;
+  // A path that is not UTF-8 (a file name in Latin-1) is printed with U+FFFD where its bytes are not
+  // text; the strict dump threw after the command's work, and the run failed with its outputs removed.
+  std::cout << j.dump(2, ' ', false, nlohmann::json::error_handler_t::replace) << std::endl;
 }
 
 void add_fill_holes_option(CLI::App* app, bool& value) {

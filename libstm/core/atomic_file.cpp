@@ -1,6 +1,8 @@
 #include "libstm/core/atomic_file.h"
 
 #include "libstm/core/errors.h"
+#include "libstm/core/input_file.h"
+#include "libstm/core/limits.h"
 
 #include <array>
 #include <cerrno>
@@ -8,9 +10,7 @@
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
-#include <fstream>
 #include <mutex>
-#include <sstream>
 #include <unistd.h>
 
 namespace fs = std::filesystem;
@@ -105,11 +105,7 @@ void write_text_file(const std::string& path, const std::string& text) {
 }
 
 std::string read_text_file(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError("cannot read " + path + ": no such file or not readable");
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
+  return read_input_file(path, "file", kMaxMeshFileBytes);
 }
 
 }  // namespace sdm

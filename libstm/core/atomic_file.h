@@ -27,7 +27,8 @@ void write_bytes_checked(const std::string& path, const void* data, size_t size,
 // once by the program, not by the libraries. SIGKILL cannot be caught: its temporary stays.
 void remove_temporaries_on_signal();
 
-// Reads a whole file; throws InputError naming the path when it cannot be read.
+// Reads a whole regular file (read_input_file, within kMaxMeshFileBytes); throws InputError naming
+// the path when it cannot be read.
 std::string read_text_file(const std::string& path);
 
 }  // namespace sdm
