@@ -68,14 +68,14 @@ std::vector<fs::path> libraries(const std::string& rest, const fs::path& dir) {
   std::replace(name.begin(), name.end(), '\\', '/');
   std::error_code ec;
   if (name.empty()) return {};
-  if (fs::exists(dir / name, ec)) return {dir / name};
+  if (fs::exists(dir / name, ec)) return {(dir / name).lexically_normal()};
   std::vector<fs::path> out;
   size_t at = 0;
   while (at < name.size()) {
     while (at < name.size() && blank(name[at])) ++at;
     size_t end = at;
     while (end < name.size() && !blank(name[end])) ++end;
-    if (end > at) out.push_back(dir / name.substr(at, end - at));
+    if (end > at) out.push_back((dir / name.substr(at, end - at)).lexically_normal());
     at = end;
   }
   return out;
