@@ -52,9 +52,9 @@ void expect_refused(const test_util::RunResult& r, const std::string& message) {
 // The JSON object that starts a line of its own in the output (--json).
 nlohmann::json json_of(const test_util::RunResult& r) {
   INFO(r.output);
-  const size_t at = r.output.rfind("{\n");
-  REQUIRE(at != std::string::npos);
-  return nlohmann::json::parse(r.output.substr(at));
+  const size_t at = r.output.rfind("\n{\n");
+  REQUIRE((r.output.rfind("{\n", 0) == 0 || at != std::string::npos));
+  return nlohmann::json::parse(at == std::string::npos ? r.output : r.output.substr(at + 1));
 }
 
 const std::string kTetraPoints = "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\n";
