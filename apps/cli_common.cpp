@@ -109,7 +109,8 @@ Mesh load_mesh_min_part(const std::string& path, double min_part, bool fill) { r
 
 void print_json(nlohmann::json j) {
   if (j.is_object() && !repairs_seen().empty()) j["repair"] = repairs_seen();
-  // A path that is not UTF-8 (a file name in Latin-1) prints with U+FFFD where its bytes do not decode.
+  // A path that is not UTF-8 (a file name in Latin-1) is printed with U+FFFD where its bytes are not
+  // text; the strict dump threw after the command's work, and the run failed with its outputs removed.
   std::cout << j.dump(2, ' ', false, nlohmann::json::error_handler_t::replace) << std::endl;
 }
 

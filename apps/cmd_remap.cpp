@@ -51,7 +51,7 @@ Command add_remap_command(CLI::App& parent) {
               throw sdm::InputError("'" + o->mesh + "' names no texture in its material: pass --texture TEX.png");
             if (!mesh.has_halfedge_texcoords2D())
               throw sdm::InputError("'" + o->mesh + "' has no texture coordinates, so its texture cannot be remapped");
-            const sdm::Image source = sdm::read_png(texture_path);
+            const sdm::Image source = sdm::read_png(texture_path, image_budget(o->max_memory, texture_path));
             LayoutSource from;
             from.layout_file = o->layout;
             from.options.size = o->size;

@@ -227,7 +227,7 @@ int run_render(const RenderArgs& o) {
   if (!texture_path.empty()) {
     if (!mesh.has_halfedge_texcoords2D())
       throw sdm::InputError("'" + o.mesh + "' has no texture coordinates, so texture '" + texture_path + "' cannot be applied");
-    texture = texture_path == kEmbeddedTexture ? std::move(embedded) : sdm::read_png(texture_path);
+    texture = texture_path == kEmbeddedTexture ? std::move(embedded) : sdm::read_png(texture_path, image_budget(o.max_memory, texture_path));
   }
   check_render_flags(o, texture_path);
   const bool from_stm = !o.stm.empty() || o.checker;
@@ -235,7 +235,7 @@ int run_render(const RenderArgs& o) {
   sdm::Image atlas;
   if (from_stm) {
     layout = sdm::read_layout_json(o.layout);
-    atlas = o.checker ? sdm::checker_atlas(layout, std::max(4, layout.size / 64)) : sdm::read_png(o.stm);
+    atlas = o.checker ? sdm::checker_atlas(layout, std::max(4, layout.size / 64)) : sdm::read_png(o.stm, image_budget(o.max_memory, o.stm));
   }
   sdm::GlContext gl;
   progress("GL renderer: " + gl.renderer() + " (" + gl.version() + ", " + gl.platform() + ")");

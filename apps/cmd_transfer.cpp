@@ -138,7 +138,7 @@ TransferInputs read_inputs(const TransferArgs& o) {
       throw sdm::InputError("'" + o.source + "' names no texture in its material and has no vertex colours: pass --texture TEX.png");
     if (!in.source.has_halfedge_texcoords2D())
       throw sdm::InputError("'" + o.source + "' has no texture coordinates (nor vertex colours), so its texture cannot be transferred");
-    in.texture = sdm::read_png(in.texture_path);
+    in.texture = sdm::read_png(in.texture_path, image_budget(o.max_memory, in.texture_path));
   } else {
     in.texture_path.clear();
   }

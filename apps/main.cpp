@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <iostream>
 #include <iterator>
+#include <new>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -58,6 +59,14 @@ std::vector<sdm::cli::Command> set_up_commands(CLI::App& app, int argc, char** a
   return commands;
 }
 
+// A few words on an internal error, without its library's message.
+const char* internal_kind(const std::exception& e) {
+  if (dynamic_cast<const std::length_error*>(&e)) return "a size beyond what a container holds";
+  if (dynamic_cast<const std::out_of_range*>(&e)) return "an index out of range";
+  if (dynamic_cast<const std::logic_error*>(&e)) return "a broken assumption";
+  return "an unexpected exception";
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -105,9 +114,26 @@ int main(int argc, char** argv) {
       sdm::cli::remove_written_outputs(outputs);  // a failed run leaves none of its outputs
       std::cerr << "sdm " << c.app->get_name() << ": error: " << e.what() << std::endl;
       return 2;
-    } catch (const std::exception& e) {
+    } catch (const std::bad_alloc&) {
+      sdm::cli::remove_written_outputs(outputs);
+      std::cerr << "sdm " << c.app->get_name() << ": failed: out of memory (the input needs more than this machine has; "
+                << "a smaller input, or a machine with more memory)" << std::endl;
+      return 1;
+    } catch (const std::runtime_error& e) {
+      // The project's own failures (a write that failed, a GL context that could not be made).
       sdm::cli::remove_written_outputs(outputs);
       std::cerr << "sdm " << c.app->get_name() << ": failed: " << e.what() << std::endl;
+      return 1;
+    } catch (const std::exception& e) {
+      // A library's internal error (a JSON type error, a length error, an index out of range): its
+      // text names the library's internals, not the input, so the user reads a sentence instead.
+      sdm::cli::remove_written_outputs(outputs);
+      std::cerr << "sdm " << c.app->get_name() << ": failed: an internal error stopped the command (" << internal_kind(e)
+                << "); please report it with the command line and the input" << std::endl;
+      return 1;
+    } catch (...) {
+      sdm::cli::remove_written_outputs(outputs);
+      std::cerr << "sdm " << c.app->get_name() << ": failed: an unknown internal error stopped the command" << std::endl;
       return 1;
     }
   }

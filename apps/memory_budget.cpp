@@ -47,6 +47,13 @@ void check_memory(double estimate, const std::string& max_memory, const std::str
                    ", or raise --max-memory");
 }
 
+sdm::ImageBudget image_budget(const std::string& max_memory, const std::string& path) {
+  return [max_memory, path](double bytes, int width, int height) {
+    check_memory(bytes, max_memory, "decoding image " + path + " (" + std::to_string(width) + " x " + std::to_string(height) + " pixels)",
+                 "use a smaller image");
+  };
+}
+
 void check_atlas_memory(int size, double bytes_per_texel, const std::string& max_memory) {
   check_memory(bytes_per_texel * double(size) * double(size), max_memory, "an atlas of " + std::to_string(size) + "^2 texels",
                "use a smaller --size");

@@ -2,6 +2,8 @@
 // The memory budget: a command estimates what its options will allocate (decode's
 // --lod, an atlas's --size, render's --width/--height/--views) and refuses beyond the budget up
 // front, naming the estimate, instead of growing until the machine kills it.
+#include "libstm/core/image.h"
+
 #include <CLI/CLI.hpp>
 #include <string>
 
@@ -25,5 +27,9 @@ void check_memory(double estimate, const std::string& max_memory, const std::str
 // (encode at 4096: 0.15 GB; stm --atlas-png at 4096: 0.15 GB), 60 where the GL draws the atlas
 // (remap, texture transfer: framebuffer attachments and read-back, as for render).
 void check_atlas_memory(int size, double bytes_per_texel, const std::string& max_memory);
+
+// The budget read_png asks before decoding the image `path` (a texture, an --stm atlas): its
+// decoding's bytes (decode_image_bytes, from the image's header) within --max-memory.
+sdm::ImageBudget image_budget(const std::string& max_memory, const std::string& path);
 
 }  // namespace sdm::cli

@@ -5,13 +5,13 @@
 # time on FUZZ_JOBS processes. The corpus grows in build-fuzz/corpus/; a crash, a sanitizer report,
 # a leak, a hang (-timeout) or an allocation over -malloc_limit_mb stops the target with its input
 # saved in build-fuzz/findings/ and fails the script. Prints a table: executions, rate, corpus.
-# FUZZ_TARGETS picks targets (default: all nine).
+# FUZZ_TARGETS picks targets (default: all eleven).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 SECONDS_PER_TARGET="${FUZZ_SECONDS:-60}"
 JOBS="${FUZZ_JOBS:-1}"
 BUILD="${FUZZ_BUILD:-build-fuzz}"
-TARGETS="${FUZZ_TARGETS:-fuzz_mesh_obj fuzz_mesh_off fuzz_mesh_ply fuzz_mesh_stl fuzz_mesh_glb fuzz_mesh_gltf fuzz_skeleton_json fuzz_layout_json fuzz_sdm_exr}"
+TARGETS="${FUZZ_TARGETS:-fuzz_mesh_obj fuzz_mesh_off fuzz_mesh_ply fuzz_mesh_stl fuzz_mesh_glb fuzz_mesh_gltf fuzz_skeleton_json fuzz_layout_json fuzz_mtl fuzz_ply_header fuzz_sdm_exr}"
 
 if ! command -v clang++ >/dev/null || ! ls /usr/lib/llvm-*/lib/clang/*/lib/linux/libclang_rt.fuzzer-x86_64.a >/dev/null 2>&1; then
   echo "fuzz: installing clang (libFuzzer)" >&2

@@ -11,6 +11,7 @@
 #include "libstm/core/errors.h"
 #include "libstm/layout/layout.h"
 #include "libstm/mesh/mesh.h"
+#include "libstm/mesh/obj_material.h"
 #include "libstm/mesh/primitives.h"
 #include "libstm/skeleton/extract_skeleton.h"
 #include "tests/test_util.h"
@@ -121,6 +122,8 @@ TEST_CASE("Mutated mesh files are accepted or refused with InputError, never any
       {"obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nvt 0 0\nvt 1 0\nvt 0 1\nf 1/1 3/3 2/2\nf 1/1 2/2 4/3\nf 1/1 4/3 3/2\nf 2/2 3/3 4/1\n"},
       {"ply", "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\nproperty float z\nelement face 4\n"
               "property list uchar int vertex_indices\nend_header\n" + pts + "3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\n"},
+      {"ply", "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\nproperty float z\nelement face 4\n"
+              "property list uint ushort vertex_indices\nend_header\n" + pts + "3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\n"},
       {"stl", "solid t\nfacet normal 0 0 0\nouter loop\nvertex 0 0 0\nvertex 0 1 0\nvertex 1 0 0\nendloop\nendfacet\n"
               "facet normal 0 0 0\nouter loop\nvertex 0 0 0\nvertex 1 0 0\nvertex 0 0 1\nendloop\nendfacet\n"
               "facet normal 0 0 0\nouter loop\nvertex 0 0 0\nvertex 0 0 1\nvertex 0 1 0\nendloop\nendfacet\n"
@@ -136,6 +139,18 @@ TEST_CASE("Mutated mesh files are accepted or refused with InputError, never any
       test_util::write_file(path, mutate_text(seed, rng));
       expect_no_failure(ext, i, [&] { load_mesh(path); });
     }
+  }
+}
+
+TEST_CASE("Mutated material libraries are accepted or refused with InputError", "[hostile][fuzz]") {
+  test_util::TempDir dir;
+  const std::string seed = "newmtl a\nKd 1 1 1\nmap_Kd -s 1 1 1 -o 0 0 0 -bm 1 -clamp on a.png\nnewmtl b\nmap_Kd textures\\b.png\n";
+  const std::string obj = "mtllib m.mtl\nusemtl a\nf 1 2 3\nusemtl b\nf 1 2 3\nf 1 3 2\n";
+  const MemoryCap cap;
+  std::mt19937 rng(16);
+  for (int i = 0; i < iterations(); ++i) {
+    test_util::write_file(dir / "m.mtl", mutate_text(seed, rng));
+    expect_no_failure("mtl", i, [&] { obj_texture(obj, dir / "m.obj"); });
   }
 }
 

@@ -4,6 +4,7 @@
 
 #include "libstm/core/atomic_file.h"
 #include "libstm/core/errors.h"
+#include "libstm/core/input_file.h"
 #include "libstm/core/limits.h"
 
 #include <OpenEXR/ImfChannelList.h>
@@ -306,7 +307,7 @@ SdmImage as_stored(SdmImage im, SdmPrecision precision) {
 }
 
 SdmImage read_sdm_exr(const std::string& path) {
-  if (!std::filesystem::exists(path)) throw InputError("cannot read SDM " + path + ": no such file");
+  check_input_file(path, "SDM");  // missing, a folder, a named pipe or a device: refused before anything opens it
   if (!Imf::isOpenExrFile(path.c_str()))
     throw InputError("cannot read SDM " + path + ": not an OpenEXR file (write one with 'sdm encode')");
   check_exr_header(path);

@@ -1,6 +1,8 @@
 #include "libstm/core/atomic_file.h"
 
 #include "libstm/core/errors.h"
+#include "libstm/core/input_file.h"
+#include "libstm/core/limits.h"
 
 #include <array>
 #include <atomic>
@@ -10,7 +12,6 @@
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
-#include <fstream>
 #include <mutex>
 #include <set>
 #include <sstream>
@@ -248,11 +249,7 @@ void write_text_file(const std::string& path, const std::string& text) {
 }
 
 std::string read_text_file(const std::string& path) {
-  std::ifstream in(written_path(path), std::ios::binary);
-  if (!in) throw InputError("cannot read " + path + ": no such file or not readable");
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
+  return read_input_file(written_path(path), "file", kMaxMeshFileBytes);
 }
 
 }  // namespace sdm

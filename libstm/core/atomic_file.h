@@ -64,7 +64,8 @@ class ScratchFile {
   int slot_ = -1;
 };
 
-// Reads a whole file; throws InputError naming the path when it cannot be read.
+// Reads a whole regular file (read_input_file, within kMaxMeshFileBytes); throws InputError naming
+// the path when it cannot be read.
 std::string read_text_file(const std::string& path);
 
 }  // namespace sdm

@@ -2,31 +2,69 @@
 
 #include "libstm/core/atomic_file.h"
 #include "libstm/core/errors.h"
+#include "libstm/core/input_file.h"
 #include "libstm/core/limits.h"
 
 #include <png.h>
 #include <stb_image.h>
 
 #include <algorithm>
+#include <climits>
+#include <cstring>
 #include <cmath>
 #include <limits>
 #include <stdexcept>
 
 namespace sdm {
 
-Image read_png(const std::string& path) {
-  int w = 0, h = 0, n = 0;
+double decode_image_bytes(int width, int height, size_t file_bytes) { return double(file_bytes) + 12.0 * double(width) * double(height); }
+
+namespace {
+
+// Refuses a PNG chunk that runs past the bytes: stb sizes its buffer by a chunk's stated length
+// before reading it (a 2.4 KB image said 2 GB).
+void check_png_chunks(const unsigned char* bytes, size_t size, const std::string& what) {
+  for (size_t at = 8;;) {
+    if (size - at < 12) throw InputError(what + ": the PNG is cut short (no IEND chunk)");
+    const size_t length = size_t(bytes[at]) << 24 | size_t(bytes[at + 1]) << 16 | size_t(bytes[at + 2]) << 8 | bytes[at + 3];
+    if (length > size - at - 12) throw InputError(what + ": a chunk of the PNG runs past the file's bytes");
+    if (std::memcmp(bytes + at + 4, "IEND", 4) == 0) return;
+    at += 12 + length;
+  }
+}
+
+}  // namespace
+
+Image decode_image(const unsigned char* bytes, size_t size, const std::string& what, const ImageBudget& budget) {
+  const bool png = size >= 8 && std::memcmp(bytes, "\x89PNG\r\n\x1a\n", 8) == 0;
+  const bool jpeg = size >= 3 && bytes[0] == 0xFF && bytes[1] == 0xD8 && bytes[2] == 0xFF;
+  if (png) check_png_chunks(bytes, size, what);
+  int w = 0, h = 0, c = 0;
+  if (size == 0 || size > size_t(INT_MAX) || !stbi_info_from_memory(bytes, int(size), &w, &h, &c)) {
+    const char* why = stbi_failure_reason();
+    throw InputError(what + ": not an image this reader takes (" + (why ? why : "unknown format") + "; PNG or JPEG)");
+  }
+  // Pixels per byte of file at most: deflate's 1032:1 on one bit a pixel; JPEG a bit per 8x8 block.
+  const double per_byte = jpeg ? 1024.0 : 8256.0;
+  if (w < 1 || h < 1 || w > kMaxImageSide || h > kMaxImageSide || double(w) * double(h) > per_byte * double(size) + double(1 << 20))
+    throw InputError(what + ": its header claims " + std::to_string(w) + " x " + std::to_string(h) + " pixels in " +
+                     std::to_string(size) + " bytes (at most " + std::to_string(kMaxImageSide) + " a side, and what the bytes can hold)");
+  if (budget) budget(decode_image_bytes(w, h, size), w, h);
   // Forcing 4 channels gives every caller the same RGBA8 layout whatever the file stores.
-  stbi_uc* data = stbi_load(path.c_str(), &w, &h, &n, 4);
+  stbi_uc* data = stbi_load_from_memory(bytes, int(size), &w, &h, &c, 4);
   if (!data) {
     const char* why = stbi_failure_reason();
-    throw InputError("cannot read image '" + path + "': " + (why ? why : "unknown error") +
-                     " (expected a readable PNG file)");
+    throw InputError(what + ": the image cannot be decoded (" + (why ? why : "unknown error") + ")");
   }
   Image img(w, h, 4);
-  std::copy(data, data + size_t(w) * h * 4, img.pixels.begin());
+  std::memcpy(img.pixels.data(), data, img.pixels.size());
   stbi_image_free(data);
   return img;
+}
+
+Image read_png(const std::string& path, const ImageBudget& budget) {
+  const std::string bytes = read_input_file(path, "image", kMaxImageFileBytes);
+  return decode_image(reinterpret_cast<const unsigned char*>(bytes.data()), bytes.size(), "image " + path, budget);
 }
 
 namespace {

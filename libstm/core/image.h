@@ -1,6 +1,8 @@
 #pragma once
 // 8-bit and float images, PNG in/out, and image comparison (PSNR) for render-based checks.
+#include <cstddef>
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -29,9 +31,25 @@ struct FloatImage {
   const float* at(int x, int y) const { return &pixels[(size_t(y) * width + x) * channels]; }
 };
 
-// Reads any PNG (grey, grey+alpha, RGB, RGBA; 8 or 16 bit) as RGBA8, so callers see one layout.
-// Throws InputError naming the file when it is missing or not a readable PNG.
-Image read_png(const std::string& path);
+// Called with the bytes an image's decoding will take (decode_image_bytes) once its header is read
+// and before any pixel is decoded; throws to refuse (the commands check their --max-memory).
+using ImageBudget = std::function<void(double bytes, int width, int height)>;
+
+// Bytes decoding a width x height image of `file_bytes` takes at its peak: the file, stb's
+// decoded pixels (up to 16-bit RGBA, 8 bytes a pixel) and the RGBA8 copy (4).
+double decode_image_bytes(int width, int height, size_t file_bytes);
+
+// Decodes an image file's bytes (PNG, JPEG or another format stb_image reads; grey, grey+alpha,
+// RGB, RGBA; 8 or 16 bit) to RGBA8, after its header: at most kMaxImageSide a side, no more pixels
+// than its bytes can hold (deflate's 1032:1 at one bit a pixel for PNG and the others, a bit for
+// each 8x8 block for JPEG), every PNG chunk within the bytes, and `budget` (when given) asked
+// before decoding. Throws InputError starting with `what` ("texture t.png") naming the problem.
+Image decode_image(const unsigned char* bytes, size_t size, const std::string& what, const ImageBudget& budget = {});
+
+// Reads an image file (read_input_file: a regular file, within kMaxImageFileBytes) through
+// decode_image, so callers see one layout. Throws InputError naming the file when it is missing,
+// not a regular file, not a readable image, or refused by the checks or the budget.
+Image read_png(const std::string& path, const ImageBudget& budget = {});
 
 // Writes 1 to 4 channels as PNG, atomically (temporary name, then rename).
 // Throws std::runtime_error when the image is inconsistent or the file cannot be written.

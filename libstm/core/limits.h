@@ -2,6 +2,7 @@
 // The limits every reader and command enforces, in one place, so that a companion file (layout,
 // skeleton, SDM header) cannot ask for more than the command line would accept (DESIGN 6).
 #include <cfloat>
+#include <cstdint>
 
 namespace sdm {
 
@@ -11,5 +12,14 @@ constexpr int kMaxImageSide = 16384;
 // Largest coordinate magnitude accepted in a mesh or skeleton: mesh readers parse single
 // precision, so a coordinate beyond the float range cannot be represented faithfully.
 constexpr double kMaxCoordinate = double(FLT_MAX);
+
+// Largest files the readers take, checked on the file's size before its first byte is read
+// (input_file.h): a mesh or a glTF buffer (read whole; 8 GB is a mesh of some 200 million
+// triangles), a companion JSON (layout, skeleton: parsed into a tree of about ten times its text),
+// a material library (MTL) and an image (stb_image decodes from memory with an int length).
+constexpr std::uint64_t kMaxMeshFileBytes = std::uint64_t(8) << 30;
+constexpr std::uint64_t kMaxJsonFileBytes = std::uint64_t(512) << 20;
+constexpr std::uint64_t kMaxMaterialFileBytes = std::uint64_t(64) << 20;
+constexpr std::uint64_t kMaxImageFileBytes = (std::uint64_t(1) << 31) - 1;
 
 }  // namespace sdm

@@ -2,6 +2,7 @@
 
 #include "libstm/core/atomic_file.h"
 #include "libstm/core/errors.h"
+#include "libstm/core/input_file.h"
 #include "libstm/core/json_int.h"
 #include "libstm/core/limits.h"
 #include "libstm/geometry/differential_geometry.h"
@@ -295,7 +296,7 @@ Layout layout_from_json(const nlohmann::json& j) {
 void write_layout_json(const Layout& L, const std::string& path) { write_text_file(path, layout_to_json(L).dump(1) + "\n"); }
 
 Layout read_layout_json(const std::string& path) {
-  const nlohmann::json j = nlohmann::json::parse(read_text_file(path), nullptr, false);
+  const nlohmann::json j = nlohmann::json::parse(read_input_file(path, "layout", kMaxJsonFileBytes), nullptr, false);
   if (j.is_discarded()) throw InputError("cannot read layout " + path + ": not JSON");
   try {
     return layout_from_json(j);

@@ -2,6 +2,7 @@
 
 #include "libstm/core/errors.h"
 #include "libstm/core/limits.h"
+#include "libstm/mesh/text_lines.h"
 
 #include <algorithm>
 #include <cerrno>
@@ -9,7 +10,6 @@
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
-#include <fstream>
 #include <regex>
 #include <sstream>
 #include <vector>
@@ -27,14 +27,14 @@ namespace {
 // Lines of a text file with their numbers; `comments` strips '#' to the end of the line.
 struct Lines {
   std::string path;
-  std::ifstream in;
+  TextLines in;
   long number = 0;
   bool comments = false;
-  explicit Lines(const std::string& p) : path(p), in(p, std::ios::binary) {}
+  Lines(const std::string& p, const std::string& text) : path(p), in(text) {}
   // The next line, or false at the end. A NUL byte is refused: the readers split lines at it
   // differently than these checks would (a face 'f \0 /1 2' reached OpenMesh's assertion).
   bool read(std::string& line) {
-    if (!std::getline(in, line)) return false;
+    if (!in.getline(line)) return false;
     ++number;
     if (line.find('\0') != std::string::npos)
       throw InputError("mesh " + path + " holds a NUL byte on line " + std::to_string(number) +
@@ -169,8 +169,9 @@ void check_off_vertex(const std::string& path, const std::string& line, long lin
   coords.add(v, at_line(lineno));
 }
 
-void check_off(const std::string& path, std::uintmax_t bytes) {
-  Lines lines(path);
+void check_off(const std::string& path, const std::string& text) {
+  const std::uintmax_t bytes = text.size();
+  Lines lines(path, text);
   lines.comments = true;
   std::string line;
   if (!lines.next_data(line)) return;
@@ -338,8 +339,9 @@ void check_ply_line(const std::string& path, const PlyElement& e, const std::str
   if (k != t.size()) throw bad("has more values than its properties take");
 }
 
-void check_ply(const std::string& path, std::uintmax_t bytes) {
-  Lines lines(path);
+void check_ply(const std::string& path, const std::string& text) {
+  const std::uintmax_t bytes = text.size();
+  Lines lines(path, text);
   bool ascii = true;
   const std::vector<PlyElement> elements = read_ply_header(path, lines, ascii);
   long long total = 0;
@@ -385,8 +387,8 @@ void check_obj_corner(const std::string& path, const std::string& corner, long l
   }
 }
 
-void check_obj(const std::string& path) {
-  Lines lines(path);
+void check_obj(const std::string& path, const std::string& text) {
+  Lines lines(path, text);
   std::string line;
   CoordinateCheck coords(path);
   long long nv = 0, nt = 0, max_v = 0, max_t = 0;
@@ -407,7 +409,9 @@ void check_obj(const std::string& path) {
     } else if (key == "vt") {
       ++nt;
     } else if (key == "f") {
-      for (const auto& corner : tokens(rest)) {
+      // A comment after the corners ('f 1 2 3 # quad half') is not a corner.
+      const char* hash = std::strchr(rest, '#');
+      for (const auto& corner : tokens(hash ? std::string(rest, size_t(hash - rest)) : std::string(rest))) {
         const long long mv = max_v, mt = max_t;
         check_obj_corner(path, corner, lines.number, nv, nt, max_v, max_t);
         if (max_v > mv) max_v_line = lines.number;
@@ -424,32 +428,31 @@ void check_obj(const std::string& path) {
                      " but the file has " + std::to_string(nt));
 }
 
-void check_stl(const std::string& path, std::uintmax_t bytes) {
-  std::ifstream in(path, std::ios::binary);
+void check_stl(const std::string& path, const std::string& text) {
+  const std::uintmax_t bytes = text.size();
   char header[84] = {};
-  in.read(header, 84);
+  text.copy(header, 84);
   uint32_t n = 0;
   std::memcpy(&n, header + 80, 4);  // little-endian in the format, as on the machines this runs on
   CoordinateCheck coords(path);
   if (bytes >= 84 && 84 + 50 * std::uintmax_t(n) == bytes) {
-    char tri[50];
-    for (uint32_t t = 0; t < n && in.read(tri, 50); ++t)
+    for (uint32_t t = 0; t < n; ++t)
       for (int c = 0; c < 3; ++c) {
         float p[3];
-        std::memcpy(p, tri + 12 + 12 * c, 12);
+        std::memcpy(p, text.data() + 84 + 50 * size_t(t) + 12 + 12 * c, 12);
         const double xyz[3] = {p[0], p[1], p[2]};
         coords.add(xyz, "(corner " + std::to_string(c) + " of triangle " + std::to_string(t) + ")");
       }
     coords.finish();
     return;
   }
-  const std::string start(header, size_t(in.gcount()));
+  const std::string start(header, std::min<size_t>(84, text.size()));
   const auto first = start.find_first_not_of(" \t\r\n");
   if (first == std::string::npos || start.compare(first, 5, "solid") != 0)
     throw InputError("mesh " + path + " is neither binary STL (its header announces " + std::to_string(n) + " triangles, " +
                      std::to_string(84 + 50 * std::uintmax_t(n)) + " bytes, but the file has " + std::to_string(bytes) +
                      ": truncated?) nor ASCII STL (starting with 'solid')");
-  Lines lines(path);
+  Lines lines(path, text);
   std::string line;
   while (lines.read(line)) {
     const auto p = line.find_first_not_of(" \t\r\v\f");
@@ -464,11 +467,11 @@ void check_stl(const std::string& path, std::uintmax_t bytes) {
 
 }  // namespace
 
-void check_mesh_file(const std::string& path, const std::string& ext, std::uintmax_t bytes) {
-  if (ext == ".off") check_off(path, bytes);
-  else if (ext == ".ply") check_ply(path, bytes);
-  else if (ext == ".obj") check_obj(path);
-  else if (ext == ".stl") check_stl(path, bytes);
+void check_mesh_file(const std::string& path, const std::string& text, const std::string& ext) {
+  if (ext == ".off") check_off(path, text);
+  else if (ext == ".ply") check_ply(path, text);
+  else if (ext == ".obj") check_obj(path, text);
+  else if (ext == ".stl") check_stl(path, text);
 }
 
 }  // namespace sdm

@@ -3,6 +3,7 @@
 
 #include "libstm/core/atomic_file.h"
 #include "libstm/core/errors.h"
+#include "libstm/core/input_file.h"
 #include "libstm/core/limits.h"
 #include "libstm/mesh/check_mesh_file.h"
 
@@ -218,13 +219,43 @@ Image base_color_texture(const tinygltf::Model& model, int m, const std::string&
 
 namespace gltf_internal {
 
+namespace {
+
+// tinygltf's own file functions open with fopen: a buffer or image URI naming a named pipe made
+// the load wait for ever, and one naming a folder sized its buffer by the folder's seek offset
+// (std::bad_alloc). Every file it reads comes through read_input_file instead, and a URI names a
+// file when something is there, so that the reason it is not read reaches the message: the first
+// refusal is kept in `refused` (tinygltf only warns about an image it could not read).
+bool uri_exists(const std::string& path, void*) {
+  std::error_code ec;
+  return std::filesystem::exists(path, ec);
+}
+
+bool read_whole(std::vector<unsigned char>* out, std::string* err, const std::string& path, void* refused) {
+  try {
+    const std::string bytes = read_input_file(path, "file", kMaxMeshFileBytes);
+    out->assign(bytes.begin(), bytes.end());
+    return true;
+  } catch (const InputError& e) {
+    if (err) *err = e.what();
+    std::string& first = *static_cast<std::string*>(refused);
+    if (first.empty()) first = e.what();
+    return false;
+  }
+}
+
+}  // namespace
+
 tinygltf::Model load_model(const std::string& path) {
   tinygltf::Model model;
   tinygltf::TinyGLTF loader;
   loader.SetImageLoader(keep_encoded_image, nullptr);
+  std::string refused;
+  loader.SetFsCallbacks({uri_exists, tinygltf::ExpandFilePath, read_whole, tinygltf::WriteWholeFile, &refused});
   std::string err, warn;
   const bool ok = lower_extension(path) == ".glb" ? loader.LoadBinaryFromFile(&model, &err, &warn, path)
                                             : loader.LoadASCIIFromFile(&model, &err, &warn, path);
+  if (!refused.empty()) throw InputError("glTF " + path + ": " + refused);
   if (!ok) throw InputError("cannot read glTF " + path + ": " + (err.empty() ? "the file could not be parsed" : err));
   return model;
 }
@@ -317,7 +348,7 @@ SplitVertices split_vertices(const Mesh& mesh) {
 }
 
 void add_texture(tinygltf::Model& m, const std::string& png, tinygltf::Primitive& p) {
-  const std::string bytes = read_text_file(png);
+  const std::string bytes = read_input_file(png, "texture", kMaxImageFileBytes);
   if (bytes.size() < 8 || bytes.compare(0, 8, "\x89PNG\r\n\x1a\n") != 0) throw InputError("texture " + png + " is not a PNG file");
   tinygltf::Image image;
   image.bufferView = add_view(m, bytes.data(), bytes.size(), 0);

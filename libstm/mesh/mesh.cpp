@@ -2,12 +2,16 @@
 
 #include "libstm/core/atomic_file.h"
 #include "libstm/core/errors.h"
+#include "libstm/core/input_file.h"
+#include "libstm/core/limits.h"
 #include "libstm/mesh/add_faces.h"
 #include "libstm/mesh/check_mesh_file.h"
 #include "libstm/mesh/drop_small_parts.h"
 #include "libstm/mesh/gltf_io.h"
+#include "libstm/mesh/obj_material.h"
 #include "libstm/mesh/read_binary_ply.h"
 #include "libstm/mesh/read_plain_text.h"
+#include "libstm/mesh/text_lines.h"
 #include "libstm/mesh/triangulate_polygon.h"
 #include "libstm/mesh/validate_mesh.h"
 #include "libstm/mesh/write_positions.h"
@@ -19,7 +23,7 @@
 #include <algorithm>
 #include <cstdlib>
 #include <cstdio>
-#include <unistd.h>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
@@ -145,9 +149,8 @@ int parse_xyz(const char* s, double xyz[3]) {
 // OFF readers parse single precision and drop or zero coordinates written as nan/inf, which would
 // turn a NaN vertex into a misleading topology error. Throws InputError for non-finite values;
 // replaces OpenMesh's points when the count agrees (faces, uv and materials still come from it).
-void scan_text_points(const std::string& path, const std::string& ext, std::vector<Eigen::Vector3d>& pts) {
-  std::ifstream in(path);
-  if (!in) return;
+void scan_text_points(const std::string& path, const std::string& text, const std::string& ext, std::vector<Eigen::Vector3d>& pts) {
+  TextLines in(text);
   std::vector<Eigen::Vector3d> out;
   std::vector<long> line_of;
   std::string line;
@@ -160,14 +163,14 @@ void scan_text_points(const std::string& path, const std::string& ext, std::vect
     return true;
   };
   if (ext == ".obj") {
-    while (std::getline(in, line)) {
+    while (in.getline(line)) {
       ++lineno;
       if (line.size() < 2 || line[0] != 'v' || (line[1] != ' ' && line[1] != '\t')) continue;
       if (!take(line.c_str() + 2)) return;
     }
   } else if (ext == ".off" || ext == ".ply") {
     auto next_data_line = [&](std::string& l) {
-      while (std::getline(in, l)) {
+      while (in.getline(l)) {
         ++lineno;
         auto p = l.find('#');
         if (ext == ".off" && p != std::string::npos) l.resize(p);
@@ -274,37 +277,30 @@ void add_polygons(const std::vector<std::vector<int>>& polygons, const std::vect
 // The byte-order mark some editors put before the text of a UTF-8 file.
 constexpr const char* kUtf8Bom = "\xEF\xBB\xBF";
 
-// A copy of a text mesh without its byte-order mark, for OpenMesh's readers (which would take the
-// mark for part of the first line's keyword and lose that line), removed when it goes out of scope;
-// empty when the file has no mark. A textured OBJ's material is then looked up beside the copy
-// (not found: the texture must be given with --texture).
-struct WithoutBom {
-  std::string path;
-  explicit WithoutBom(const std::string& from) {
-    std::ifstream in(from, std::ios::binary);
-    char head[3] = {0, 0, 0};
-    if (!in.read(head, 3) || std::string(head, 3) != kUtf8Bom) return;
-    const fs::path dir = fs::temp_directory_path() / ("sdm-bom-" + std::to_string(::getpid()));
-    std::error_code ec;
-    fs::create_directories(dir, ec);
-    path = (dir / fs::path(from).filename()).string();
-    std::ofstream out(path, std::ios::binary);
-    out << in.rdbuf();
+// The file's text without its byte-order mark (OpenMesh's readers and the checks would take the
+// mark for part of the first line's keyword and lose that line): the mark is dropped in memory, no
+// copy of the file is written. A binary STL keeps its 80-byte header as it is.
+std::string read_mesh_text(const std::string& path, const std::string& ext) {
+  std::string text = read_input_file(path, "mesh", kMaxMeshFileBytes);
+  if (text.compare(0, 3, kUtf8Bom) == 0 && (ext != ".stl" || text.compare(3, 5, "solid") == 0)) text.erase(0, 3);
+  return text;
+}
+
+// A read-only stream over a text in memory, for OpenMesh's stream readers, without a copy.
+struct MemoryBuffer : std::streambuf {
+  explicit MemoryBuffer(std::string& text) { setg(text.data(), text.data(), text.data() + text.size()); }
+  pos_type seekoff(off_type off, std::ios_base::seekdir dir, std::ios_base::openmode) override {
+    char* at = dir == std::ios_base::beg ? eback() : dir == std::ios_base::cur ? gptr() : egptr();
+    if (off < eback() - at || off > egptr() - at) return pos_type(off_type(-1));
+    setg(eback(), at + off, egptr());
+    return pos_type(gptr() - eback());
   }
-  ~WithoutBom() {
-    std::error_code ec;
-    if (!path.empty()) fs::remove_all(fs::path(path).parent_path(), ec);
-  }
+  pos_type seekpos(pos_type pos, std::ios_base::openmode mode) override { return seekoff(off_type(pos), std::ios_base::beg, mode); }
 };
 
 // The plain OBJ or OFF the fast readers take (read_plain_text.h), or false for OpenMesh's path.
-bool read_plain(const std::string& path, const std::string& ext, MeshSoup& soup) {
+bool read_plain(const std::string& text, const std::string& ext, MeshSoup& soup) {
   if (ext != ".obj" && ext != ".off" && ext != ".ply") return false;
-  std::ifstream in(path, std::ios::binary);
-  std::error_code ec;
-  std::string text(size_t(fs::file_size(path, ec)), '\0');
-  if (ec || !in.read(text.data(), std::streamsize(text.size()))) return false;
-  if (text.compare(0, 3, kUtf8Bom) == 0) text.erase(0, 3);  // an editor's byte-order mark: not part of the first line
   if (ext == ".ply") {
     BinaryPly ply;
     if (!read_binary_ply(text, ply)) return false;
@@ -323,9 +319,8 @@ bool read_plain(const std::string& path, const std::string& ext, MeshSoup& soup)
 }  // namespace
 
 MeshSoup read_mesh_soup(const std::string& path) {
+  check_input_file(path, "mesh");  // a named pipe or a device is refused before anything opens it
   std::error_code ec;
-  if (!fs::exists(path, ec)) throw InputError("cannot read mesh " + path + ": no such file");
-  if (fs::is_directory(path, ec)) throw InputError("cannot read mesh " + path + ": it is a folder");
   if (fs::file_size(path, ec) == 0) throw InputError("cannot read mesh " + path + ": the file is empty");
   const std::string ext = lower_extension(path);
   if (ext == ".glb" || ext == ".gltf") {
@@ -336,36 +331,42 @@ MeshSoup read_mesh_soup(const std::string& path) {
   if (ext != ".obj" && ext != ".off" && ext != ".ply" && ext != ".stl")
     throw InputError("cannot read mesh " + path + ": unknown format '" + ext +
                      "' (supported: .obj, .off, .ply, .stl, .glb, .gltf)");
+  std::string text = read_mesh_text(path, ext);
 
-  // A plain OBJ or OFF is read at once by strict parsers that check what check_mesh_file checks
-  // (coordinates finite and within float range, corners and counts within the file); anything
-  // else goes through check_mesh_file and OpenMesh, with their messages.
-  if (MeshSoup plain; read_plain(path, ext, plain)) return plain;
-  const WithoutBom copy(path);
-  const std::string& read_path = copy.path.empty() ? path : copy.path;
-  try {
-    check_mesh_file(read_path, ext, fs::file_size(read_path, ec));  // before any reader trusts the file
-  } catch (const InputError& e) {
-    std::string message = e.what();
-    if (!copy.path.empty())
-      for (size_t at = message.find(copy.path); at != std::string::npos; at = message.find(copy.path)) message.replace(at, copy.path.size(), path);
-    throw InputError(message);
+  // A plain OBJ, OFF or PLY is read at once by strict parsers that check what check_mesh_file
+  // checks (coordinates finite and within float range, corners and counts within the file);
+  // anything else goes through check_mesh_file and OpenMesh, with their messages.
+  if (MeshSoup plain; read_plain(text, ext, plain)) return plain;
+  check_mesh_file(path, text, ext);  // before any reader trusts the file
+  std::string texture;
+  if (ext == ".obj") {
+    texture = obj_texture(text, path);
+    prepare_obj_for_openmesh(text);
   }
 
   SoupImporter importer;
   OpenMesh::IO::Options opt = OpenMesh::IO::Options::FaceTexCoord;
   opt += OpenMesh::IO::Options::VertexColor;  // the readers pass colours on only when asked
+  // OpenMesh's STL stream reader does not tell binary from ASCII itself: the size does (check_stl).
+  uint32_t triangles = 0;
+  if (ext == ".stl" && text.size() >= 84) std::memcpy(&triangles, text.data() + 80, 4);
+  if (ext == ".stl" && text.size() >= 84 && 84 + 50 * std::uintmax_t(triangles) == text.size()) opt += OpenMesh::IO::Options::Binary;
   // OpenMesh reports parse problems on its own streams; the validation report replaces them.
   omerr().disable();
   omlog().disable();
   omout().disable();
-  bool ok = OpenMesh::IO::IOManager().read(read_path, importer, opt);
-  if (!ok && ext != ".stl") scan_text_points(read_path, ext, importer.points);  // a NaN may be why
+  bool ok = false;
+  {
+    MemoryBuffer buffer(text);
+    std::istream stream(&buffer);
+    ok = OpenMesh::IO::IOManager().read(stream, ext, importer, opt);
+  }
+  if (!ok && ext != ".stl") scan_text_points(path, text, ext, importer.points);  // a NaN may be why
   if (!ok) throw InputError("cannot read mesh " + path + ": the " + ext.substr(1) + " reader could not parse it");
   if (importer.points.empty())
     throw InputError("mesh " + path + " has no vertices: the file is empty or not a " + ext.substr(1) + " mesh");
 
-  scan_text_points(read_path, ext, importer.points);
+  scan_text_points(path, text, ext, importer.points);
 
   MeshSoup soup;
   soup.points = std::move(importer.points);
@@ -374,14 +375,7 @@ MeshSoup read_mesh_soup(const std::string& path) {
     soup.colors = std::move(importer.colors);
   }
   add_polygons(importer.polygons, importer.polygon_uv, soup);
-  if (!importer.textures.empty()) {
-    int best = importer.textures.begin()->first;
-    for (const auto& [id, n] : importer.texture_use)
-      if (importer.textures.count(id) && n > importer.texture_use[best]) best = id;
-    fs::path tex(importer.textures[best]);
-    if (tex.is_relative()) tex = fs::absolute(fs::path(path).parent_path() / tex);
-    soup.texture = tex.lexically_normal().string();
-  }
+  soup.texture = texture;
   return soup;
 }
 

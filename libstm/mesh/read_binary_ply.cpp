@@ -1,6 +1,9 @@
 #include "libstm/mesh/read_binary_ply.h"
 
 #include <algorithm>
+#include <charconv>
+#include <cmath>
+#include <limits>
 #include <cstdint>
 #include <cstring>
 #include <sstream>
@@ -55,6 +58,9 @@ double value_at(const char* p, Type t, bool swap) {
 
 struct Header {
   bool swap = false;
+  bool ascii = false;
+  size_t vertex_properties = 0;  // ASCII: values per vertex line; offsets below count values
+  Type vertex_type[64] = {};     // ASCII: each value's type (a vertex of more properties: OpenMesh's path)
   size_t data = 0;  // offset of the first vertex
   long long vertices = -1, faces = -1;
   size_t vertex_stride = 0;
@@ -66,13 +72,15 @@ struct Header {
 // A vertex property: its offset recorded when it is a coordinate or a colour channel.
 bool add_vertex_property(Header& h, const std::string& type, const std::string& name) {
   const Type t = type_named(type);
-  if (t == Type::none) return false;
+  if (t == Type::none || h.vertex_properties >= 64) return false;
   static const char* coords[3] = {"x", "y", "z"};
   static const char* channels[3] = {"red", "green", "blue"};
+  const size_t at = h.ascii ? h.vertex_properties : h.vertex_stride;
   for (int k = 0; k < 3; ++k) {
-    if (name == coords[k]) h.xyz[k] = h.vertex_stride, h.xyz_type[k] = t;
-    if (name == channels[k]) h.rgb[k] = h.vertex_stride, h.rgb_type[k] = t;
+    if (name == coords[k]) h.xyz[k] = at, h.xyz_type[k] = t;
+    if (name == channels[k]) h.rgb[k] = at, h.rgb_type[k] = t;
   }
+  h.vertex_type[h.vertex_properties++] = t;
   h.vertex_stride += size_of(t);
   return true;
 }
@@ -96,12 +104,13 @@ bool parse_header(const std::string& bytes, Header& h) {
     if (key == "comment" && a == "TextureFile") return false;  // a texture: OpenMesh's path
     if (key.empty() || key == "comment" || key == "obj_info") continue;
     if (key == "format") {
-      if (b != "1.0" || !c.empty() || (a != "binary_little_endian" && a != "binary_big_endian")) return false;
+      if (b != "1.0" || !c.empty() || (a != "binary_little_endian" && a != "binary_big_endian" && a != "ascii")) return false;
+      h.ascii = a == "ascii";
       const uint16_t one = 1;
       const bool little = *reinterpret_cast<const unsigned char*>(&one) == 1;
       h.swap = (a == "binary_big_endian") == little;
       format = true;
-    } else if (key == "element" && c.empty()) {
+    } else if (key == "element" && c.empty() && format) {
       long long n = -1;
       std::istringstream(b) >> n;
       if (n < 0 || (a == "vertex" && h.vertices < 0 && h.faces < 0)) h.vertices = n;
@@ -127,11 +136,98 @@ bool parse_header(const std::string& bytes, Header& h) {
   return format && h.vertices >= 0 && h.faces >= 0 && h.count_type != Type::none;
 }
 
+// The range of an integer type, or false for a floating-point one.
+bool integer_range(Type t, double& lo, double& hi) {
+  switch (t) {
+    case Type::i8: lo = -128, hi = 127; return true;
+    case Type::u8: lo = 0, hi = 255; return true;
+    case Type::i16: lo = -32768, hi = 32767; return true;
+    case Type::u16: lo = 0, hi = 65535; return true;
+    case Type::i32: lo = -2147483648.0, hi = 2147483647.0; return true;
+    case Type::u32: lo = 0, hi = 4294967295.0; return true;
+    default: return false;
+  }
+}
+
+// A cursor over the ASCII body: one value of a type at a time, lines kept apart.
+struct AsciiBody {
+  const char* p;
+  const char* end;
+  bool blank(char c) const { return c == ' ' || c == '\t' || c == '\r' || c == '\v' || c == '\f'; }
+  // To the start of the next line with a value on it; false at the end of the text.
+  bool next_line() {
+    while (p < end && (blank(*p) || *p == '\n')) ++p;
+    return p < end;
+  }
+  bool line_done() {
+    while (p < end && blank(*p)) ++p;
+    if (p == end) return true;
+    if (*p != '\n') return false;
+    ++p;
+    return true;
+  }
+  // One value of type t on the current line: a whole number within range for the integer types, a
+  // finite number within float range for the others; false for anything else.
+  bool value(Type t, double& x) {
+    while (p < end && blank(*p)) ++p;
+    const auto r = std::from_chars(p, end, x);
+    if (r.ec != std::errc() || (r.ptr < end && !blank(*r.ptr) && *r.ptr != '\n')) return false;
+    p = r.ptr;
+    double lo = 0, hi = 0;
+    if (integer_range(t, lo, hi)) return x == std::floor(x) && x >= lo && x <= hi;
+    return std::abs(x) <= double(std::numeric_limits<float>::max());
+  }
+};
+
+// The ASCII body after the header: a line per vertex with its values, a line per face with its
+// corner count and corners. False for anything the checked path should report instead.
+bool read_ascii_body(const std::string& bytes, const Header& h, BinaryPly& out) {
+  AsciiBody in{bytes.data() + h.data, bytes.data() + bytes.size()};
+  const size_t nv = size_t(h.vertices), nf = size_t(h.faces);
+  // Reserved no further than the text can hold (two characters a value).
+  if (double(nv) * double(2 * h.vertex_properties) > double(bytes.size()) || double(nf) * 8 > double(bytes.size())) return false;
+  const bool colours = h.rgb[0] != SIZE_MAX;
+  out.points.resize(nv);
+  out.colors.assign(colours ? nv : 0, Eigen::Vector3f::Zero());
+  double values[64];
+  for (size_t v = 0; v < nv; ++v) {
+    if (!in.next_line()) return false;
+    for (size_t k = 0; k < h.vertex_properties; ++k)
+      if (!in.value(h.vertex_type[k], values[k])) return false;
+    if (!in.line_done()) return false;
+    for (int k = 0; k < 3; ++k) out.points[v][k] = values[h.xyz[k]];
+    if (colours)
+      for (int k = 0; k < 3; ++k) out.colors[v][k] = float(values[h.rgb[k]]) / 255.f;
+  }
+  std::vector<int> corners;
+  for (size_t f = 0; f < nf; ++f) {
+    double n = 0;
+    if (!in.next_line() || !in.value(h.count_type, n) || n < 0 || n > double(in.end - in.p)) return false;
+    corners.resize(size_t(n));
+    for (int& c : corners) {
+      double i = 0;
+      if (!in.value(h.index_type, i) || i < 0 || i >= double(nv)) return false;  // out of range: OpenMesh's path reports it
+      c = int(i);
+    }
+    if (!in.line_done()) return false;
+    if (corners.size() == 3 && out.polygons.empty()) {
+      out.triangles.push_back({corners[0], corners[1], corners[2]});
+      continue;
+    }
+    if (out.polygons.empty())
+      for (const auto& t : out.triangles) out.polygons.push_back({t[0], t[1], t[2]});
+    out.triangles.clear();
+    out.polygons.push_back(corners);
+  }
+  return !in.next_line();  // nothing after the faces
+}
+
 }  // namespace
 
 bool read_binary_ply(const std::string& bytes, BinaryPly& out) {
   Header h;
   if (!parse_header(bytes, h)) return false;
+  if (h.ascii) return read_ascii_body(bytes, h, out);
   const size_t nv = size_t(h.vertices), nf = size_t(h.faces);
   if ((bytes.size() - h.data) / std::max<size_t>(h.vertex_stride, 1) < nv) return false;
   const char* p = bytes.data() + h.data;

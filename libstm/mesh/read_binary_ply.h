@@ -3,7 +3,9 @@
 // 0.16 s of a 449k-vertex file's 17 MB, a value at a time through a stream). It walks the file in
 // memory with the offsets the header gives and takes what the pipeline reads from such files:
 // positions (float or double, kept in double where the file has it; OpenMesh's reader rounds to
-// float) and, when the file has them as bytes, vertex colours. Anything else (ASCII PLY, elements
+// float) and, when the file has them as bytes, vertex colours. ASCII PLY of the same shape is read
+// here too, a line per element, every integer type taken for the corner list (OpenMesh's ASCII
+// reader refused a uint, uint32, ushort or short count or index). Anything else (elements
 // other than vertex and face, face properties besides the corner list, colours in another type,
 // a file shorter than its counts, a corner out of range) makes it return false, and the caller
 // reads the file through check_mesh_file and OpenMesh as before, with their checks and messages.

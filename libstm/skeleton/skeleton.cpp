@@ -2,6 +2,7 @@
 
 #include "libstm/core/atomic_file.h"
 #include "libstm/core/errors.h"
+#include "libstm/core/input_file.h"
 #include "libstm/core/json_int.h"
 #include "libstm/core/limits.h"
 #include "libstm/core/union_find.h"
@@ -201,7 +202,7 @@ void write_skeleton_json(const Skeleton& s, const std::string& path) {
 }
 
 Skeleton read_skeleton_json(const std::string& path) {
-  const std::string text = read_text_file(path);
+  const std::string text = read_input_file(path, "skeleton", kMaxJsonFileBytes);
   nlohmann::json j = nlohmann::json::parse(text, nullptr, false);
   if (j.is_discarded()) throw InputError("cannot read skeleton " + path + ": not JSON");
   try {
