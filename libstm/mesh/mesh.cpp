@@ -6,6 +6,7 @@
 #include "libstm/mesh/check_mesh_file.h"
 #include "libstm/mesh/drop_small_parts.h"
 #include "libstm/mesh/gltf_io.h"
+#include "libstm/mesh/point_cloud.h"
 #include "libstm/mesh/read_binary_ply.h"
 #include "libstm/mesh/read_plain_text.h"
 #include "libstm/mesh/triangulate_polygon.h"
@@ -326,6 +327,8 @@ MeshSoup read_mesh_soup(const std::string& path) {
   if (!fs::exists(path, ec)) throw InputError("cannot read mesh " + path + ": no such file");
   if (fs::is_directory(path, ec)) throw InputError("cannot read mesh " + path + ": it is a folder");
   if (fs::file_size(path, ec) == 0) throw InputError("cannot read mesh " + path + ": the file is empty");
+  if (is_point_cloud_file(path))  // point_cloud.h
+    throw InputError("cannot read mesh " + path + ": it is a point cloud (points, no faces), which `sdm skeleton` and `sdm info` take. Fix: give this command a mesh with faces");
   const std::string ext = lower_extension(path);
   if (ext == ".glb" || ext == ".gltf") {
     GltfScene scene = read_gltf(path);
@@ -517,6 +520,8 @@ void write_through_openmesh(const Mesh& mesh, const std::string& tmp, const std:
 }  // namespace
 
 void write_mesh(const Mesh& mesh, const std::string& path, const std::string& texture) {
+  if (is_point_cloud_file(path))  // point_cloud.h
+    throw InputError("cannot read mesh " + path + ": it is a point cloud (points, no faces), which `sdm skeleton` and `sdm info` take. Fix: give this command a mesh with faces");
   const std::string ext = lower_extension(path);
   if (ext == ".glb" || ext == ".gltf") {
     write_gltf(mesh, path, texture);
