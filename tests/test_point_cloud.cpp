@@ -215,14 +215,19 @@ TEST_CASE("point clouds: a capsule's skeleton is one branch at its radius", "[po
   REQUIRE(s.vertex_node.size() == p.size());
   const std::vector<double> radii = sdm::node_radii(s, p);
   int measured = 0;
+  double off_axis = 0;
   for (size_t a = 0; a < s.nodes.size(); ++a) {
     const Vec3& q = s.nodes[a];
     if (q.z() < 0.5 || q.z() > len - 0.5) continue;  // the cylinder, away from the caps
     ++measured;
-    CHECK(std::hypot(q.x(), q.y()) < 0.03 * R);        // on the axis
+    // Each node is the centre of about 200 random points around the axis: off it by about
+    // R / sqrt(2 * 200) per coordinate (0.06 R on average).
+    CHECK(std::hypot(q.x(), q.y()) < 0.2 * R);
+    off_axis += std::hypot(q.x(), q.y());
     CHECK(std::abs(radii[a] - R) < 0.03 * R);          // at the radius
   }
-  CHECK(measured >= 5);
+  REQUIRE(measured >= 5);
+  CHECK(off_axis / measured < 0.1 * R);
 }
 
 TEST_CASE("point clouds: a torus's skeleton is one cycle around its hole", "[point_cloud]") {
@@ -253,7 +258,7 @@ TEST_CASE("point clouds: sdm skeleton and info take a cloud, the mesh commands n
   CHECK(std::abs(j["mean_node_radius"].get<double>() - 0.5) < 0.05);
   r = test_util::run_sdm("info " + dir / "c.xyz" + " --json");
   REQUIRE(r.exit_code == 0);
-  const auto i = test_util::last_json(r);
+  const auto i = nlohmann::json::parse(r.output);
   CHECK(i["points"] == 2000);
   CHECK(i["points_read"] == 2003);
   CHECK(i["normals"] == "estimated");
@@ -264,4 +269,21 @@ TEST_CASE("point clouds: sdm skeleton and info take a cloud, the mesh commands n
   r = test_util::run_sdm("skeleton " + dir / "few.xyz" + " -o " + dir / "f.json");
   CHECK(r.exit_code == 2);
   CHECK(r.output.find("at least 200") != std::string::npos);
+}
+
+TEST_CASE("point clouds: the LIDAR street lamp of ../shared is a tree of its pole, arm and cross-bar", "[point_cloud]") {
+  const std::string path = std::string(SDM_TEST_DATA) + "/../../../shared/models/pointclouds/lamppost.pcd";
+  if (!std::ifstream(path).good()) {
+    WARN("no " << path << ": skipped");
+    return;
+  }
+  sdm::CloudReport report;
+  const sdm::PointCloud c = sdm::load_point_cloud(path, &report);
+  CHECK(report.points_read == 1771);
+  CHECK(report.points + report.duplicates == 1771);
+  const sdm::Skeleton s = sdm::point_cloud_skeleton(c.points);
+  CHECK(s.components() == 1);
+  CHECK(s.cycles() == 0);
+  CHECK(s.end_nodes() >= 3);  // the pole's foot, the arm's lamp, the cross-bar's two ends
+  CHECK(s.vertex_node.size() == c.points.size());
 }

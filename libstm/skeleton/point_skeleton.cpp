@@ -226,6 +226,38 @@ int prune_short_branches(SkeletonGraph& g, const Eigen::MatrixX3d& C, const std:
   }
 }
 
+// Each node at the centre of the points it owns, as the mesh path's refinement places them (the
+// contraction also shortens curves: a torus's ring shrank by a fifth). The clusters the sampling
+// of the contracted points leaves are cut obliquely across a tube, so their centres sat off its
+// axis (by 0.06 of the radius on a capsule); each point first moves to the nearest of its node and
+// that node's neighbours at their contracted places (on the axis; never leaving a node empty),
+// which turns the clusters into slices across the tube. Once only: repeated with the centres, a
+// node off the axis takes more points on its side, and the centres ran off to 0.6 of the radius.
+void place_nodes(Skeleton& sk, const std::vector<Eigen::Vector3d>& points) {
+  const auto adj = sk.adjacency();
+  std::vector<int> owned(sk.nodes.size(), 0);
+  for (int a : sk.vertex_node) ++owned[size_t(a)];
+  for (size_t i = 0; i < points.size(); ++i) {
+    int& a = sk.vertex_node[i];
+    int best = a;
+    for (int b : adj[size_t(a)])
+      if ((points[i] - sk.nodes[size_t(b)]).squaredNorm() < (points[i] - sk.nodes[size_t(best)]).squaredNorm()) best = b;
+    if (best != a && owned[size_t(a)] > 1) --owned[size_t(a)], ++owned[size_t(best)], a = best;
+  }
+  std::vector<Eigen::Vector3d> sum(sk.nodes.size(), Eigen::Vector3d::Zero());
+  for (size_t i = 0; i < points.size(); ++i) sum[size_t(sk.vertex_node[i])] += points[i];
+  for (size_t a = 0; a < sum.size(); ++a)
+    if (owned[a] > 0) sk.nodes[a] = sum[a] / double(owned[a]);
+  // A centre of a few hundred scan points is off the axis by the sampling's noise; along a branch
+  // (nodes of degree 2) two passes of (previous + 2 self + next) / 4 average it out.
+  for (int pass = 0; pass < 2; ++pass) {
+    std::vector<Eigen::Vector3d> next = sk.nodes;
+    for (size_t a = 0; a < next.size(); ++a)
+      if (adj[a].size() == 2) next[a] = 0.25 * (sk.nodes[size_t(adj[a][0])] + 2 * sk.nodes[a] + sk.nodes[size_t(adj[a][1])]);
+    sk.nodes = std::move(next);
+  }
+}
+
 }  // namespace
 
 Skeleton point_cloud_skeleton(const std::vector<Eigen::Vector3d>& points, const PointSkeletonOptions& opt, const Progress& progress,
@@ -269,13 +301,7 @@ Skeleton point_cloud_skeleton(const std::vector<Eigen::Vector3d>& points, const 
     const PointKdTree sample_tree(sampled);
     for (int i = 0; i < n; ++i) sk.vertex_node[size_t(i)] = node_of_sample[size_t(sample_tree.nearest(points[size_t(i)], 1)[0])];
   }
-  // Each node at the centre of the points it owns, as the mesh path's refinement places them: the
-  // contraction also shortens curves (a torus's ring shrank by a fifth), the centres do not.
-  std::vector<Eigen::Vector3d> sum(sk.nodes.size(), Eigen::Vector3d::Zero());
-  std::vector<int> owned(sk.nodes.size(), 0);
-  for (int i = 0; i < n; ++i) sum[size_t(sk.vertex_node[size_t(i)])] += points[size_t(i)], ++owned[size_t(sk.vertex_node[size_t(i)])];
-  for (size_t a = 0; a < sum.size(); ++a)
-    if (owned[a] > 0) sk.nodes[a] = sum[a] / double(owned[a]);
+  place_nodes(sk, points);
   st.seconds = total.seconds();
   if (progress)
     progress("point skeleton: " + std::to_string(sk.nodes.size()) + " nodes (" + std::to_string(st.sampled_nodes) + " sampled, " +
