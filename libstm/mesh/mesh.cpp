@@ -327,8 +327,10 @@ MeshSoup read_mesh_soup(const std::string& path) {
   if (!fs::exists(path, ec)) throw InputError("cannot read mesh " + path + ": no such file");
   if (fs::is_directory(path, ec)) throw InputError("cannot read mesh " + path + ": it is a folder");
   if (fs::file_size(path, ec) == 0) throw InputError("cannot read mesh " + path + ": the file is empty");
-  if (is_point_cloud_file(path))  // point_cloud.h
+  if (is_point_cloud_file(path)) {  // point_cloud.h; its reader names what is wrong with it first
+    read_point_cloud(path);
     throw InputError("cannot read mesh " + path + ": it is a point cloud (points, no faces), which `sdm skeleton` and `sdm info` take. Fix: give this command a mesh with faces");
+  }
   const std::string ext = lower_extension(path);
   if (ext == ".glb" || ext == ".gltf") {
     GltfScene scene = read_gltf(path);
@@ -520,8 +522,6 @@ void write_through_openmesh(const Mesh& mesh, const std::string& tmp, const std:
 }  // namespace
 
 void write_mesh(const Mesh& mesh, const std::string& path, const std::string& texture) {
-  if (is_point_cloud_file(path))  // point_cloud.h
-    throw InputError("cannot read mesh " + path + ": it is a point cloud (points, no faces), which `sdm skeleton` and `sdm info` take. Fix: give this command a mesh with faces");
   const std::string ext = lower_extension(path);
   if (ext == ".glb" || ext == ".gltf") {
     write_gltf(mesh, path, texture);

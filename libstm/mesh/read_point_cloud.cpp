@@ -134,6 +134,7 @@ struct Field {
   char kind = 'f';  // f: floating, i: signed, u: unsigned
   int size = 4;     // bytes
   int offset = 0;   // in the record
+  std::string type; // as the file names it (PLY)
 };
 
 double read_scalar(const char* p, const Field& f, bool big_endian) {
@@ -215,7 +216,7 @@ bool ply_type(const std::string& t, Field& f) {
       {"uint", {'u', 4}},   {"uint32", {'u', 4}},  {"float", {'f', 4}},  {"float32", {'f', 4}}, {"double", {'f', 8}},
       {"float64", {'f', 8}}};
   for (const auto& [name, ks] : types)
-    if (t == name) { f.kind = ks.first, f.size = ks.second; return true; }
+    if (t == name) { f.kind = ks.first, f.size = ks.second, f.type = t; return true; }
   return false;
 }
 
@@ -295,7 +296,15 @@ PointCloud read_ply(const std::string& path, const std::string& bytes) {
       const long at = header_lines + text.line;
       if (t.size() != v.props.size())
         throw InputError("PLY " + path + " line " + std::to_string(at) + " has " + std::to_string(t.size()) + " values, the header " + std::to_string(v.props.size()));
-      take_record(c, l, v.props, [&](int k) { return parse_number(t[size_t(k)], path, at); }, path, "line " + std::to_string(at));
+      std::vector<double> x(t.size());
+      for (size_t k = 0; k < t.size(); ++k) {
+        x[k] = parse_number(t[k], path, at);
+        const Field& f = v.props[k];
+        if (f.kind != 'f' && (x[k] != std::floor(x[k]) || (f.kind == 'u' && x[k] < 0) || std::abs(x[k]) >= std::ldexp(1.0, 8 * f.size)))
+          throw InputError("PLY " + path + " line " + std::to_string(at) + ": '" + std::string(t[k]) +
+                           "' is not a value for a property of type " + f.type + ". Fix: export the file again");
+      }
+      take_record(c, l, v.props, [&](int k) { return x[size_t(k)]; }, path, "line " + std::to_string(at));
     }
     return c;
   }
@@ -403,7 +412,7 @@ PcdHeader parse_pcd_header(const std::string& path, const std::string& bytes) {
     if (!kind || !(s == 1 || s == 2 || s == 4 || s == 8) || (kind == 'f' && s < 4))
       throw fail("field " + names[i] + " has TYPE " + types[i] + " and SIZE " + std::to_string(s) + ", which PCD does not define");
     for (int k = 0; k < counts[i]; ++k) {
-      h.fields.push_back({k == 0 ? names[i] : "", kind, s, h.stride});
+      h.fields.push_back({k == 0 ? names[i] : "", kind, s, h.stride, types[i]});
       h.stride += s;
     }
   }
