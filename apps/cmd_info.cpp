@@ -1,7 +1,9 @@
 #include "apps/cli_common.h"
+#include "apps/cloud_input.h"
 #include "apps/commands.h"
 #include "libstm/mesh/load_mesh.h"
 #include "libstm/mesh/mesh.h"
+#include "libstm/mesh/point_cloud.h"
 #include "libstm/mesh/validate_mesh.h"
 
 #include <iomanip>
@@ -56,13 +58,14 @@ Command add_info_command(CLI::App& parent) {
   auto* app = parent.add_subcommand(
       "info", "Describe a mesh: counts, parts, genus, boundary loops, bounding box, validation findings and what repair\n"
               "would do. Exits 2 when the mesh cannot go through the pipeline even repaired, so scripts can use it as a check.");
-  app->add_option("mesh", o->mesh, "Input mesh (.obj, .off, .ply, .stl, .glb, .gltf)")->required();
+  app->add_option("mesh", o->mesh, "Input mesh (.obj, .off, .ply, .stl, .glb, .gltf) or point cloud (.xyz, .pcd, .ply or .off without faces)")->required();
   app->add_flag("--json", o->json, "Print one JSON object instead of text");
   app->add_flag("--strict", o->strict,
                 "Judge the mesh as it is, without repair, and exit 2 also for tolerated findings (degenerate faces, isolated\n"
                 "vertices, holes)");
   add_repair_options(app);
   return {app, [o]() {
+            if (sdm::is_point_cloud_file(o->mesh)) return cloud_info(o->mesh, o->json);
             sdm::MeshSoup soup = sdm::read_mesh_soup(o->mesh);
             sdm::LoadOptions options = load_options();
             if (o->strict) options.repair = false;

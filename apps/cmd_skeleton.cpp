@@ -1,7 +1,9 @@
 #include "apps/cli_common.h"
+#include "apps/cloud_input.h"
 #include "apps/commands.h"
 #include "libstm/skeleton/extract_skeleton.h"
 #include "libstm/mesh/mesh.h"
+#include "libstm/mesh/point_cloud.h"
 #include "libstm/skeleton/skeleton.h"
 
 #include <memory>
@@ -18,7 +20,7 @@ Command add_skeleton_command(CLI::App& parent) {
   auto* app = parent.add_subcommand(
       "skeleton", "Extract the curve skeleton of a closed mesh (Laplacian contraction or medial poles, then\n"
                   "connectivity surgery) and write it as JSON (nodes, edges, the node of every vertex).");
-  app->add_option("mesh", o->mesh, "Input mesh (.obj, .off, .ply, .stl, .glb, .gltf), closed and manifold")->required();
+  app->add_option("mesh", o->mesh, "Input mesh (.obj, .off, .ply, .stl, .glb, .gltf), closed and manifold, or point cloud (.xyz, .pcd, .ply or .off without faces)")->required();
   app->add_option("-o,--output", o->out, "Output skeleton JSON file")->required();
   app->add_option("--obj", o->obj, "Also write the skeleton as an OBJ polyline");
   app->add_flag("--json", o->json, "Print the summary as one JSON object");
@@ -40,6 +42,7 @@ Command add_skeleton_command(CLI::App& parent) {
   app->add_option("--medial-smoothing", o->sk.medial_smoothing, "Umbrella smoothing steps of the medial poles before their surgery")->check(number_in(0, 1000));
   app->add_option("--sampling-weight", o->sk.sampling_weight, "Weight of the sampling term of the collapse cost")->check(number_in(0, 1000));
   return {app, [o]() {
+            if (sdm::is_point_cloud_file(o->mesh)) return cloud_skeleton(o->mesh, o->out, o->obj, o->json);
             const sdm::Mesh mesh = load_mesh_min_part(o->mesh);
             if (o->uniform) o->sk.contraction = sdm::uniform_contraction();
             o->sk.method = o->method == "contraction" ? sdm::SkeletonMethod::contraction

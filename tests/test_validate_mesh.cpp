@@ -71,7 +71,7 @@ TEST_CASE("Each invalid input class is reported and refused with exit code 2 and
   const std::vector<Case> cases = {
       {"empty file", "empty.off", "", "empty", Outcome::refused},
       {"unreadable", "garbage.off", "this is not a mesh\n", "cannot read", Outcome::refused},
-      {"unknown format", "mesh.xyz", "1 2 3\n", "unknown format", Outcome::refused},
+      {"unknown format", "mesh.abc", "1 2 3\n", "unknown format", Outcome::refused},
       {"no faces", "points.off", off(4, 0, kTetraPoints, ""), "no face", Outcome::refused},
       {"NaN coordinates", "nan.off", off(4, 4, "0 0 0\n1 0 0\nnan 1 0\n0 0 1\n", kTetraFaces), "NaN", Outcome::refused},
       {"infinite coordinates (OBJ)", "inf.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 inf\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n",

@@ -9,6 +9,7 @@
 #include "libstm/mesh/drop_small_parts.h"
 #include "libstm/mesh/gltf_io.h"
 #include "libstm/mesh/obj_material.h"
+#include "libstm/mesh/point_cloud.h"
 #include "libstm/mesh/read_binary_ply.h"
 #include "libstm/mesh/read_plain_text.h"
 #include "libstm/mesh/text_lines.h"
@@ -322,6 +323,10 @@ MeshSoup read_mesh_soup(const std::string& path) {
   check_input_file(path, "mesh");  // a named pipe or a device is refused before anything opens it
   std::error_code ec;
   if (fs::file_size(path, ec) == 0) throw InputError("cannot read mesh " + path + ": the file is empty");
+  if (is_point_cloud_file(path)) {  // point_cloud.h; its reader names what is wrong with it first
+    read_point_cloud(path);
+    throw InputError("cannot read mesh " + path + ": it is a point cloud (points, no faces), which `sdm skeleton` and `sdm info` take. Fix: give this command a mesh with faces");
+  }
   const std::string ext = lower_extension(path);
   if (ext == ".glb" || ext == ".gltf") {
     GltfScene scene = read_gltf(path);
