@@ -120,7 +120,7 @@ def run_pair(args, work, name, src, tgt, gt, smpl_m):
     row = {'pair': name}
     corr = os.path.join(work, name.replace(' ', '_').replace('>', '') + '.txt')
     if args['command'] == 'correspond':
-        cmd = [args['sdm'], 'correspond', src, tgt, '-o', corr] + args['extra']
+        cmd = [args['sdm'], 'correspond', src, tgt, '-o', corr, '--json'] + args['extra']
     else:
         Vs, Fs = read_off(src)
         ply = os.path.join(work, os.path.basename(src)[:-4] + '_grey.ply')
@@ -130,10 +130,18 @@ def run_pair(args, work, name, src, tgt, gt, smpl_m):
     t0 = time.time()
     p = subprocess.run(cmd, capture_output=True, text=True)
     row['seconds'] = round(time.time() - t0, 1)
+    with open(corr[:-4] + '.log', 'w') as f: f.write(p.stderr + p.stdout)
     if p.returncode != 0:
         lines = [l for l in p.stderr.strip().split('\n') if l.strip()]
         row['refused'] = 'exit %d: %s' % (p.returncode, lines[-1][:300] if lines else '')
         return row
+    if args['command'] == 'correspond':
+        try:
+            j = json.loads(p.stdout)
+            row['kind'] = j.get('kind')
+            for k in ['final_score', 'rival_score', 'rival_kept', 'ambiguity']: row[k] = j.get(k)
+        except ValueError:
+            pass
     warnings = [l for l in p.stderr.split('\n') if 'warning' in l]
     if warnings: row['warnings'] = warnings
     if gt[0] == 'vts':
@@ -193,9 +201,12 @@ def main():
         if 'refused' in r:
             print('| %s | - | - | - | %s | %s |' % (name, r['seconds'], r['refused']), flush=True)
         else:
+            note = '; '.join(r.get('warnings', []))[:200]
+            if r.get('final_score') is not None:
+                note = '%s, full fits %.4g (kept) / %.4g (rival)%s; ' % (r['kind'], r['final_score'], r['rival_score'] or float('nan'),
+                                                                     ', rival kept' if r.get('rival_kept') else '') + note
             print('| %s | %.2f | %.2f | %.1f (of %d) | %s | %s |' % (name, r['geo_mean'], r['geo_p90'], r['nearer_mirror%'],
-                                                                 r['mirror_samples'], r['seconds'],
-                                                                 '; '.join(r.get('warnings', []))[:200]), flush=True)
+                                                                 r['mirror_samples'], r['seconds'], note), flush=True)
     if js: print(json.dumps({'command': opt['command'], 'pairs': rows}))
 
 
