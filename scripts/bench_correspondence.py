@@ -16,7 +16,11 @@ per pair:
     registration vertex). Points without a mirror are left out; "n/a" where no mirror exists.
 
 Usage: scripts/bench_correspondence.py [--sdm build/sdm] [--models ../shared/models]
-           [--judge ../shared/judge/scripts] [--work DIR] [--only SUBSTRING] [--json] [-- EXTRA SDM ARGS]
+           [--judge ../shared/judge/scripts] [--work DIR] [--only SUBSTRING] [--command transfer|correspond]
+           [--json] [-- EXTRA SDM ARGS]
+The source goes to `sdm transfer` as a PLY with float coordinates and grey vertex colours, to `sdm
+correspond` as its OFF file: the last bits of the coordinates differ, and so may the skeletons (compare
+runs of one command).
 Exit 0 when every pair ran (refusals are reported as rows), 2 for a missing input.
 """
 import json, os, re, subprocess, sys, tempfile, time
@@ -174,7 +178,7 @@ def main():
     extra = []
     if '--' in a: k = a.index('--'); extra = a[k + 1:]; a = a[:k]
     opt = {'sdm': os.path.join(REPO, 'build', 'sdm'), 'models': os.path.join(REPO, '..', 'shared', 'models'),
-           'judge': os.path.join(REPO, '..', 'shared', 'judge', 'scripts'), 'work': None, 'only': ''}
+           'judge': os.path.join(REPO, '..', 'shared', 'judge', 'scripts'), 'work': None, 'only': '', 'command': ''}
     js = '--json' in a
     a = [x for x in a if x != '--json']
     for i in range(0, len(a), 2):
@@ -187,7 +191,8 @@ def main():
             sys.exit(2)
     listing = subprocess.run([opt['sdm'], '--help'], capture_output=True, text=True).stdout
     has_correspond = re.search(r'^\s+correspond\s', listing, re.M) is not None
-    opt['command'] = 'correspond' if has_correspond else 'transfer'
+    if opt['command'] not in ('', 'transfer', 'correspond'): sys.exit(__doc__)
+    opt['command'] = opt['command'] or ('correspond' if has_correspond else 'transfer')
     opt['extra'] = extra
     work = opt['work'] or tempfile.mkdtemp(prefix='bench_corr_')
     os.makedirs(work, exist_ok=True)
