@@ -6,6 +6,8 @@
 #include "libsdm/decode/decode_sdm.h"
 #include "libsdm/map/sdm_exr.h"
 #include "libstm/core/parallel.h"
+#include "libstm/correspondence/correspondence_file.h"
+#include "libstm/correspondence/small_parts.h"
 #include "libstm/registration/correspondence_jumps.h"
 #include "libstm/transfer/carry_attributes.h"
 #include "libstm/transfer/transfer_texture.h"
@@ -33,6 +35,7 @@ struct TransferArgs {
   int lod = 3;
   bool json = false;
   std::string up, source_up, target_up;  // --up for both, or each its own
+  bool strict = false;  // --strict: a small separate part refuses the pair instead of being left out
 };
 
 // path with its extension replaced by suffix (OUT.obj -> OUT_atlas.png).
@@ -101,7 +104,36 @@ struct TransferInputs {
   std::vector<Eigen::Vector3f> source_colors;  // per source vertex, when its file has vertex colours
   sdm::Skeleton skeleton_a, skeleton_b;
   sdm::SkeletonStats stats_a, stats_b;  // of the extractions (empty for a skeleton given as a file)
+  // The models as read, and their main parts (small_parts.h): `source` and `target` are the main
+  // parts, the correspondence written is onto and over the models as read.
+  sdm::Mesh source_input, target_input;
+  sdm::MainParts source_parts, target_parts;
 };
+
+// Leaves a model's small separate parts out of the matching (small_parts.h), with a warning, or
+// refuses them with --strict; not for a model whose skeleton was given (it numbers every vertex).
+void leave_out_small_parts(const TransferArgs& o, TransferInputs& in) {
+  auto one = [&](sdm::Mesh& mesh, sdm::Mesh& input, sdm::MainParts& parts, bool given, const std::string& path) {
+    if (given) return;
+    parts = sdm::main_parts(mesh, path, o.strict, progress);
+    if (!parts.reduced()) return;
+    input = std::move(mesh);
+    mesh = parts.mesh;
+  };
+  one(in.source, in.source_input, in.source_parts, !o.source_skeleton.empty(), o.source);
+  one(in.target, in.target_input, in.target_parts, !o.target_skeleton.empty(), o.target);
+  if (in.source_parts.reduced() && !in.source_colors.empty()) {
+    std::vector<Eigen::Vector3f> kept;
+    for (int v : in.source_parts.vertex_of) kept.push_back(in.source_colors[size_t(v)]);
+    in.source_colors = std::move(kept);
+  }
+}
+
+// The correspondence over the target as read, onto the source as read.
+std::vector<sdm::SourcePoint> input_correspondence(const TransferInputs& in, const std::vector<sdm::SourcePoint>& c) {
+  std::vector<sdm::SourcePoint> onto = in.source_parts.reduced() ? sdm::onto_input_source(in.source_parts, in.source_input, c) : c;
+  return in.target_parts.reduced() ? sdm::onto_input_target(in.target_parts, in.target_input, onto) : onto;
+}
 
 // Throws InputError for a missing --source or --target, or an output, --correspondence or
 // --vertex-colors path of the wrong kind: before any work.
@@ -143,6 +175,7 @@ TransferInputs read_inputs(const TransferArgs& o) {
     in.texture_path.clear();
   }
   in.target = load_mesh_min_part(o.target);
+  leave_out_small_parts(o, in);
   // Both skeletons at once (obtain_both_skeletons); each line says whose it is.
   const sdm::Progress shared = sdm::serialised(progress);
   auto labelled = [&](const std::string& what) -> sdm::Progress {
@@ -217,30 +250,13 @@ std::vector<Eigen::Vector3f> target_vertex_colors(const TransferInputs& in, cons
                                   : sdm::carry_vertex_colors(in.source, in.source_colors, r.correspondence);
 }
 
-// The correspondence as text: per target vertex, in order, the source face and the barycentric
-// coordinates of the source point it shows; or as JSON with the same two arrays.
-std::string correspondence_text(const std::vector<sdm::SourcePoint>& c, bool json) {
-  std::ostringstream o;
-  o.precision(9);
-  if (json) {
-    nlohmann::json faces = nlohmann::json::array(), bary = nlohmann::json::array();
-    for (const auto& p : c) faces.push_back(p.face), bary.push_back({p.barycentric[0], p.barycentric[1], p.barycentric[2]});
-    o << nlohmann::json({{"target_vertices", c.size()}, {"source_face", faces}, {"barycentric", bary}}).dump() << "\n";
-    return o.str();
-  }
-  o << "# sdm transfer correspondence: one line per target vertex, in order: source face, then the\n"
-       "# barycentric coordinates of the source point on it (weights of the face's corners 0, 1, 2)\n";
-  for (const auto& p : c) o << p.face << " " << p.barycentric[0] << " " << p.barycentric[1] << " " << p.barycentric[2] << "\n";
-  return o.str();
-}
-
 // Everything is computed; now the files, each to its temporary name: the command's OutputCommit
 // (main.cpp) renames them together once it returns, and removes them if a later one fails.
-void write_outputs(const sdm::TextureTransfer& r, const sdm::Image& preview, const OutputPaths& out,
+void write_outputs(const TransferInputs& in, const sdm::TextureTransfer& r, const sdm::Image& preview, const OutputPaths& out,
                    const std::vector<Eigen::Vector3f>& vertex_colors) {
   if (!out.correspondence.empty())
-    sdm::write_text_file(out.correspondence,
-                         correspondence_text(r.correspondence, std::filesystem::path(out.correspondence).extension() == ".json"));
+    sdm::write_text_file(out.correspondence, sdm::correspondence_text(input_correspondence(in, r.correspondence),
+                                                                      std::filesystem::path(out.correspondence).extension() == ".json"));
   if (!out.vertex_colors.empty()) sdm::write_colored_ply(r.target, vertex_colors, out.vertex_colors);
   sdm::write_png(r.atlas, out.atlas);
   sdm::write_png(preview, out.preview);
@@ -398,7 +414,7 @@ int run_texture_transfer(const TransferArgs& o) {
   const std::vector<Eigen::Vector3f> colors = o.vertex_colors.empty() ? std::vector<Eigen::Vector3f>() : target_vertex_colors(in, r);
   const sdm::Image preview = render_preview(gl, in, r, o);
   const OutputPaths out(o);
-  write_outputs(r, preview, out, colors);
+  write_outputs(in, r, preview, out, colors);
   if (o.json) print_transfer_json(o, in, r, out, jumps);
   else print_transfer_text(o, in, r, out);
   return 0;
@@ -440,6 +456,9 @@ void declare_options(CLI::App* app, TransferArgs& o) {
   add_up_option(app, o.up, "--up", "both models (for the preview)");
   add_up_option(app, o.source_up, "--source-up", "the source (for the preview; overrides --up)");
   add_up_option(app, o.target_up, "--target-up", "the target (for the preview; overrides --up)");
+  app->add_flag("--strict", o.strict,
+                "Refuse a model with a small separate part (a blob inside it, a floating speck) instead of leaving the part out\n"
+                "of the matching with a warning (its vertices then take the nearest vertex's source point)");
   add_repair_options(app);
 }
 

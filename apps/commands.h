@@ -34,6 +34,7 @@ Command add_primitive_command(CLI::App& parent);
 Command add_stm_command(CLI::App& parent);
 Command add_remap_command(CLI::App& parent);
 Command add_transfer_command(CLI::App& parent);
+Command add_correspond_command(CLI::App& parent);
 
 // Progress lines go to stderr, so stdout stays clean for results and --json.
 inline void progress(const std::string& line) { std::cerr << line << std::endl; }

@@ -38,6 +38,7 @@ const Entry kCommands[] = {
     {"roundtrip", sdm::cli::add_roundtrip_command},
     {"compare", sdm::cli::add_compare_command},
     {"transfer", sdm::cli::add_transfer_command},
+    {"correspond", sdm::cli::add_correspond_command},
     {"bench", sdm::cli::add_bench_command},
 #endif
 };

@@ -2,7 +2,7 @@
 
 #include "libstm/core/errors.h"
 #include "libstm/core/parallel.h"
-#include "libstm/transfer/share_skeletons.h"
+#include "libstm/correspondence/share_skeletons.h"
 
 #include <optional>
 

@@ -273,6 +273,33 @@ py::dict transfer(const RowMatrix3d& Vs, const RowMatrix3i& Fs, const RowMatrix3
   return d;
 }
 
+// The dense correspondence alone (correspond, without GL): per target vertex its source point.
+py::dict correspondence(const RowMatrix3d& Vs, const RowMatrix3i& Fs, const RowMatrix3d& Vt, const RowMatrix3i& Ft, bool force) {
+  const sdm::Mesh source = mesh_of(Vs, Fs, {}, "(source_V, source_F)");
+  const sdm::Mesh target = mesh_of(Vt, Ft, {}, "(target_V, target_F)");
+  sdm::SkeletonStats stats_a, stats_b;
+  const sdm::Skeleton a = sdm::extract_skeleton(source, sdm::transfer_skeleton_options(), nullptr, &stats_a);
+  const sdm::Skeleton b = sdm::extract_skeleton(target, sdm::transfer_skeleton_options(), nullptr, &stats_b);
+  sdm::CorrespondOptions o;
+  o.force = force;
+  o.other_candidate = [&](bool is_target) -> std::optional<sdm::Skeleton> {
+    return sdm::other_transfer_candidate(is_target ? target : source, is_target ? stats_b : stats_a);
+  };
+  const sdm::Correspondence c = sdm::correspond(source, a, target, b, o);
+  if (c.points.empty()) throw sdm::InputError("the target was matched by its skeleton alone (the genera differ): no point correspondence");
+  py::dict d;
+  Eigen::VectorXi face(c.points.size());
+  RowMatrix3d bary(c.points.size(), 3);
+  for (size_t i = 0; i < c.points.size(); ++i) face(i) = c.points[i].face, bary.row(i) = c.points[i].barycentric.transpose();
+  d["face"] = face;
+  d["barycentric"] = bary;
+  d["kind"] = sdm::kind_name(c.kind);
+  d["fit_rms"] = c.diagnostics.fit_rms;
+  d["fit_p99"] = c.diagnostics.fit_p99;
+  d["refined"] = c.diagnostics.refined;
+  return d;
+}
+
 }  // namespace
 
 PYBIND11_MODULE(sdm_py, m) {
@@ -310,4 +337,8 @@ PYBIND11_MODULE(sdm_py, m) {
         "(n, 3), the source point of every target vertex; uv (m, 3, 2) per corner of faces (m, 3) of the target "
         "into atlas (h, w, 4); fit_rms, fit_p99 (fractions of the diagonal). uv (per source face corner) and "
         "texture (h, w, 3 or 4, uint8) are optional.");
+  m.def("correspondence", &correspondence, py::arg("source_V"), py::arg("source_F"), py::arg("target_V"), py::arg("target_F"),
+        py::arg("force") = false,
+        "The dense correspondence of transfer without a texture or GL: dict with face (n,) and barycentric (n, 3), the "
+        "source point of every target vertex; kind ('carried', 'bent' or 'registered'), fit_rms, fit_p99, refined.");
 }

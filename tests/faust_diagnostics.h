@@ -9,7 +9,7 @@
 #include "libstm/geometry/differential_geometry.h"
 #include "libstm/mesh/mesh_geometry.h"
 #include "libstm/registration/fit_skeleton.h"
-#include "libstm/transfer/register_bodies.h"
+#include "libstm/correspondence/register_bodies.h"
 #include "libstm/transfer/transfer_texture.h"
 
 #include <Eigen/Geometry>

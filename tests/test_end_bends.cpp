@@ -1,6 +1,6 @@
-// Front and back from the ends' bends (libstm/transfer/end_bends): a stick figure whose feet point
+// Front and back from the ends' bends (libstm/correspondence/end_bends): a stick figure whose feet point
 // forward, matched to a copy of itself the right way round and with left and right swapped.
-#include "libstm/transfer/end_bends.h"
+#include "libstm/correspondence/end_bends.h"
 
 #include <catch2/catch.hpp>
 

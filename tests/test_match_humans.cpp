@@ -8,7 +8,7 @@
 #include "libstm/skeleton/common_branching.h"
 #include "libstm/skeleton/extract_skeleton.h"
 #include "libstm/skeleton/match_skeletons.h"
-#include "libstm/transfer/register_bodies.h"
+#include "libstm/correspondence/register_bodies.h"
 #include "libstm/transfer/transfer_texture.h"
 
 #include <catch2/catch.hpp>

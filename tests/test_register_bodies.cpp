@@ -12,8 +12,8 @@
 #include "libstm/mesh/mesh_geometry.h"
 #include "libstm/mesh/primitives.h"
 #include "libstm/skeleton/extract_skeleton.h"
-#include "libstm/transfer/end_bends.h"
-#include "libstm/transfer/register_bodies.h"
+#include "libstm/correspondence/end_bends.h"
+#include "libstm/correspondence/register_bodies.h"
 #include "libstm/transfer/transfer_texture.h"
 
 #include <catch2/catch.hpp>

@@ -1,6 +1,6 @@
 // The command line's side of share_skeletons: --match texts parsed into node pairs, and the match
 // renumbered into the given skeletons' nodes when common_branching pruned one of them.
-#include "libstm/transfer/share_skeletons.h"
+#include "libstm/correspondence/share_skeletons.h"
 #include "libstm/core/errors.h"
 
 #include <catch2/catch.hpp>

@@ -1,4 +1,4 @@
-#include "libstm/transfer/share_skeletons.h"
+#include "libstm/correspondence/share_skeletons.h"
 
 #include "libstm/core/errors.h"
 #include "libstm/geometry/differential_geometry.h"

@@ -14,7 +14,7 @@
 #include "libstm/core/progress.h"
 #include "libstm/mesh/mesh.h"
 #include "libstm/skeleton/skeleton.h"
-#include "libstm/transfer/share_skeletons.h"
+#include "libstm/correspondence/share_skeletons.h"
 
 #include <Eigen/Dense>
 #include <cmath>
@@ -35,6 +35,7 @@ struct BranchFit {
 struct BodyOptions {
   double split_ratio = 2.0;  // share_skeletons
   int candidates = 4;        // candidate matches tried (match_candidates)
+  bool fit_rival = true;     // the symmetric rival also fitted, the closer kept or a tie reported
   Progress progress;
 };
 
@@ -69,6 +70,14 @@ struct BodyRegistration {
   // guess. Names both (1-based) and their figures.
   std::string ambiguity;
   std::vector<BranchFit> branch_fit;  // per chain of the chosen match
+  // The symmetric rival taken through the whole fit (BodyOptions::fit_rival, DESIGN 6.5 "Symmetric
+  // candidates"): the best-scoring candidate that sends the source's ends to other target ends, -1
+  // when none. final_score and rival_score: the twist of the fitted nodes (mean angle between
+  // neighbours' rotations, degrees) times the fit's RMS to the power 3/4, of the kept fit and of
+  // the rival's (NaN when not fitted). `switched`: the rival scored lower and was kept instead.
+  int rival = -1;
+  double final_score = NAN, rival_score = NAN;
+  bool switched = false;
 };
 
 /// `skeleton_a` and `skeleton_b` belong to source and target (vertex_node of their vertex counts);

@@ -1,4 +1,4 @@
-#include "libstm/transfer/end_bends.h"
+#include "libstm/correspondence/end_bends.h"
 
 #include "libstm/geometry/differential_geometry.h"
 

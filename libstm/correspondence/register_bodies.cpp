@@ -1,10 +1,10 @@
-#include "libstm/transfer/register_bodies.h"
+#include "libstm/correspondence/register_bodies.h"
 
 #include "libstm/geometry/triangle_bvh.h"
 #include "libstm/mesh/mesh_geometry.h"
 #include "libstm/registration/articulated_registration.h"
 #include "libstm/registration/fit_skeleton.h"
-#include "libstm/transfer/end_bends.h"
+#include "libstm/correspondence/end_bends.h"
 
 #include <algorithm>
 #include <sstream>
@@ -110,6 +110,46 @@ std::string ambiguity(const std::vector<SharedSkeletons>& cands, const BodyRegis
     return s.str();
   }
   return "";
+}
+
+// Two full fits whose final scores (final_score) lie within this fraction of each other cannot be
+// told apart: left and right (or front and back) are then a guess (BodyRegistration::ambiguity).
+constexpr double kFinalTie = 0.03;
+
+// The best-scoring candidate that sends the source's ends to other target ends than the chosen one
+// (a mirror, or front and back the other way), or -1.
+int symmetric_rival(const std::vector<SharedSkeletons>& cands, const BodyRegistration& r) {
+  const std::vector<std::pair<int, int>> chosen_ends = end_pairs(cands[size_t(r.chosen)]);
+  int best = -1;
+  for (size_t i = 0; i < cands.size(); ++i) {
+    if (int(i) == r.chosen || !std::isfinite(candidate_score(r, i)) || end_pairs(cands[i]) == chosen_ends) continue;
+    if (best < 0 || candidate_score(r, i) < candidate_score(r, size_t(best))) best = int(i);
+  }
+  return best;
+}
+
+// A full fit's score: the twist of its fitted nodes (mean angle between the rotations of
+// neighbouring nodes, degrees) times its RMS to the power 3/4, as candidate_score weighs the short
+// registrations' (a match with ends swapped fits only by turning parts against their neighbours).
+double final_score(const Skeleton& s, const SkeletonFit& fit) {
+  if (s.edges.empty() || fit.node_rotation.size() != s.nodes.size()) return NAN;
+  double turn = 0;
+  for (const auto& e : s.edges) {
+    const Eigen::Matrix3d D = fit.node_rotation[size_t(e[0])].transpose() * fit.node_rotation[size_t(e[1])];
+    turn += std::acos(std::clamp((D.trace() - 1) / 2, -1.0, 1.0)) * 180 / M_PI;
+  }
+  return turn / double(s.edges.size()) * std::pow(fit.rms, 0.75);
+}
+
+// The chosen match's non-rigid fit: its nodes start the fit of the source's skeleton onto the
+// target (fit_skeleton from the guesses).
+SkeletonFit fit_match(const Mesh& source, const Mesh& target, const SharedSkeletons& sh) {
+  std::vector<double> owned(sh.a.nodes.size(), 0.0);
+  for (int n : sh.a.vertex_node) owned[size_t(n)] += 1;
+  const Similarity start = fit_similarity(sh.a.nodes, sh.b.nodes, owned);
+  FitSkeletonOptions fo;
+  fo.stride = 2;  // FAUST: the same correspondence (2.04-2.66 % against 2.05-2.68 %), 0.7 s less
+  return fit_skeleton(source, sh.a, target, start, sh.b.nodes, fo);
 }
 
 // Per branch of the shared match (chain of its reduced source skeleton), how far the placed source's
@@ -358,20 +398,36 @@ BodyRegistration register_bodies(const Mesh& source, const Skeleton& skeleton_a,
   }
   r.chosen = choose_candidate(r);
   r.ambiguity = ambiguity(cands, r);
-  r.attachment = smaller_core_share(cands[size_t(r.chosen)].match) >= kCoreShare ? r.candidate_attachment[size_t(r.chosen)] : 0;
-  const size_t best = size_t(r.chosen);
-  r.skeletons = std::move(cands[best]);
   // The chosen match's nodes start the non-rigid fit (fit_skeleton from the guesses). The full
   // articulated registration before it (30 steps, then fit_skeleton from its pose and from the
   // guesses, the closer kept) gave the same correspondence on FAUST (2.05-2.68 % against 2.05-2.68 %,
   // 024 -> 007 2.34 % against 2.45 %) in twice the time.
   report_progress(opt.progress, "bending the source onto the target along its skeleton");
-  std::vector<double> owned(r.skeletons.a.nodes.size(), 0.0);
-  for (int n : r.skeletons.a.vertex_node) owned[n] += 1;
-  const Similarity start = fit_similarity(r.skeletons.a.nodes, r.skeletons.b.nodes, owned);
-  FitSkeletonOptions fo;
-  fo.stride = 2;  // FAUST: the same correspondence (2.04-2.66 % against 2.05-2.68 %), 0.7 s less
-  SkeletonFit fit = fit_skeleton(source, r.skeletons.a, target, start, r.skeletons.b.nodes, fo);
+  SkeletonFit fit = fit_match(source, target, cands[size_t(r.chosen)]);
+  r.rival = opt.fit_rival ? symmetric_rival(cands, r) : -1;
+  if (r.rival >= 0) {
+    // The symmetric rival through the whole fit as well: the short registrations' score can favour a
+    // mirror (DESIGN 6.5, "Symmetric candidates"); the lower final score is kept, and a tie reported.
+    report_progress(opt.progress, "bending the source along the symmetric rival, candidate match " + std::to_string(r.rival + 1));
+    SkeletonFit other = fit_match(source, target, cands[size_t(r.rival)]);
+    r.final_score = final_score(cands[size_t(r.chosen)].a, fit), r.rival_score = final_score(cands[size_t(r.rival)].a, other);
+    report_progress(opt.progress, "final scores: chosen " + std::to_string(r.final_score) + " (RMS " + std::to_string(100 * fit.rms) +
+                                      " %), rival " + std::to_string(r.rival_score) + " (RMS " + std::to_string(100 * other.rms) + " %)");
+    if (r.rival_score < r.final_score) {
+      std::swap(fit, other), std::swap(r.chosen, r.rival), std::swap(r.final_score, r.rival_score);
+      r.switched = true;
+      r.ambiguity = ambiguity(cands, r);
+    }
+    if (r.ambiguity.empty() && r.rival_score <= (1 + kFinalTie) * r.final_score) {
+      std::ostringstream s;
+      s.precision(3);
+      s << "candidate matches " << r.chosen + 1 << " and " << r.rival + 1 << " send the source's ends to different target ends, yet "
+        << "their full fits score within " << 100 * (r.rival_score / r.final_score - 1) << " % of each other";
+      r.ambiguity = s.str();
+    }
+  }
+  r.attachment = smaller_core_share(cands[size_t(r.chosen)].match) >= kCoreShare ? r.candidate_attachment[size_t(r.chosen)] : 0;
+  r.skeletons = std::move(cands[size_t(r.chosen)]);
   r.rms = fit.rms, r.p99 = fit.p99;
   r.branch_fit = branch_fits(source, fit.bent, target, r.skeletons);
   r.distortion = extremity_distortion(fit.bent);
