@@ -226,6 +226,11 @@ std::vector<SourcePoint> zoomout(const Mesh& source, const LaplaceBasis& source_
       for (size_t s = 0; s < s2t.size(); ++s) g.row(Eigen::Index(s)) = phi_t.row(s2t[s]).head(k);
       C = 0.5f * (C + (phi_s.leftCols(k).transpose() * (mass_s.asDiagonal() * g)).transpose());
     }
+    // The nearest orthogonal matrix (an isometry's functional map), U V^T of C's SVD.
+    if (o.orthogonal) {
+      const Eigen::BDCSVD<Eigen::MatrixXf> svd(C, Eigen::ComputeThinU | Eigen::ComputeThinV);
+      C = svd.matrixU() * svd.matrixV().transpose();
+    }
     const RowMatrix queries = embedding(phi_t, k, C, start_points, w), database = embedding(phi_s, k, {}, source_points, w);
     const std::vector<int> nearest = nearest_rows(queries, database, t_windows, o.threads);
     if (i + 1 == sizes.size()) {
