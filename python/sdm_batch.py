@@ -372,9 +372,9 @@ def parse_memory(text):
 def check_limits(workers, timeout):
     """Raises BatchError naming --workers or --timeout when it is out of range."""
     if isinstance(workers, bool) or not isinstance(workers, int) or not 1 <= workers <= 256:
-        raise BatchError('--workers %s: the local cluster takes 1 to 256 worker processes' % workers)
+        raise BatchError('--workers %s is out of range: the local cluster takes 1 to 256 worker processes' % workers)
     if not isinstance(timeout, (int, float)) or isinstance(timeout, bool) or not (0 < timeout < math.inf):
-        raise BatchError("--timeout %s: a model's time limit must be a positive, finite number of seconds" % timeout)
+        raise BatchError("--timeout %s is out of range: a model's time limit must be a positive, finite number of seconds" % timeout)
 
 
 def replace_all(files):
@@ -585,22 +585,6 @@ def print_table(rows, out=sys.stdout):
         out.write('| %s | %s | %s | %.1f | %s |\n' % (r['name'], r['status'], r['exit_code'], r['seconds'], r['error']))
 
 
-def number_in(lo, hi, kind=float, above=False):
-    """An argparse type: a finite number from lo (excluded with above) to hi; nan, inf and values
-    outside are refused (exit 2) with the value and the range, as the sdm commands refuse them."""
-    span = '%s%g, %g]' % ('(' if above else '[', lo, hi)
-
-    def parse(text):
-        try:
-            x = kind(text)
-        except ValueError:
-            raise argparse.ArgumentTypeError("'%s' is not a number; give one in %s" % (text, span))
-        if not (math.isfinite(x) and (x > lo if above else x >= lo) and x <= hi):
-            raise argparse.ArgumentTypeError('%s is out of range; give a finite number in %s' % (text, span))
-        return x
-    return parse
-
-
 def arguments():
     ap = argparse.ArgumentParser(prog='sdm batch', description=__doc__.split('\n\n')[1], formatter_class=argparse.RawDescriptionHelpFormatter,
                                  epilog='\n\n'.join(__doc__.split('\n\n')[2:]))
@@ -608,8 +592,8 @@ def arguments():
     ap.add_argument('-o', '--output', required=True, help='folder for the outputs and the summary')
     ap.add_argument('--do', default='stm,encode', help='steps for each model, comma-separated (default: stm,encode)')
     ap.add_argument('--scheduler', help='address of a Dask scheduler (tcp://HOST:8786); default: a local cluster')
-    ap.add_argument('--workers', type=number_in(1, 256, int), default=2, help='processes of the local cluster, 1 to 256 (default 2)')
-    ap.add_argument('--timeout', type=number_in(0, 1e7, above=True), default=3600, help="seconds a model's steps may take in all (default 3600)")
+    ap.add_argument('--workers', type=int, default=2, help='processes of the local cluster, 1 to 256 (default 2)')
+    ap.add_argument('--timeout', type=float, default=3600, help="seconds a model's steps may take in all (default 3600)")
     ap.add_argument('--max-memory', default='', help="resident memory a model's command may use (e.g. 8G); above it the model is killed")
     ap.add_argument('--sdm', default=os.environ.get('SDM_BINARY', 'sdm'), help='the sdm program to run (default: sdm on PATH)')
     ap.add_argument('--json', action='store_true', help='print the summary as JSON instead of a table')

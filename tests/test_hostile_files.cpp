@@ -149,7 +149,7 @@ TEST_CASE("Named pipes, devices and folders named as any input are refused by na
   }
 }
 
-TEST_CASE("--skeleton, --layout, --texture, --stm and an SDM naming a named pipe or a device are refused with exit 2", "[hostile]") {
+TEST_CASE("A named pipe or a device given to --skeleton, --layout, --texture, --stm or as an SDM is refused with exit 2", "[hostile]") {
   Capsule cap;
   const std::string pipe = cap.dir / "pipe", out = cap.dir / "out";
   make_fifo(pipe);
@@ -200,7 +200,7 @@ TEST_CASE("Images whose header claims more than the bytes or the memory budget h
   CHECK_FALSE(fs::exists(out));
 }
 
-TEST_CASE("--stm beyond the memory budget and a layout beyond the JSON size limit are refused before reading", "[hostile]") {
+TEST_CASE("An --stm beyond the memory budget and a layout beyond the JSON size limit are refused before reading", "[hostile]") {
   Capsule cap;
   const std::string out = cap.dir / "out.png";
   write_file(cap.dir / "big.png", png_claiming(16384, 40000));

@@ -348,7 +348,9 @@ SplitVertices split_vertices(const Mesh& mesh) {
 }
 
 void add_texture(tinygltf::Model& m, const std::string& png, tinygltf::Primitive& p) {
-  const std::string bytes = read_input_file(png, "texture", kMaxImageFileBytes);
+  // read_text_file: the texture may be this command's own output, still under its temporary name
+  // until the command's OutputCommit renames it (transfer -o OUT.glb embeds the atlas it wrote).
+  const std::string bytes = read_text_file(png);
   if (bytes.size() < 8 || bytes.compare(0, 8, "\x89PNG\r\n\x1a\n") != 0) throw InputError("texture " + png + " is not a PNG file");
   tinygltf::Image image;
   image.bufferView = add_view(m, bytes.data(), bytes.size(), 0);
