@@ -65,4 +65,18 @@ class SupernodalCholesky {
   std::vector<int> order_[3];
 };
 
+// SupernodalCholesky behind the interface of Eigen's sparse factorisations (analyzePattern,
+// factorize, info, solve), for code written against them (the contraction iterations).
+class SupernodalSolver {
+ public:
+  void analyzePattern(const Eigen::SparseMatrix<double>& A) { llt_.analyze(A); }
+  void factorize(const Eigen::SparseMatrix<double>& A) { ok_ = llt_.factorize(A); }
+  Eigen::ComputationInfo info() const { return ok_ ? Eigen::Success : Eigen::NumericalIssue; }
+  Eigen::MatrixX3d solve(const Eigen::MatrixX3d& B) const { return llt_.solve(B); }
+
+ private:
+  SupernodalCholesky llt_;
+  bool ok_ = false;
+};
+
 }  // namespace sdm

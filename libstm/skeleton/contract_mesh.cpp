@@ -19,19 +19,6 @@ namespace sdm {
 
 namespace {
 
-// SupernodalCholesky behind the interface of Eigen's factorisations, for the iteration below.
-class SupernodalSolver {
- public:
-  void analyzePattern(const Eigen::SparseMatrix<double>& A) { llt_.analyze(A); }
-  void factorize(const Eigen::SparseMatrix<double>& A) { ok_ = llt_.factorize(A); }
-  Eigen::ComputationInfo info() const { return ok_ ? Eigen::Success : Eigen::NumericalIssue; }
-  Eigen::MatrixX3d solve(const Eigen::MatrixX3d& B) const { return llt_.solve(B); }
-
- private:
-  SupernodalCholesky llt_;
-  bool ok_ = false;
-};
-
 // Cotangent of the angle between u and v, clamped: contracted triangles degenerate, and an
 // unbounded weight would make the system singular.
 double clamped_cot(const Eigen::Vector3d& u, const Eigen::Vector3d& v, double lo, double hi) {

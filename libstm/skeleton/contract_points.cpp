@@ -19,18 +19,6 @@ namespace sdm {
 
 namespace {
 
-class PointSupernodal {
- public:
-  void analyzePattern(const Eigen::SparseMatrix<double>& A) { llt_.analyze(A); }
-  void factorize(const Eigen::SparseMatrix<double>& A) { ok_ = llt_.factorize(A); }
-  Eigen::ComputationInfo info() const { return ok_ ? Eigen::Success : Eigen::NumericalIssue; }
-  Eigen::MatrixX3d solve(const Eigen::MatrixX3d& B) const { return llt_.solve(B); }
-
- private:
-  SupernodalCholesky llt_;
-  bool ok_ = false;
-};
-
 // Cotangent of the angle between u and v, clamped to [0, hi]: contracted triangles degenerate.
 double clamped_cot(const Eigen::Vector3d& u, const Eigen::Vector3d& v, double hi) {
   const double c = u.dot(v), s = u.cross(v).norm();
@@ -147,7 +135,7 @@ PointContractResult contract_points(const std::vector<Eigen::Vector3d>& points, 
     Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> s;
     iterate(s, lr, points, opt, progress, res);
   } else {
-    PointSupernodal s;
+    SupernodalSolver s;
     iterate(s, lr, points, opt, progress, res);
   }
   return res;
