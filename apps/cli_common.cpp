@@ -1,6 +1,7 @@
 #include "apps/cli_common.h"
 
 #include "apps/commands.h"
+#include "apps/memory_budget.h"
 #include "libstm/core/errors.h"
 #include "libstm/core/stopwatch.h"
 #include "libstm/mesh/fill_holes.h"
@@ -15,8 +16,8 @@
 namespace sdm::cli {
 namespace {
 
-sdm::Layout read_layout_for(const sdm::Mesh& mesh, const std::string& path) {
-  sdm::Layout layout = sdm::read_layout_json(path);
+sdm::Layout read_layout_for(const sdm::Mesh& mesh, const std::string& path, const std::string& max_memory) {
+  sdm::Layout layout = sdm::read_layout_json(path, json_budget(max_memory, path));
   if (layout.skeleton.vertex_node.size() != mesh.n_vertices())
     throw sdm::InputError("layout " + path + " was made for a mesh with " + std::to_string(layout.skeleton.vertex_node.size()) +
                           " vertices, this one has " + std::to_string(mesh.n_vertices()));
@@ -28,7 +29,7 @@ sdm::Layout read_layout_for(const sdm::Mesh& mesh, const std::string& path) {
 LayoutForMesh layout_for(const sdm::Mesh& mesh, const LayoutSource& source) {
   LayoutForMesh r;
   if (!source.layout_file.empty()) {
-    r.layout = read_layout_for(mesh, source.layout_file);
+    r.layout = read_layout_for(mesh, source.layout_file, source.max_memory);
     return r;
   }
   const sdm::Progress stage_progress =
@@ -36,7 +37,7 @@ LayoutForMesh layout_for(const sdm::Mesh& mesh, const LayoutSource& source) {
   sdm::Stopwatch clock;
   sdm::Skeleton skeleton;
   if (!source.skeleton_file.empty()) {
-    skeleton = sdm::read_skeleton_json(source.skeleton_file);
+    skeleton = sdm::read_skeleton_json(source.skeleton_file, json_budget(source.max_memory, source.skeleton_file));
   } else {
     if (source.announce_stages) progress("extracting the skeleton");
     skeleton = sdm::extract_skeleton(mesh, {}, stage_progress);

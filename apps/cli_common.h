@@ -16,6 +16,7 @@ namespace sdm::cli {
 struct LayoutSource {
   std::string layout_file;    // --layout
   std::string skeleton_file;  // --skeleton
+  std::string max_memory;     // --max-memory: the budget the JSON files are read within
   LayoutOptions options;      // of a computed layout (size, margin, ...); its progress is set by layout_for
   // Print a line as each stage starts ("extracting the skeleton", "computing the layout") with
   // the stage's own progress lines indented under it; otherwise the stage's lines only, as they are.

@@ -77,7 +77,7 @@ Command add_decode_command(CLI::App& parent) {
             const sdm::DecodeEstimate e = sdm::estimate_decode(im, d);
             check_memory(e.bytes, o->max_memory, "decoding " + std::to_string(int64_t(e.triangles / 1e6)) + " million triangles",
                          "use a lower --lod (each level quadruples the triangles)");
-            if (!o->skeleton.empty()) d.skeleton = sdm::read_skeleton_json(o->skeleton);
+            if (!o->skeleton.empty()) d.skeleton = sdm::read_skeleton_json(o->skeleton, json_budget(o->max_memory, o->skeleton));
             std::optional<sdm::Skeleton> posed;
             if (o->rig) posed.swap(d.skeleton);  // decoded at rest, the pose goes into the joints
             const sdm::Layout layout = o->rig ? sdm::layout_from_json(im.layout) : sdm::Layout{};

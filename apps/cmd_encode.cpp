@@ -82,7 +82,7 @@ Command add_encode_command(CLI::App& parent) {
             sdm::Stopwatch clock;
             const sdm::Mesh mesh = load_mesh_min_part(o->mesh, o->min_part, o->fill_holes);
             const sdm::SelfIntersections crossings = check_self_intersections(mesh, o->strict);
-            const sdm::Layout layout = layout_for(mesh, encode_layout_source(o->layout, o->skeleton, o->size)).layout;
+            const sdm::Layout layout = layout_for(mesh, encode_layout_source(o->layout, o->skeleton, o->size, o->max_memory)).layout;
             const double layout_s = clock.lap();
             sdm::EncodeStats st;
             sdm::EncodeOptions eo;

@@ -156,7 +156,7 @@ Command add_pose_command(CLI::App& parent) {
             const sdm::Skeleton& rest = layout.skeleton;
             sdm::Skeleton posed = rest;
             if (!o->skeleton.empty()) {
-              posed = sdm::read_skeleton_json(o->skeleton);
+              posed = sdm::read_skeleton_json(o->skeleton, json_budget(o->max_memory, o->skeleton));
               posed.vertex_node = rest.vertex_node;
               sdm::pose_skeleton(rest, posed);  // the graph checked before the work
             }

@@ -54,6 +54,7 @@ Command add_remap_command(CLI::App& parent) {
             const sdm::Image source = sdm::read_png(texture_path, image_budget(o->max_memory, texture_path));
             LayoutSource from;
             from.layout_file = o->layout;
+            from.max_memory = o->max_memory;
             from.options.size = o->size;
             from.options.margin = o->margin;
             const LayoutForMesh got = layout_for(mesh, from);

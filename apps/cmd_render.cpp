@@ -165,7 +165,7 @@ RenderedViews render_views(const RenderArgs& o, sdm::GlContext& gl, const sdm::M
         img = sdm::side_by_side({uv_img, img});
       }
     } else if (!o.skeleton.empty()) {
-      const sdm::Skeleton sk = sdm::read_skeleton_json(o.skeleton);
+      const sdm::Skeleton sk = sdm::read_skeleton_json(o.skeleton, json_budget(o.max_memory, o.skeleton));
       img = sdm::render_with_skeleton(gl, mesh, sk, ro);
       sdm::render_mesh(gl, mesh, ro, &mask);
     } else {
@@ -234,7 +234,7 @@ int run_render(const RenderArgs& o) {
   sdm::Layout layout;
   sdm::Image atlas;
   if (from_stm) {
-    layout = sdm::read_layout_json(o.layout);
+    layout = sdm::read_layout_json(o.layout, json_budget(o.max_memory, o.layout));
     atlas = o.checker ? sdm::checker_atlas(layout, std::max(4, layout.size / 64)) : sdm::read_png(o.stm, image_budget(o.max_memory, o.stm));
   }
   sdm::GlContext gl;

@@ -132,7 +132,7 @@ Command add_roundtrip_command(CLI::App& parent) {
             const sdm::SdmPrecision precision = sdm::SdmPrecision::parse(o->precision);
             const sdm::Mesh mesh = load_mesh_min_part(o->mesh, o->min_part, o->fill_holes);
             const sdm::SelfIntersections crossings = check_self_intersections(mesh, o->strict);
-            const sdm::Layout layout = layout_for(mesh, encode_layout_source("", "", o->size)).layout;
+            const sdm::Layout layout = layout_for(mesh, encode_layout_source("", "", o->size, o->max_memory)).layout;
             sdm::Stopwatch stage;
             progress("encoding");
             sdm::EncodeOptions eo;

@@ -64,6 +64,7 @@ Command add_stm_command(CLI::App& parent) {
             sdm::Mesh mesh = load_mesh_min_part(o->mesh, o->min_part, o->fill_holes);
             LayoutSource from;
             from.skeleton_file = o->skeleton;
+            from.max_memory = o->max_memory;
             from.options.size = o->size;
             from.options.margin = o->margin;
             const sdm::Layout layout = layout_for(mesh, from).layout;

@@ -70,7 +70,7 @@ int run_sdm_transfer(const TransferArgs& o) {
   if (o.target_skeleton.empty()) throw sdm::InputError("--sdm needs --target-skeleton SKEL.json (the skeleton to decode around)");
   const sdm::SdmImage im = sdm::read_sdm_exr(o.sdm);
   const sdm::Skeleton graph = sdm::layout_from_json(im.layout).skeleton;
-  const sdm::Skeleton target = sdm::read_skeleton_json(o.target_skeleton);
+  const sdm::Skeleton target = sdm::read_skeleton_json(o.target_skeleton, json_budget(o.max_memory, o.target_skeleton));
   sdm::SkeletonMatch m;
   sdm::DecodeOptions d;
   d.level = o.lod;
@@ -181,8 +181,10 @@ TransferInputs read_inputs(const TransferArgs& o) {
   auto labelled = [&](const std::string& what) -> sdm::Progress {
     return [shared, what](const std::string& line) { shared(line.rfind("extracting", 0) == 0 ? line : what + ": " + line); };
   };
-  auto source = [&] { in.skeleton_a = skeleton_for(in.source, o.source_skeleton, "source", &in.stats_a, labelled("source")); };
-  auto target = [&] { in.skeleton_b = skeleton_for(in.target, o.target_skeleton, "target", &in.stats_b, labelled("target")); };
+  auto source = [&] { in.skeleton_a = skeleton_for(in.source, o.source_skeleton, "source", &in.stats_a, labelled("source"),
+                                                   json_budget(o.max_memory, o.source_skeleton)); };
+  auto target = [&] { in.skeleton_b = skeleton_for(in.target, o.target_skeleton, "target", &in.stats_b, labelled("target"),
+                                                   json_budget(o.max_memory, o.target_skeleton)); };
   obtain_both_skeletons(in.source.n_vertices() + in.target.n_vertices(), source, target);
   return in;
 }

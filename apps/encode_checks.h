@@ -15,7 +15,8 @@
 namespace sdm::cli {
 
 // The layout encode and roundtrip use: the stages announced, the atlas size given, the default margin.
-LayoutSource encode_layout_source(const std::string& layout_file, const std::string& skeleton_file, int size);
+LayoutSource encode_layout_source(const std::string& layout_file, const std::string& skeleton_file, int size,
+                                  const std::string& max_memory);
 
 constexpr const char* kPrecisionHelp =
     "Displacement precision in the file: float (32 bits), half (16 bits: 11 significant bits), or a number of bits "

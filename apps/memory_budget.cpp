@@ -54,6 +54,10 @@ sdm::ImageBudget image_budget(const std::string& max_memory, const std::string& 
   };
 }
 
+sdm::ReadBudget json_budget(const std::string& max_memory, const std::string& path) {
+  return [max_memory, path](double bytes) { check_memory(bytes, max_memory, "reading " + path, "use a smaller file"); };
+}
+
 void check_atlas_memory(int size, double bytes_per_texel, const std::string& max_memory) {
   check_memory(bytes_per_texel * double(size) * double(size), max_memory, "an atlas of " + std::to_string(size) + "^2 texels",
                "use a smaller --size");

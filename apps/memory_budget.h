@@ -3,6 +3,7 @@
 // --lod, an atlas's --size, render's --width/--height/--views) and refuses beyond the budget up
 // front, naming the estimate, instead of growing until the machine kills it.
 #include "libstm/core/image.h"
+#include "libstm/core/input_file.h"
 
 #include <CLI/CLI.hpp>
 #include <string>
@@ -27,6 +28,10 @@ void check_memory(double estimate, const std::string& max_memory, const std::str
 // (encode at 4096: 0.15 GB; stm --atlas-png at 4096: 0.15 GB), 60 where the GL draws the atlas
 // (remap, texture transfer: framebuffer attachments and read-back, as for render).
 void check_atlas_memory(int size, double bytes_per_texel, const std::string& max_memory);
+
+// The budget read_layout_json and read_skeleton_json ask before parsing the JSON file `path`: the
+// text and its tree (kJsonBytesPerFileByte times the file's size) within --max-memory.
+sdm::ReadBudget json_budget(const std::string& max_memory, const std::string& path);
 
 // The budget read_png asks before decoding the image `path` (a texture, an --stm atlas): its
 // decoding's bytes (decode_image_bytes, from the image's header) within --max-memory.

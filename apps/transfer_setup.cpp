@@ -9,9 +9,9 @@
 namespace sdm::cli {
 
 Skeleton skeleton_for(const Mesh& mesh, const std::string& json_path, const std::string& what, SkeletonStats* stats,
-                      const Progress& report) {
+                      const Progress& report, const ReadBudget& budget) {
   if (!json_path.empty()) {
-    Skeleton s = read_skeleton_json(json_path);
+    Skeleton s = read_skeleton_json(json_path, budget);
     if (s.vertex_node.size() != mesh.n_vertices())
       throw InputError(what + " skeleton " + json_path + " was made for a mesh with " + std::to_string(s.vertex_node.size()) +
                        " vertices, not " + std::to_string(mesh.n_vertices()));

@@ -16,9 +16,10 @@ namespace sdm::cli {
 
 /// The skeleton read from json_path (it must map mesh's vertices), or else extracted with the
 /// transfer's options (transfer_skeleton_options; its statistics into *stats); `what` names the
-/// model in messages. Throws InputError for a skeleton file made for another vertex count.
+/// model in messages; the file is read within `budget` (json_budget). Throws InputError for a
+/// skeleton file made for another vertex count.
 Skeleton skeleton_for(const Mesh& mesh, const std::string& json_path, const std::string& what, SkeletonStats* stats,
-                      const Progress& report);
+                      const Progress& report, const ReadBudget& budget = {});
 
 /// Runs `source` and `target` (each obtains one model's skeleton) on two threads when the two
 /// models have at most 400000 vertices together, else one after the other (their extractions'

@@ -15,6 +15,7 @@
 #include <sys/stat.h>
 
 namespace fs = std::filesystem;
+using test_util::memory_cap;
 using test_util::run_sdm;
 using test_util::TempDir;
 using test_util::write_file;
@@ -25,21 +26,6 @@ namespace {
 // blocks on a named pipe fails the test (exit 124) instead of hanging the suite.
 test_util::RunResult run_sdm_guarded(const std::string& args, const std::string& limits = "true") {
   return test_util::run_program("sh -c '" + limits + "; exec timeout -k 5 60 " + std::string(SDM_BINARY) + " " + args + "'", "");
-}
-
-// 1 GB of address space (plain builds; the sanitizers reserve their shadow memory up front).
-std::string memory_cap() {
-#if defined(__SANITIZE_ADDRESS__)
-  return "true";
-#elif defined(__has_feature)
-#if __has_feature(address_sanitizer)
-  return "true";
-#else
-  return "ulimit -v 1048576";
-#endif
-#else
-  return "ulimit -v 1048576";
-#endif
 }
 
 void expect_refused(const test_util::RunResult& r, const std::string& message) {
@@ -214,7 +200,23 @@ TEST_CASE("An --stm beyond the memory budget and a layout beyond the JSON size l
                  "this reader takes");
   expect_refused(run_sdm_guarded("stm " + cap.mesh + " --skeleton " + cap.dir / "huge.json" + " -o " + cap.dir / "o.json", memory_cap()),
                  "this reader takes");
+  // 100 MB of JSON is within the reader's limit but parses into about 32x its text: --max-memory
+  // 512M refuses it before the first byte is read, for every command that reads a layout or skeleton.
+  std::ofstream(cap.dir / "big.json").put('{');
+  fs::resize_file(cap.dir / "big.json", std::uintmax_t(100) << 20);
+  const std::string big = cap.dir / "big.json", budget = " --max-memory 512M";
+  for (const std::string& command : {"render " + cap.mesh + " --layout " + big + " --checker -o " + out + budget,
+                                     "render " + cap.mesh + " --skeleton " + big + " -o " + out + budget,
+                                     "stm " + cap.mesh + " --skeleton " + big + " -o " + cap.dir / "o.json" + budget,
+                                     "encode " + cap.mesh + " --layout " + big + " -o " + cap.dir / "o.exr" + budget,
+                                     "remap " + cap.mesh + " --layout " + big + " --checker -o " + out + budget,
+                                     "encode " + cap.mesh + " --skeleton " + big + " -o " + cap.dir / "o.exr" + budget}) {
+    INFO(command);
+    expect_refused(run_sdm_guarded(command, memory_cap()), "needs about");
+  }
   CHECK_FALSE(fs::exists(out));
+  CHECK_FALSE(fs::exists(cap.dir / "o.json"));
+  CHECK_FALSE(fs::exists(cap.dir / "o.exr"));
 }
 
 TEST_CASE("A byte-order mark is read past in memory: no temporary copy, every face kept, the material found", "[hostile]") {

@@ -12,6 +12,7 @@
 #include <sstream>
 
 namespace fs = std::filesystem;
+using test_util::memory_cap;
 using test_util::run_sdm;
 using test_util::TempDir;
 using test_util::write_file;
@@ -30,22 +31,6 @@ test_util::RunResult run_sdm_limited(const std::string& limits, const std::strin
   const int status = pclose(p);
   r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
   return r;
-}
-
-// 1 GB of address space: a reader that trusted a hostile header would fail with bad_alloc (exit 1).
-// The sanitizers reserve terabytes of shadow memory, so the cap applies to plain builds only.
-std::string memory_cap() {
-#if defined(__SANITIZE_ADDRESS__)
-  return "true";
-#elif defined(__has_feature)
-#if __has_feature(address_sanitizer)
-  return "true";
-#else
-  return "ulimit -v 1048576";
-#endif
-#else
-  return "ulimit -v 1048576";
-#endif
 }
 
 bool has_temporary(const fs::path& dir) {

@@ -46,6 +46,23 @@ inline std::vector<SharedMesh> closed_shared_meshes() {
   return present;
 }
 
+// A shell command capping the address space at 1 GB, to put before a command under test: a reader
+// that trusted a hostile header fails with bad_alloc (exit 1) instead of taking the machine. The
+// sanitizers reserve terabytes of shadow memory up front, so under them the cap is left out.
+inline std::string memory_cap() {
+#if defined(__SANITIZE_ADDRESS__)
+  return "true";
+#elif defined(__has_feature)
+#if __has_feature(address_sanitizer)
+  return "true";
+#else
+  return "ulimit -v 1048576";
+#endif
+#else
+  return "ulimit -v 1048576";
+#endif
+}
+
 struct RunResult {
   int exit_code = -1;
   std::string output;  // stdout and stderr together

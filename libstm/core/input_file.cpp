@@ -52,6 +52,11 @@ void check_input_file(const std::string& path, const std::string& what) {
 }
 
 std::string read_input_file(const std::string& path, const std::string& what, std::uint64_t max_bytes) {
+  return read_input_file(path, what, max_bytes, {}, 1);
+}
+
+std::string read_input_file(const std::string& path, const std::string& what, std::uint64_t max_bytes, const ReadBudget& budget,
+                            double bytes_per_file_byte) {
   check_input_file(path, what);
   // O_NONBLOCK: should the path become a FIFO between the test and the open, the open returns at
   // once instead of waiting for a writer, and the test below refuses it.
@@ -65,6 +70,7 @@ std::string read_input_file(const std::string& path, const std::string& what, st
   if (size > max_bytes)
     throw cannot_read(what, path, "the file is " + byte_count(double(size)) + ", more than the " + byte_count(double(max_bytes)) +
                                       " this reader takes");
+  if (budget) budget(bytes_per_file_byte * double(size));
   std::string bytes(size_t(size), '\0');
   size_t done = 0;
   while (done < bytes.size()) {

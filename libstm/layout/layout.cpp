@@ -295,8 +295,8 @@ Layout layout_from_json(const nlohmann::json& j) {
 
 void write_layout_json(const Layout& L, const std::string& path) { write_text_file(path, layout_to_json(L).dump(1) + "\n"); }
 
-Layout read_layout_json(const std::string& path) {
-  const nlohmann::json j = nlohmann::json::parse(read_input_file(path, "layout", kMaxJsonFileBytes), nullptr, false);
+Layout read_layout_json(const std::string& path, const ReadBudget& budget) {
+  const nlohmann::json j = nlohmann::json::parse(read_input_file(path, "layout", kMaxJsonFileBytes, budget, kJsonBytesPerFileByte), nullptr, false);
   if (j.is_discarded()) throw InputError("cannot read layout " + path + ": not JSON");
   try {
     return layout_from_json(j);

@@ -94,7 +94,10 @@ double capsule_length(const LayoutSegment& seg);
 nlohmann::json layout_to_json(const Layout& layout);
 Layout layout_from_json(const nlohmann::json& j);
 void write_layout_json(const Layout& layout, const std::string& path);
-Layout read_layout_json(const std::string& path);
+//! Reads a layout written by write_layout_json; `budget` as for read_skeleton_json.
+//! \throw InputError naming the file: not a regular file, too large, refused by `budget`, not JSON,
+//! not a valid layout.
+Layout read_layout_json(const std::string& path, const ReadBudget& budget = {});
 
 // One triangle as drawn into the atlas: texel coordinates of its corners, unwrapped across the
 // phi = 0 seam so that it spans less than half its rectangle around the axis (when it can: a

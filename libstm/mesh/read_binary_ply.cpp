@@ -179,6 +179,18 @@ struct AsciiBody {
   }
 };
 
+// Appends a face: triangles while every face is one, all faces as polygons from the first that is not.
+void add_face(const std::vector<int>& corners, BinaryPly& out) {
+  if (corners.size() == 3 && out.polygons.empty()) {
+    out.triangles.push_back({corners[0], corners[1], corners[2]});
+    return;
+  }
+  if (out.polygons.empty())
+    for (const auto& t : out.triangles) out.polygons.push_back({t[0], t[1], t[2]});
+  out.triangles.clear();
+  out.polygons.push_back(corners);
+}
+
 // The ASCII body after the header: a line per vertex with its values, a line per face with its
 // corner count and corners. False for anything the checked path should report instead.
 bool read_ascii_body(const std::string& bytes, const Header& h, BinaryPly& out) {
@@ -210,14 +222,7 @@ bool read_ascii_body(const std::string& bytes, const Header& h, BinaryPly& out) 
       c = int(i);
     }
     if (!in.line_done()) return false;
-    if (corners.size() == 3 && out.polygons.empty()) {
-      out.triangles.push_back({corners[0], corners[1], corners[2]});
-      continue;
-    }
-    if (out.polygons.empty())
-      for (const auto& t : out.triangles) out.polygons.push_back({t[0], t[1], t[2]});
-    out.triangles.clear();
-    out.polygons.push_back(corners);
+    add_face(corners, out);
   }
   return !in.next_line();  // nothing after the faces
 }
@@ -256,14 +261,7 @@ bool read_binary_ply(const std::string& bytes, BinaryPly& out) {
       if (i < 0 || i >= double(nv)) return false;  // out of range: OpenMesh's path reports it
       c = int(i);
     }
-    if (corners.size() == 3 && out.polygons.empty()) {
-      out.triangles.push_back({corners[0], corners[1], corners[2]});
-      continue;
-    }
-    if (out.polygons.empty())
-      for (const auto& t : out.triangles) out.polygons.push_back({t[0], t[1], t[2]});
-    out.triangles.clear();
-    out.polygons.push_back(corners);
+    add_face(corners, out);
   }
   return true;
 }

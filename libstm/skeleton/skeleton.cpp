@@ -201,8 +201,8 @@ void write_skeleton_json(const Skeleton& s, const std::string& path) {
   write_text_file(path, skeleton_to_json(s).dump() + "\n");
 }
 
-Skeleton read_skeleton_json(const std::string& path) {
-  const std::string text = read_input_file(path, "skeleton", kMaxJsonFileBytes);
+Skeleton read_skeleton_json(const std::string& path, const ReadBudget& budget) {
+  const std::string text = read_input_file(path, "skeleton", kMaxJsonFileBytes, budget, kJsonBytesPerFileByte);
   nlohmann::json j = nlohmann::json::parse(text, nullptr, false);
   if (j.is_discarded()) throw InputError("cannot read skeleton " + path + ": not JSON");
   try {

@@ -1,6 +1,8 @@
 #pragma once
 // A curve skeleton: nodes, edges, and for every vertex of the mesh it came from, the node that
 // vertex collapsed into (the paper's one-to-many map between skeleton and surface).
+#include "libstm/core/input_file.h"
+
 #include <Eigen/Dense>
 #include <Eigen/Geometry>
 #include <array>
@@ -51,7 +53,11 @@ void check_skeleton_geometry(const Skeleton& s);
 int restrict_to_vertices(Skeleton& s, int vertices);
 
 void write_skeleton_json(const Skeleton& s, const std::string& path);
-Skeleton read_skeleton_json(const std::string& path);
+//! Reads a skeleton written by write_skeleton_json; `budget` (when given) is asked first for the
+//! bytes the parse will hold (kJsonBytesPerFileByte times the file's size).
+//! \throw InputError naming the file: not a regular file, too large, refused by `budget`, not JSON,
+//! not a valid skeleton.
+Skeleton read_skeleton_json(const std::string& path, const ReadBudget& budget = {});
 // OBJ polyline (`v` and `l` lines) so that any viewer shows the skeleton.
 void write_skeleton_obj(const Skeleton& s, const std::string& path);
 
