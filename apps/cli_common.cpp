@@ -26,10 +26,10 @@ sdm::Layout read_layout_for(const sdm::Mesh& mesh, const std::string& path, cons
 
 }  // namespace
 
-LayoutForMesh layout_for(const sdm::Mesh& mesh, const LayoutSource& source) {
+LayoutForMesh layout_for(const sdm::Mesh& mesh, const LayoutSource& source, const std::string& max_memory) {
   LayoutForMesh r;
   if (!source.layout_file.empty()) {
-    r.layout = read_layout_for(mesh, source.layout_file, source.max_memory);
+    r.layout = read_layout_for(mesh, source.layout_file, max_memory);
     return r;
   }
   const sdm::Progress stage_progress =
@@ -37,7 +37,7 @@ LayoutForMesh layout_for(const sdm::Mesh& mesh, const LayoutSource& source) {
   sdm::Stopwatch clock;
   sdm::Skeleton skeleton;
   if (!source.skeleton_file.empty()) {
-    skeleton = sdm::read_skeleton_json(source.skeleton_file, json_budget(source.max_memory, source.skeleton_file));
+    skeleton = sdm::read_skeleton_json(source.skeleton_file, json_budget(max_memory, source.skeleton_file));
   } else {
     if (source.announce_stages) progress("extracting the skeleton");
     skeleton = sdm::extract_skeleton(mesh, {}, stage_progress);

@@ -16,7 +16,6 @@ namespace sdm::cli {
 struct LayoutSource {
   std::string layout_file;    // --layout
   std::string skeleton_file;  // --skeleton
-  std::string max_memory;     // --max-memory: the budget the JSON files are read within
   LayoutOptions options;      // of a computed layout (size, margin, ...); its progress is set by layout_for
   // Print a line as each stage starts ("extracting the skeleton", "computing the layout") with
   // the stage's own progress lines indented under it; otherwise the stage's lines only, as they are.
@@ -30,10 +29,11 @@ struct LayoutForMesh {
   double layout_seconds = 0;     // computing the layout (0 for a layout file)
 };
 
-/// The layout of `mesh` from `source`, progress lines on stderr. Throws InputError when the layout
-/// file was made for a mesh with another vertex count, and whatever reading the files, extracting
-/// the skeleton or computing the layout throws.
-LayoutForMesh layout_for(const Mesh& mesh, const LayoutSource& source);
+/// The layout of `mesh` from `source`, progress lines on stderr; a layout or skeleton file is read
+/// within `max_memory` (--max-memory; json_budget). Throws InputError when the layout file was made
+/// for a mesh with another vertex count or is beyond the budget, and whatever reading the files,
+/// extracting the skeleton or computing the layout throws.
+LayoutForMesh layout_for(const Mesh& mesh, const LayoutSource& source, const std::string& max_memory);
 
 /// How this run reads its meshes: repair on or off (--no-repair) and its weld tolerance, shared by
 /// every input of the command (add_repair_options binds them).

@@ -5,6 +5,7 @@
 #include "apps/bench_pose.h"
 #include "apps/cli_common.h"
 #include "apps/commands.h"
+#include "apps/options.h"
 
 #include <memory>
 
@@ -20,7 +21,7 @@ Command add_bench_command(CLI::App& parent) {
   app->add_option("--bunny", o->bunny, "Large mesh for the skeleton timing (skipped with a note when missing)")->capture_default_str();
   app->add_option("--spot", o->spot, "Spot mesh for --solvers (skipped with a note when missing)")->capture_default_str();
   app->add_option("--repeat", o->repeat, "Runs per measurement; the fastest is kept")->capture_default_str()->check(number_in(1, 20));
-  app->add_option("--size", o->size, "Atlas size for packing and composing")->capture_default_str()->check(number_in(64, 8192));
+  add_size_option(app, o->size, "Atlas size for packing and composing", 64, 8192);
   app->add_flag("--no-sdm", o->no_sdm, "Skip the SDM encode/decode timings");
   app->add_flag("--no-gl", o->no_gl, "Skip the GL atlas composing timing");
   app->add_flag("--solvers", o->solvers, "Compare the contraction's sparse Cholesky solvers instead (docs/BENCHMARKS.md)");

@@ -2,6 +2,7 @@
 // per vertex of B, the point of A it corresponds to (DESIGN 6.5). No GL context is created.
 #include "apps/cli_common.h"
 #include "apps/commands.h"
+#include "apps/options.h"
 #include "apps/transfer_setup.h"
 #include "libstm/core/atomic_file.h"
 #include "libstm/core/errors.h"
@@ -13,7 +14,6 @@
 #include "libstm/registration/correspondence_jumps.h"
 
 #include <cmath>
-#include <filesystem>
 #include <memory>
 
 namespace sdm::cli {
@@ -44,8 +44,7 @@ Model read_model(const std::string& path, const std::string& skeleton, bool stri
 nlohmann::json finite_or_null(double x) { return std::isfinite(x) ? nlohmann::json(x) : nlohmann::json(); }
 
 int run_correspond(const CorrespondArgs& o) {
-  const std::string ext = std::filesystem::path(o.output).extension().string();
-  if (ext != ".txt" && ext != ".json") throw InputError("-o must name a .txt or .json file, not '" + o.output + "'");
+  if (!has_extension(o.output, {".txt", ".json"})) throw InputError("-o must name a .txt or .json file, not '" + o.output + "'");
   const Model a = read_model(o.source, o.source_skeleton, o.strict), b = read_model(o.target, o.target_skeleton, o.strict);
   Skeleton sa, sb;
   SkeletonStats stats_a, stats_b;
@@ -69,7 +68,7 @@ int run_correspond(const CorrespondArgs& o) {
   const CorrespondenceJumps jumps = correspondence_jumps(a.mesh(), b.mesh(), c.points, 0.05 * bounding_box_diagonal(a.mesh()));
   std::vector<SourcePoint> points = a.parts.reduced() ? onto_input_source(a.parts, a.input, c.points) : c.points;
   if (b.parts.reduced()) points = onto_input_target(b.parts, b.input, points);
-  write_text_file(o.output, correspondence_text(points, ext == ".json"));
+  write_text_file(o.output, correspondence_text(points, has_extension(o.output, {".json"})));
   if (o.json) {
     print_json({{"output", o.output},
                 {"target_vertices", points.size()},

@@ -2,7 +2,7 @@
 #include "apps/cli_common.h"
 #include "apps/commands.h"
 #include "apps/decoded_mesh.h"
-#include "apps/memory_budget.h"
+#include "apps/options.h"
 #include "libsdm/decode/decode_sdm.h"
 #include "libsdm/map/sdm_exr.h"
 #include "libsdm/pose/pose_skeleton.h"
@@ -13,33 +13,10 @@
 #include "libstm/mesh/mesh.h"
 
 #include <iostream>
-#include <map>
 #include <memory>
 #include <optional>
 
 namespace sdm::cli {
-namespace {
-
-// --lod-segment ID=L
-std::map<int, int> parse_segment_levels(const std::vector<std::string>& items) {
-  std::map<int, int> out;
-  for (const auto& s : items) {
-    const auto eq = s.find('=');
-    try {
-      if (eq == std::string::npos) throw std::invalid_argument("");
-      size_t a = 0, b = 0;
-      const int id = std::stoi(s.substr(0, eq), &a);
-      const int level = std::stoi(s.substr(eq + 1), &b);
-      if (a != eq || b != s.size() - eq - 1) throw std::invalid_argument("");
-      out[id] = level;
-    } catch (const std::exception&) {
-      throw sdm::InputError("--lod-segment '" + s + "' is not of the form ID=LEVEL (e.g. 3=1)");
-    }
-  }
-  return out;
-}
-
-}  // namespace
 
 Command add_decode_command(CLI::App& parent) {
   struct Opts {
@@ -74,9 +51,7 @@ Command add_decode_command(CLI::App& parent) {
             sdm::DecodeOptions d;
             d.level = o->lod;
             d.segment_level = parse_segment_levels(o->segment_lod);
-            const sdm::DecodeEstimate e = sdm::estimate_decode(im, d);
-            check_memory(e.bytes, o->max_memory, "decoding " + std::to_string(int64_t(e.triangles / 1e6)) + " million triangles",
-                         "use a lower --lod (each level quadruples the triangles)");
+            check_decode_memory(im, d, o->max_memory);
             if (!o->skeleton.empty()) d.skeleton = sdm::read_skeleton_json(o->skeleton, json_budget(o->max_memory, o->skeleton));
             std::optional<sdm::Skeleton> posed;
             if (o->rig) posed.swap(d.skeleton);  // decoded at rest, the pose goes into the joints
@@ -94,7 +69,7 @@ Command add_decode_command(CLI::App& parent) {
             note_float32_rounding(mesh, o->out);
             if (!o->write_skeleton.empty()) {
               const sdm::Skeleton sk = sdm::layout_from_json(im.layout).skeleton;
-              if (o->write_skeleton.size() > 4 && o->write_skeleton.substr(o->write_skeleton.size() - 4) == ".obj")
+              if (has_extension(o->write_skeleton, {".obj"}))
                 sdm::write_skeleton_obj(sk, o->write_skeleton);
               else
                 sdm::write_skeleton_json(sk, o->write_skeleton);

@@ -2,7 +2,7 @@
 #include "apps/cli_common.h"
 #include "apps/commands.h"
 #include "apps/encode_checks.h"
-#include "apps/memory_budget.h"
+#include "apps/options.h"
 #include "libsdm/decode/decode_sdm.h"
 #include "libsdm/encode/encode_sdm.h"
 #include "libsdm/map/sdm_exr.h"
@@ -50,8 +50,8 @@ sdm::Image false_colour(const sdm::SdmImage& im) {
 
 Command add_encode_command(CLI::App& parent) {
   struct Opts {
-    std::string mesh, out, layout, skeleton, png, max_memory, precision = "10";  // BENCHMARKS: float's accuracy, 3.6-6.1x smaller at 1024
-    int size = 1024;
+    std::string mesh, out, png, max_memory, precision = "10";  // BENCHMARKS: float's accuracy, 3.6-6.1x smaller at 1024
+    LayoutSource layout = layout_defaults(1024, 4, true);  // the stages announced
     double min_part = 0, min_carried = 0.9, face_error = sdm::EncodeOptions().flat_above;
     bool fill_holes = false;
     bool json = false, strict = false;
@@ -62,9 +62,7 @@ Command add_encode_command(CLI::App& parent) {
                 "with the layout and base mesh in its header, so 'sdm decode' needs nothing else.");
   app->add_option("mesh", o->mesh, "Input mesh (.obj, .off, .ply, .stl, .glb, .gltf)")->required();
   app->add_option("-o,--output", o->out, "Output map (.exr)")->required();
-  app->add_option("--size", o->size, "Atlas size in texels")->capture_default_str()->check(number_in(16, 16384));
-  app->add_option("--layout", o->layout, "Use this layout (from 'sdm stm') instead of computing one");
-  app->add_option("--skeleton", o->skeleton, "Use this skeleton (from 'sdm skeleton') instead of extracting one");
+  add_layout_options(app, o->layout, {true, true, false});
   app->add_option("--png", o->png, "Also write a false-colour picture of the map (.png)");
   add_min_part_option(app, o->min_part);
   add_repair_options(app);
@@ -77,12 +75,12 @@ Command add_encode_command(CLI::App& parent) {
   add_face_error_option(app, o->face_error);
   app->add_flag("--json", o->json, "Print one JSON object with the summary");
   return {app, [o]() {
-            if (o->layout.empty()) check_atlas_memory(o->size, 10, o->max_memory);
+            check_layout_memory(o->layout, 10, o->max_memory);
             const sdm::SdmPrecision precision = sdm::SdmPrecision::parse(o->precision);
             sdm::Stopwatch clock;
             const sdm::Mesh mesh = load_mesh_min_part(o->mesh, o->min_part, o->fill_holes);
             const sdm::SelfIntersections crossings = check_self_intersections(mesh, o->strict);
-            const sdm::Layout layout = layout_for(mesh, encode_layout_source(o->layout, o->skeleton, o->size, o->max_memory)).layout;
+            const sdm::Layout layout = layout_for(mesh, o->layout, o->max_memory).layout;
             const double layout_s = clock.lap();
             sdm::EncodeStats st;
             sdm::EncodeOptions eo;

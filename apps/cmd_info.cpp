@@ -1,6 +1,7 @@
 #include "apps/cli_common.h"
 #include "apps/cloud_input.h"
 #include "apps/commands.h"
+#include "apps/options.h"
 #include "libstm/mesh/load_mesh.h"
 #include "libstm/mesh/mesh.h"
 #include "libstm/mesh/point_cloud.h"

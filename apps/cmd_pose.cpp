@@ -2,7 +2,7 @@
 #include "apps/cli_common.h"
 #include "apps/commands.h"
 #include "apps/decoded_mesh.h"
-#include "apps/memory_budget.h"
+#include "apps/options.h"
 #include "libsdm/decode/decode_sdm.h"
 #include "libsdm/map/sdm_exr.h"
 #include "libsdm/pose/deform_decoded.h"
@@ -22,31 +22,6 @@
 namespace sdm::cli {
 namespace {
 
-// A whole number, or InputError naming the option and its expected form.
-int parse_index(const std::string& text, const std::string& what) {
-  size_t used = 0;
-  int i = -1;
-  try {
-    i = std::stoi(text, &used);
-  } catch (const std::exception&) {
-    used = 0;
-  }
-  if (used == 0 || used != text.size()) throw sdm::InputError(what);
-  return i;
-}
-
-double parse_number(const std::string& text, const std::string& what) {
-  size_t used = 0;
-  double x = NAN;
-  try {
-    x = std::stod(text, &used);
-  } catch (const std::exception&) {
-    used = 0;
-  }
-  if (used == 0 || used != text.size() || !std::isfinite(x)) throw sdm::InputError(what);
-  return x;
-}
-
 std::vector<std::string> split(const std::string& s, char c) {
   std::vector<std::string> out(1);
   for (char x : s) {
@@ -60,16 +35,15 @@ std::vector<std::string> split(const std::string& s, char c) {
 // below NODE turned about NODE (twist: about the axis from NODE to its only child).
 void apply_rotate(const sdm::Skeleton& rest, sdm::Skeleton& posed, const std::string& item) {
   const std::string form = "--rotate '" + item + "' is not of the form NODE=AX,AY,AZ,DEG, NODE=x|y|z,DEG or NODE=twist,DEG";
-  const auto eq = item.find('=');
-  if (eq == std::string::npos) throw sdm::InputError(form);
-  const int node = parse_index(item.substr(0, eq), form);
+  const IdValue iv = parse_id_value(item, form);
+  const int node = iv.id;
   if (node < 0 || size_t(node) >= rest.nodes.size())
     throw sdm::InputError("--rotate names node " + std::to_string(node) + " but the skeleton has " + std::to_string(rest.nodes.size()) +
                           " nodes (0.." + std::to_string(rest.nodes.size() - 1) + "; see --write-skeleton)");
-  const std::vector<std::string> parts = split(item.substr(eq + 1), ',');
+  const std::vector<std::string> parts = split(iv.value, ',');
   Eigen::Vector3d axis;
   if (parts.size() == 4) {
-    for (int k = 0; k < 3; ++k) axis[k] = parse_number(parts[size_t(k)], form);
+    for (int k = 0; k < 3; ++k) axis[k] = parse_finite_number(parts[size_t(k)], form);
   } else if (parts.size() == 2 && (parts[0] == "x" || parts[0] == "y" || parts[0] == "z")) {
     axis = Eigen::Vector3d::Unit(parts[0][0] - 'x');
   } else if (parts.size() == 2 && parts[0] == "twist") {
@@ -86,17 +60,16 @@ void apply_rotate(const sdm::Skeleton& rest, sdm::Skeleton& posed, const std::st
     throw sdm::InputError(form);
   }
   if (!(axis.norm() > 0)) throw sdm::InputError("--rotate '" + item + "': the axis has no direction");
-  const double degrees = parse_number(parts.back(), form);
+  const double degrees = parse_finite_number(parts.back(), form);
   sdm::rotate_subtree(rest, posed, node, Eigen::Quaterniond(Eigen::AngleAxisd(degrees * M_PI / 180, axis.normalized())));
 }
 
 // One --scale-radius SEG=F: the factor multiplies the segment's (repeated options compose).
 void apply_scale(sdm::Skeleton& posed, const std::string& item) {
   const std::string form = "--scale-radius '" + item + "' is not of the form SEGMENT=FACTOR (e.g. 3=1.2)";
-  const auto eq = item.find('=');
-  if (eq == std::string::npos) throw sdm::InputError(form);
-  const int seg = parse_index(item.substr(0, eq), form);
-  const double f = parse_number(item.substr(eq + 1), form);
+  const IdValue iv = parse_id_value(item, form);
+  const int seg = iv.id;
+  const double f = parse_finite_number(iv.value, form);
   if (seg < 0 || size_t(seg) >= posed.edges.size())
     throw sdm::InputError("--scale-radius names segment " + std::to_string(seg) + " but the map has " + std::to_string(posed.edges.size()) +
                           " segments (0.." + std::to_string(posed.edges.size() - 1) + ")");
@@ -164,9 +137,7 @@ Command add_pose_command(CLI::App& parent) {
             for (const auto& s : o->scale) apply_scale(posed, s);
             sdm::DecodeOptions d;
             d.level = o->lod;
-            const sdm::DecodeEstimate e = sdm::estimate_decode(im, d);
-            check_memory(e.bytes, o->max_memory, "decoding " + std::to_string(int64_t(e.triangles / 1e6)) + " million triangles",
-                         "use a lower --lod (each level quadruples the triangles)");
+            check_decode_memory(im, d, o->max_memory);
             progress("decoding at rest");
             sdm::DecodeTrace trace;
             sdm::Mesh mesh = sdm::decode_sdm(im, d, &trace);

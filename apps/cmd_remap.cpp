@@ -1,6 +1,6 @@
 #include "apps/cli_common.h"
 #include "apps/commands.h"
-#include "apps/memory_budget.h"
+#include "apps/options.h"
 #include "libstm/core/errors.h"
 #include "libstm/render/gl_context.h"
 #include "libstm/core/image.h"
@@ -16,8 +16,8 @@ namespace sdm::cli {
 
 Command add_remap_command(CLI::App& parent) {
   struct Opts {
-    std::string mesh, output, texture, layout, max_memory;
-    int size = 2048, margin = 8;
+    std::string mesh, output, texture, max_memory;
+    LayoutSource layout = layout_defaults(2048, 8);
     bool json = false;
   };
   auto o = std::make_shared<Opts>();
@@ -31,18 +31,12 @@ Command add_remap_command(CLI::App& parent) {
   app->add_option("mesh", o->mesh, "Input mesh with uv (.obj with its MTL), closed and manifold")->required();
   app->add_option("-o,--output", o->output, "Atlas image to write (.png)")->required();
   app->add_option("--texture", o->texture, "Source texture (.png); default: the map_Kd of the mesh's MTL");
-  app->add_option("--layout", o->layout, "Use this layout (.json from 'sdm stm' or 'sdm remap') instead of computing one");
-  app->add_option("--size", o->size, "Atlas width and height in texels (when the layout is computed)")
-      ->check(number_in(16, 16384))
-      ->capture_default_str();
-  app->add_option("--margin", o->margin, "Texels of margin around every rectangle (when the layout is computed)")
-      ->check(number_in(0, 256))
-      ->capture_default_str();
+  add_layout_options(app, o->layout, {true, false, true});
   app->add_flag("--json", o->json, "Print one JSON object instead of text");
   add_max_memory_option(app, o->max_memory);
   add_repair_options(app);
   return {app, [o]() {
-            if (o->layout.empty()) check_atlas_memory(o->size, 60, o->max_memory);
+            check_layout_memory(o->layout, 60, o->max_memory);
             sdm::LoadedMesh loaded = load_input(o->mesh);
             const std::string material = loaded.texture;
             const sdm::Mesh mesh = std::move(loaded.mesh);
@@ -52,15 +46,10 @@ Command add_remap_command(CLI::App& parent) {
             if (!mesh.has_halfedge_texcoords2D())
               throw sdm::InputError("'" + o->mesh + "' has no texture coordinates, so its texture cannot be remapped");
             const sdm::Image source = sdm::read_png(texture_path, image_budget(o->max_memory, texture_path));
-            LayoutSource from;
-            from.layout_file = o->layout;
-            from.max_memory = o->max_memory;
-            from.options.size = o->size;
-            from.options.margin = o->margin;
-            const LayoutForMesh got = layout_for(mesh, from);
+            const LayoutForMesh got = layout_for(mesh, o->layout, o->max_memory);
             const sdm::Layout& layout = got.layout;
             const std::string layout_path =
-                got.computed ? std::filesystem::path(o->output).replace_extension(".json").string() : o->layout;
+                got.computed ? std::filesystem::path(o->output).replace_extension(".json").string() : o->layout.layout_file;
             const sdm::Stopwatch clock;
             sdm::GlContext gl;
             progress("GL renderer: " + gl.renderer() + " (" + gl.version() + ", " + gl.platform() + ")");

@@ -1,6 +1,6 @@
 #include "apps/cli_common.h"
 #include "apps/commands.h"
-#include "apps/memory_budget.h"
+#include "apps/options.h"
 #include "apps/view_up.h"
 #include "libstm/core/limits.h"
 #include "libstm/layout/draw_atlas.h"
@@ -35,8 +35,8 @@ struct RenderArgs {
 void declare_render_options(CLI::App* app, RenderArgs* o) {
   app->add_option("mesh", o->mesh, "Input mesh (.obj, .off, .ply, .stl, .glb, .gltf)")->required();
   app->add_option("-o,--output", o->output, "Output image (.png)")->required();
-  app->add_option("--width", o->width, "Image width in pixels")->capture_default_str()->check(number_in(1, 16384));
-  app->add_option("--height", o->height, "Image height in pixels")->capture_default_str()->check(number_in(1, 16384));
+  add_image_side_option(app, "--width", o->width, "Image width in pixels");
+  add_image_side_option(app, "--height", o->height, "Image height in pixels");
   app->add_option("--azimuth", o->azimuth, "Camera angle around the up axis (--up) in degrees; 0 looks at the model's front (along -z for +y up, along +y for +z up)")
       ->capture_default_str()
       ->check(number_in(-360, 360));

@@ -3,7 +3,7 @@
 #include "apps/commands.h"
 #include "apps/decoded_mesh.h"
 #include "apps/encode_checks.h"
-#include "apps/memory_budget.h"
+#include "apps/options.h"
 #include "libsdm/decode/decode_sdm.h"
 #include "libsdm/encode/encode_sdm.h"
 #include "libsdm/map/sdm_exr.h"
@@ -97,7 +97,8 @@ void write_error_png(const sdm::Mesh& input, sdm::Mesh decoded, double diag, con
 Command add_roundtrip_command(CLI::App& parent) {
   struct Opts {
     std::string mesh, out, png, precision = "10";
-    int size = 1024, lod = 3, samples = 100000;
+    LayoutSource layout = layout_defaults(1024, 4, true);  // the stages announced
+    int lod = 3, samples = 100000;
     double max_rms = -1, min_part = 0, min_carried = 0.9, face_error = sdm::EncodeOptions().flat_above;
     bool fill_holes = false;
     std::string max_memory;
@@ -109,7 +110,7 @@ Command add_roundtrip_command(CLI::App& parent) {
                    "distance by dense sampling, as fractions of the bounding-box diagonal, and PSNR.\n"
                    "Exits 3 when the RMS exceeds --max-rms.");
   app->add_option("mesh", o->mesh, "Input mesh (.obj, .off, .ply, .stl, .glb, .gltf)")->required();
-  app->add_option("--size", o->size, "Atlas size in texels")->capture_default_str()->check(number_in(16, 16384));
+  add_layout_options(app, o->layout, {});
   app->add_option("--lod", o->lod, "Level of detail of the decode")->capture_default_str()->check(number_in(0, 8));
   app->add_option("--samples", o->samples, "Points sampled on each surface")->capture_default_str()->check(number_in(1000, 1e7));
   app->add_option("--max-rms", o->max_rms, "Fail (exit 3) when the RMS error, as a fraction of the diagonal, is larger")->check(number_in(0, 1));
@@ -128,11 +129,12 @@ Command add_roundtrip_command(CLI::App& parent) {
   add_face_error_option(app, o->face_error);
   app->add_flag("--json", o->json, "Print one JSON object with the summary");
   return {app, [o]() {
+            check_layout_memory(o->layout, 10, o->max_memory);
             const sdm::Stopwatch total;
             const sdm::SdmPrecision precision = sdm::SdmPrecision::parse(o->precision);
             const sdm::Mesh mesh = load_mesh_min_part(o->mesh, o->min_part, o->fill_holes);
             const sdm::SelfIntersections crossings = check_self_intersections(mesh, o->strict);
-            const sdm::Layout layout = layout_for(mesh, encode_layout_source("", "", o->size, o->max_memory)).layout;
+            const sdm::Layout layout = layout_for(mesh, o->layout, o->max_memory).layout;
             sdm::Stopwatch stage;
             progress("encoding");
             sdm::EncodeOptions eo;
@@ -145,9 +147,7 @@ Command add_roundtrip_command(CLI::App& parent) {
             progress("decoding");
             sdm::DecodeOptions d;
             d.level = o->lod;
-            const sdm::DecodeEstimate e = sdm::estimate_decode(im, d);
-            check_memory(e.bytes, o->max_memory, "decoding " + std::to_string(int64_t(e.triangles / 1e6)) + " million triangles",
-                         "use a lower --lod (each level quadruples the triangles)");
+            check_decode_memory(im, d, o->max_memory);
             sdm::DecodeTrace trace;
             const sdm::Mesh out = sdm::decode_sdm(im, d, &trace);
             const double decode_s = stage.lap();
@@ -165,7 +165,7 @@ Command add_roundtrip_command(CLI::App& parent) {
                                                {"segment", worst.segment}, {"base_face", worst.base_face},
                                                {"where", worst.decoded_strays ? "decoded surface off the input" : "input not reached"}};
             if (o->json) {
-              print_json({{"mesh", o->mesh}, {"size", o->size}, {"lod", o->lod}, {"segments", layout.segments.size()},
+              print_json({{"mesh", o->mesh}, {"size", o->layout.options.size}, {"lod", o->lod}, {"segments", layout.segments.size()},
                           {"precision", precision.name()}, {"map_bytes", map_bytes}, {"base_faces", st.base_faces}, {"flat_faces", st.flat_faces},
                           {"rms", rms}, {"hausdorff", hd}, {"psnr", psnr}, {"faces", out.n_faces()},
                           {"closed", top.closed()}, {"manifold", top.manifold}, {"boundary_loops", top.boundary_loops},
@@ -173,7 +173,7 @@ Command add_roundtrip_command(CLI::App& parent) {
                           {"total_seconds", total.seconds()}, {"samples", o->samples}, {"carried", carried.share},
                           {"self_intersections", crossings.pairs}, {"longest_edge_ratio", edge_ratio}, {"worst", worst_json}});
             } else {
-              std::cout << o->mesh << " at " << o->size << ", level " << o->lod << ": RMS " << 100 * rms << " %, Hausdorff "
+              std::cout << o->mesh << " at " << o->layout.options.size << ", level " << o->lod << ": RMS " << 100 * rms << " %, Hausdorff "
                         << 100 * hd << " % of the diagonal, PSNR " << psnr << " dB, " << out.n_faces() << " faces, "
                         << top.text() << " (input: " << input_top.boundary_loops << " boundary loop(s)), map " << map_bytes << " bytes (" << precision.name() << ")\n"
                         << "  worst at " << point_text(worst.position) << ", segment " << worst.segment << ", base face "

@@ -1,9 +1,8 @@
 #include "apps/cli_common.h"
 #include "apps/commands.h"
-#include "apps/memory_budget.h"
+#include "apps/options.h"
 #include "libstm/layout/draw_atlas.h"
 #include "libstm/core/errors.h"
-#include "libstm/core/limits.h"
 #include "libstm/layout/layout.h"
 #include "libstm/mesh/mesh.h"
 #include "libstm/skeleton/skeleton.h"
@@ -33,9 +32,8 @@ std::string extension_note(const sdm::LayoutSegment& g) {
 
 Command add_stm_command(CLI::App& parent) {
   struct Opts {
-    std::string mesh, out, skeleton, uv_obj, atlas_png, max_memory;
-    int size = 1024;
-    int margin = 4;
+    std::string mesh, out, uv_obj, atlas_png, max_memory;
+    LayoutSource layout = layout_defaults(1024, 4);
     double min_part = 0;
     bool fill_holes = false;
     bool json = false;
@@ -47,11 +45,7 @@ Command add_stm_command(CLI::App& parent) {
              "prints the segments, the atlas coverage and the L2 stretch of the STM coordinates.");
   app->add_option("mesh", o->mesh, "Input mesh (.obj, .off, .ply, .stl, .glb, .gltf), closed and manifold")->required();
   app->add_option("-o,--output", o->out, "Layout file to write (.json, format sdm-layout)")->required();
-  app->add_option("--skeleton", o->skeleton,
-                  "Use this skeleton (JSON, format sdm-skeleton, made for this mesh) instead of extracting one\n"
-                  "with the default options of `sdm skeleton`");
-  app->add_option("--size", o->size, "Atlas width and height in texels")->check(number_in(16, sdm::kMaxImageSide))->capture_default_str();
-  app->add_option("--margin", o->margin, "Texels of margin around every rectangle")->check(number_in(0, 256))->capture_default_str();
+  add_layout_options(app, o->layout, {false, true, true});
   app->add_option("--uv-obj", o->uv_obj, "Also write the mesh with its STM coordinates as uv (OBJ; seam vertices duplicated)");
   app->add_option("--atlas-png", o->atlas_png, "Also draw the atlas: rectangles and each segment's triangles in its colour (PNG)");
   add_min_part_option(app, o->min_part);
@@ -60,14 +54,9 @@ Command add_stm_command(CLI::App& parent) {
   add_max_memory_option(app, o->max_memory);
   app->add_flag("--json", o->json, "Print one JSON object instead of text");
   return {app, [o]() {
-            check_atlas_memory(o->size, 10, o->max_memory);
+            check_layout_memory(o->layout, 10, o->max_memory);
             sdm::Mesh mesh = load_mesh_min_part(o->mesh, o->min_part, o->fill_holes);
-            LayoutSource from;
-            from.skeleton_file = o->skeleton;
-            from.max_memory = o->max_memory;
-            from.options.size = o->size;
-            from.options.margin = o->margin;
-            const sdm::Layout layout = layout_for(mesh, from).layout;
+            const sdm::Layout layout = layout_for(mesh, o->layout, o->max_memory).layout;
             const sdm::StmCoordinates c = sdm::stm_coordinates(mesh, layout);
             sdm::write_layout_json(layout, o->out);
             if (!o->atlas_png.empty()) sdm::write_atlas_png(mesh, layout, c.face_segment, o->atlas_png);

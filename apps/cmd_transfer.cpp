@@ -1,6 +1,7 @@
 #include "apps/cli_common.h"
 #include "apps/commands.h"
-#include "apps/memory_budget.h"
+#include "apps/decoded_mesh.h"
+#include "apps/options.h"
 #include "apps/transfer_setup.h"
 #include "apps/view_up.h"
 #include "libsdm/decode/decode_sdm.h"
@@ -38,12 +39,6 @@ struct TransferArgs {
   bool strict = false;  // --strict: a small separate part refuses the pair instead of being left out
 };
 
-// path with its extension replaced by suffix (OUT.obj -> OUT_atlas.png).
-std::string sibling(const std::string& path, const std::string& suffix) {
-  std::filesystem::path p(path);
-  return (p.parent_path() / (p.stem().string() + suffix)).string();
-}
-
 // The match's chains as text lines, and as JSON objects into *chains.
 std::string match_text(const sdm::SkeletonMatch& m, nlohmann::json* chains) {
   std::ostringstream out;
@@ -74,9 +69,8 @@ int run_sdm_transfer(const TransferArgs& o) {
   sdm::SkeletonMatch m;
   sdm::DecodeOptions d;
   d.level = o.lod;
-  const double bytes = sdm::estimate_decode(im, d).bytes;
-  check_memory(bytes, o.max_memory, "decoding at --lod " + std::to_string(o.lod), "use a lower --lod");
-  d.skeleton = sdm::skeleton_onto_graph(graph, target, sdm::parse_node_pairs(o.settings.match), &m);
+  check_decode_memory(im, d, o.max_memory);
+  d.skeleton = sdm::skeleton_onto_graph(graph, target, parse_node_pairs(o.settings.match), &m);
   const sdm::Mesh mesh = sdm::decode_sdm(im, d);
   sdm::write_mesh(mesh, o.output);
   nlohmann::json chains;
@@ -140,13 +134,11 @@ std::vector<sdm::SourcePoint> input_correspondence(const TransferInputs& in, con
 void check_output_paths(const TransferArgs& o) {
   if (o.source.empty() || o.target.empty())
     throw sdm::InputError("transfer needs --source and --target (texture), or --sdm and --target-skeleton (geometry)");
-  const std::string oext = std::filesystem::path(o.output).extension().string();
-  if (oext != ".obj" && oext != ".glb" && oext != ".gltf")
+  if (!has_extension(o.output, {".obj", ".glb", ".gltf"}))
     throw sdm::InputError("--output must be an .obj file (it carries the uv and names the atlas) or a .glb/.gltf file (the atlas embedded)");
-  const std::string cext = std::filesystem::path(o.correspondence).extension().string();
-  if (!o.correspondence.empty() && cext != ".txt" && cext != ".json")
+  if (!o.correspondence.empty() && !has_extension(o.correspondence, {".txt", ".json"}))
     throw sdm::InputError("--correspondence must name a .txt or .json file, not '" + o.correspondence + "'");
-  if (!o.vertex_colors.empty() && std::filesystem::path(o.vertex_colors).extension() != ".ply")
+  if (!o.vertex_colors.empty() && !has_extension(o.vertex_colors, {".ply"}))
     throw sdm::InputError("--vertex-colors must name a .ply file (the target with a colour per vertex), not '" + o.vertex_colors + "'");
 }
 
@@ -221,15 +213,14 @@ sdm::Image render_preview(sdm::GlContext& gl, const TransferInputs& in, const sd
   return sdm::side_by_side({left, right});
 }
 
-// The output files' paths: OUT.obj with OUT.mtl, OUT_atlas.png and OUT_preview.png beside it;
-// the optional --correspondence and --vertex-colors files.
+// The output files' paths: OUT.obj (write_mesh puts its OUT.mtl beside it), OUT_atlas.png and
+// OUT_preview.png beside it; the optional --correspondence and --vertex-colors files.
 struct OutputPaths {
-  std::string mesh, atlas, preview, mtl, correspondence, vertex_colors;
+  std::string mesh, atlas, preview, correspondence, vertex_colors;
   explicit OutputPaths(const TransferArgs& o)
       : mesh(o.output),
         atlas(sibling(o.output, "_atlas.png")),
         preview(sibling(o.output, "_preview.png")),
-        mtl(sibling(o.output, ".mtl")),
         correspondence(o.correspondence),
         vertex_colors(o.vertex_colors) {}
 };
@@ -258,7 +249,7 @@ void write_outputs(const TransferInputs& in, const sdm::TextureTransfer& r, cons
                    const std::vector<Eigen::Vector3f>& vertex_colors) {
   if (!out.correspondence.empty())
     sdm::write_text_file(out.correspondence, sdm::correspondence_text(input_correspondence(in, r.correspondence),
-                                                                      std::filesystem::path(out.correspondence).extension() == ".json"));
+                                                                      has_extension(out.correspondence, {".json"})));
   if (!out.vertex_colors.empty()) sdm::write_colored_ply(r.target, vertex_colors, out.vertex_colors);
   sdm::write_png(r.atlas, out.atlas);
   sdm::write_png(preview, out.preview);
@@ -442,8 +433,8 @@ void declare_options(CLI::App* app, TransferArgs& o) {
   app->add_option("--match", o.settings.match,
                   "Force a pair of junction or end nodes to correspond: SOURCE_NODE=TARGET_NODE (skeleton node\n"
                   "indices; repeatable), for symmetric models whose pose does not tell the branches apart");
-  app->add_option("--size", o.settings.size, "Atlas width and height in texels")->check(number_in(16, 16384))->capture_default_str();
-  app->add_option("--margin", o.settings.margin, "Texels of margin around every rectangle")->check(number_in(0, 256))->capture_default_str();
+  add_size_option(app, o.settings.size, "Atlas width and height in texels");
+  add_margin_option(app, o.settings.margin);
   app->add_option("--correspondence", o.correspondence,
                   "Also write, per target vertex, the source face and barycentric coordinates it takes (.txt or .json)");
   app->add_option("--vertex-colors", o.vertex_colors,

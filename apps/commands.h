@@ -9,7 +9,6 @@
 #include <string>
 
 #include "libstm/core/errors.h"
-#include "libstm/mesh/validate_mesh.h"
 
 namespace sdm::cli {
 
@@ -38,15 +37,6 @@ Command add_correspond_command(CLI::App& parent);
 
 // Progress lines go to stderr, so stdout stays clean for results and --json.
 inline void progress(const std::string& line) { std::cerr << line << std::endl; }
-
-// --strict: tolerated findings (degenerate faces, isolated vertices) refuse the input too.
-inline void check_strict(const sdm::MeshReport& r, const std::string& path) {
-  for (const auto& f : r.findings)
-    if (f.kind.find("degenerate") != std::string::npos || f.kind.find("isolated") != std::string::npos ||
-        f.kind.find("boundary edges") != std::string::npos)
-      throw sdm::InputError("mesh " + path + " has " + std::to_string(f.count) + " " + f.kind + ", e.g. " + f.example +
-                            " (refused by --strict). Fix: " + f.fix);
-}
 
 // Prints a command's JSON summary on stdout; an object also gets "repair": what repair did to each
 // input mesh this run read (load_input in cli_common.h), when it did anything.

@@ -2,6 +2,7 @@
 
 #include "apps/cli_common.h"
 #include "apps/commands.h"
+#include "apps/options.h"
 #include "libstm/mesh/mesh.h"
 #include "libstm/mesh/validate_mesh.h"
 

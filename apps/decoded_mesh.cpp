@@ -1,13 +1,12 @@
 #include "apps/decoded_mesh.h"
 
+#include "apps/options.h"
 #include "libsdm/pose/rig_skin.h"
 #include "libstm/core/errors.h"
 #include "libstm/mesh/gltf_skin.h"
 #include "libstm/mesh/validate_mesh.h"
 
 #include <algorithm>
-#include <cctype>
-#include <filesystem>
 #include <iostream>
 
 namespace sdm::cli {
@@ -17,10 +16,14 @@ SurfaceTopology topology_of(const sdm::Mesh& m) {
   return {r.usable(), r.boundary_loops};
 }
 
+void check_decode_memory(const sdm::SdmImage& im, const sdm::DecodeOptions& d, const std::string& max_memory) {
+  const sdm::DecodeEstimate e = sdm::estimate_decode(im, d);
+  check_memory(e.bytes, max_memory, "decoding " + std::to_string(int64_t(e.triangles / 1e6)) + " million triangles",
+               "use a lower --lod (each level quadruples the triangles)");
+}
+
 void check_rig_output(const std::string& out) {
-  std::string ext = std::filesystem::path(out).extension().string();
-  for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
-  if (ext != ".glb" && ext != ".gltf")
+  if (!has_extension(out, {".glb", ".gltf"}))
     throw sdm::InputError("--rig writes a glTF skin: the output must be .glb or .gltf, not '" + out + "'");
 }
 

@@ -2,6 +2,7 @@
 // What decode, pose and roundtrip share about the mesh a map decodes to: its topology, and the
 // glTF skin --rig writes.
 #include "libsdm/decode/decode_sdm.h"
+#include "libsdm/map/sdm_exr.h"
 #include "libstm/layout/layout.h"
 #include "libstm/mesh/mesh.h"
 #include "libstm/skeleton/skeleton.h"
@@ -23,6 +24,10 @@ struct SurfaceTopology {
 };
 
 SurfaceTopology topology_of(const sdm::Mesh& m);
+
+// Refuses (InputError), before the work, a decode whose estimate (estimate_decode) exceeds the
+// memory budget (--max-memory), naming its triangles and --lod.
+void check_decode_memory(const sdm::SdmImage& im, const sdm::DecodeOptions& d, const std::string& max_memory);
 
 // --rig writes a skin, which only glTF carries: InputError for another output format.
 void check_rig_output(const std::string& out);

@@ -8,17 +8,6 @@
 
 namespace sdm::cli {
 
-LayoutSource encode_layout_source(const std::string& layout_file, const std::string& skeleton_file, int size,
-                                  const std::string& max_memory) {
-  LayoutSource source;
-  source.max_memory = max_memory;
-  source.layout_file = layout_file;
-  source.skeleton_file = skeleton_file;
-  source.options.size = size;
-  source.announce_stages = true;
-  return source;
-}
-
 std::string point_text(const Eigen::Vector3d& p) {
   std::ostringstream s;
   s << '(' << p.x() << ", " << p.y() << ", " << p.z() << ')';

@@ -1,5 +1,5 @@
 #pragma once
-// What encode and roundtrip share: the layout they compute, the --precision help, and the quality
+// What encode and roundtrip share: the --precision help, and the quality
 // gate of a map (the input's self-intersections, the share of the surface the decoded map carries,
 // the encoder's check of its own faces).
 #include "apps/cli_common.h"
@@ -13,10 +13,6 @@
 #include <string>
 
 namespace sdm::cli {
-
-// The layout encode and roundtrip use: the stages announced, the atlas size given, the default margin.
-LayoutSource encode_layout_source(const std::string& layout_file, const std::string& skeleton_file, int size,
-                                  const std::string& max_memory);
 
 constexpr const char* kPrecisionHelp =
     "Displacement precision in the file: float (32 bits), half (16 bits: 11 significant bits), or a number of bits "

@@ -1,6 +1,7 @@
 #include "libstm/correspondence/share_skeletons.h"
 
 #include "libstm/core/errors.h"
+#include "libstm/core/id_value.h"
 #include "libstm/geometry/differential_geometry.h"
 #include "libstm/layout/segments.h"
 #include "libstm/skeleton/common_branching.h"
@@ -394,19 +395,9 @@ Skeleton skeleton_onto_graph(const Skeleton& graph, const Skeleton& target, cons
 std::vector<std::pair<int, int>> parse_node_pairs(const std::vector<std::string>& items) {
   std::vector<std::pair<int, int>> out;
   for (const auto& s : items) {
-    const auto eq = s.find('=');
-    try {
-      size_t used = 0;
-      if (eq == std::string::npos) throw std::invalid_argument("no =");
-      const int a = std::stoi(s.substr(0, eq), &used);
-      if (used != eq) throw std::invalid_argument("junk");
-      const std::string rhs = s.substr(eq + 1);
-      const int b = std::stoi(rhs, &used);
-      if (used != rhs.size()) throw std::invalid_argument("junk");
-      out.push_back({a, b});
-    } catch (const std::exception&) {
-      throw InputError("--match " + s + ": expected SOURCE_NODE=TARGET_NODE (two skeleton node indices)");
-    }
+    const std::string form = "--match " + s + ": expected SOURCE_NODE=TARGET_NODE (two skeleton node indices)";
+    const IdValue pair = parse_id_value(s, form);
+    out.push_back({pair.id, parse_whole_number(pair.value, form)});
   }
   return out;
 }

@@ -17,9 +17,9 @@
 namespace sdm {
 namespace {
 
-void add(MeshReport& r, const std::string& kind, long count, const std::string& example, bool fatal,
+void add(MeshReport& r, const std::string& id, const std::string& kind, long count, const std::string& example, bool fatal,
          const std::string& fix) {
-  if (count > 0) r.findings.push_back({kind, count, example, fatal, fix});
+  if (count > 0) r.findings.push_back({id, kind, count, example, fatal, fix});
 }
 
 }  // namespace
@@ -50,7 +50,8 @@ nlohmann::json MeshReport::to_json() const {
   j["usable"] = usable();
   j["findings"] = nlohmann::json::array();
   for (const auto& f : findings)
-    j["findings"].push_back({{"kind", f.kind}, {"count", f.count}, {"example", f.example}, {"fatal", f.fatal}, {"fix", f.fix}});
+    j["findings"].push_back(
+        {{"id", f.id}, {"kind", f.kind}, {"count", f.count}, {"example", f.example}, {"fatal", f.fatal}, {"fix", f.fix}});
   return j;
 }
 
@@ -71,7 +72,7 @@ long check_coordinates(const MeshSoup& soup, MeshReport& r) {
       r.bbox_max = r.bbox_max.cwiseMax(soup.points[i]);
     }
   }
-  add(r, "vertices with NaN or infinite coordinates", bad_coord, "vertex " + std::to_string(first_bad), true,
+  add(r, "bad_coordinates", "vertices with NaN or infinite coordinates", bad_coord, "vertex " + std::to_string(first_bad), true,
       "remove or repair those vertices in the modelling tool");
   return bad_coord;
 }
@@ -93,7 +94,7 @@ std::vector<char> check_face_indices(const MeshSoup& soup, MeshReport& r) {
       if (!invalid++) invalid_example = "face " + std::to_string(f);
     }
   }
-  add(r, "invalid faces (a repeated or out-of-range vertex index)", invalid, invalid_example, true,
+  add(r, "invalid_faces", "invalid faces (a repeated or out-of-range vertex index)", invalid, invalid_example, true,
       "remove those faces or merge the duplicated vertices");
   return face_ok;
 }
@@ -122,7 +123,8 @@ void check_duplicated_faces(const MeshSoup& soup, const std::vector<char>& face_
     ++dup;
     if (repeat < 0 || sorted[i].second < repeat) repeat = sorted[i].second, first = sorted[g].second;
   }
-  add(r, "duplicated faces", dup, dup ? "faces " + std::to_string(first) + " and " + std::to_string(repeat) : "", true,
+  add(r, "duplicated_faces", "duplicated faces", dup,
+      dup ? "faces " + std::to_string(first) + " and " + std::to_string(repeat) : "", true,
       "delete the duplicates (e.g. 'merge by distance' then 'delete duplicate faces')");
 }
 
@@ -159,13 +161,13 @@ bool check_edges(const EdgeTable& t, size_t vertices, MeshReport& r) {
     }
   }
   r.boundary_loops = boundary ? count_boundary_loops(t, vertices) : 0;
-  add(r, "boundary edges (the mesh is open)", boundary,
+  add(r, "boundary_edges", "boundary edges (the mesh is open)", boundary,
       boundary_example + "; " + std::to_string(r.boundary_loops) + " boundary loop(s)", false,
       "nothing to fix: the skeleton is computed with the holes filled and every output keeps them open; "
       "--fill-holes closes them in the output instead");
-  add(r, "non-manifold edges", nonmanifold, nm_example, true,
+  add(r, "non_manifold_edges", "non-manifold edges", nonmanifold, nm_example, true,
       "split the mesh where more than two faces meet at an edge, or remove the extra faces");
-  add(r, "edges between inconsistently oriented faces", flipped, flip_example, true,
+  add(r, "inconsistent_orientation", "edges between inconsistently oriented faces", flipped, flip_example, true,
       "recompute consistent normals (e.g. 'recalculate outside' in Blender)");
   return boundary || nonmanifold || flipped;
 }
@@ -248,7 +250,7 @@ std::vector<int> check_vertex_fans(const MeshSoup& soup, const std::vector<char>
       if (pinched.empty()) nmv_example = "vertex " + std::to_string(v) + " where " + std::to_string(fans[v]) + " fans of faces meet";
       pinched.push_back(int(v));
     }
-  add(r, "non-manifold vertices", long(pinched.size()), nmv_example, true,
+  add(r, "non_manifold_vertices", "non-manifold vertices", long(pinched.size()), nmv_example, true,
       "split the vertex so that each fan of faces gets its own copy (e.g. 'split non-manifold vertices' in MeshLab)");
   return pinched;
 }
@@ -268,7 +270,7 @@ void check_degenerate_faces(const MeshSoup& soup, const std::vector<char>& face_
       if (!degenerate++) deg_example = "face " + std::to_string(f);
     }
   }
-  add(r, "degenerate (zero-area) faces", degenerate, deg_example, false,
+  add(r, "degenerate_faces", "degenerate (zero-area) faces", degenerate, deg_example, false,
       "they are tolerated; remove them for better skeletons (e.g. 'remove zero-area faces' in MeshLab)");
 }
 
@@ -282,7 +284,8 @@ void check_isolated_vertices(const MeshSoup& soup, const std::vector<char>& face
   std::string iso_example;
   for (long v = 0; v < nv; ++v)
     if (!used[v] && !isolated++) iso_example = "vertex " + std::to_string(v);
-  add(r, "isolated vertices (in no face)", isolated, iso_example, false, "they are ignored; delete loose vertices to silence this");
+  add(r, "isolated_vertices", "isolated vertices (in no face)", isolated, iso_example, false,
+      "they are ignored; delete loose vertices to silence this");
 }
 
 // Parts and genus: Euler characteristic per edge-connected component.
@@ -334,7 +337,8 @@ void find_parts(const MeshSoup& soup, const std::vector<char>& face_ok, const Ed
     r.boundary_loops_per_part[size_t(p)] = int(pb[p]);
   }
   if (r.parts > 1)
-    add(r, "connected parts", r.parts, "each part gets its own skeleton", false, "nothing to fix: several parts are supported");
+    add(r, "parts", "connected parts", r.parts, "each part gets its own skeleton", false,
+        "nothing to fix: several parts are supported");
 }
 
 // Signed volume of every part (faces with face_part -1 left out), each hole capped by a cone from
@@ -413,7 +417,7 @@ void check_volumes(const MeshSoup& soup, const std::vector<char>& face_ok, const
   const double min_part = speck_fraction(largest_flat, largest_solid, (all_hi - all_lo).norm());
   if (flat) r.speck_min_part = min_part;
   if (flat && min_part > 0) fix += "; or, if it is a speck beside the model (a scan's stray triangle), drop it with --min-part " + number(min_part);
-  add(r, "parts enclosing no volume (flat: both sides of one sheet, or an open sheet)", flat, example, true, fix);
+  add(r, "flat_parts", "parts enclosing no volume (flat: both sides of one sheet, or an open sheet)", flat, example, true, fix);
 }
 
 // An empty report with what the checks read from r (counts and bounding box).
@@ -440,7 +444,7 @@ TopologyScan scan_topology(const MeshSoup& soup) {
   r.vertices = long(soup.points.size());
   r.faces = long(soup.triangles.size());
   if (soup.triangles.empty()) {
-    add(r, "empty mesh (no faces)", 1, std::to_string(r.vertices) + " vertices but no face", true,
+    add(r, "empty_mesh", "empty mesh (no faces)", 1, std::to_string(r.vertices) + " vertices but no face", true,
         "export the surface as triangles or polygons, not as points or lines");
     return s;
   }
@@ -486,7 +490,8 @@ MeshReport finish_validation(const MeshSoup& soup, TopologyScan&& scan, EdgeTabl
   r.boundary_loops_per_part = std::move(parts.boundary_loops_per_part), r.faces_per_part = std::move(parts.faces_per_part);
   check_volumes(soup, face_ok, scan.table, r);
   if (soup.polygons_triangulated)
-    add(r, "polygons triangulated on read (ear clipping)", soup.polygons_triangulated, "faces with more than three corners", false,
+    add(r, "polygons_triangulated", "polygons triangulated on read (ear clipping)", soup.polygons_triangulated,
+        "faces with more than three corners", false,
         "nothing to fix; triangulate in the modelling tool for control over the diagonals");
   if (table_out && std::find(face_ok.begin(), face_ok.end(), char(0)) == face_ok.end()) *table_out = std::move(scan.table);
   return r;
@@ -517,8 +522,9 @@ long orient_outward(MeshSoup& soup, MeshReport& report) {
     ++flipped;
   }
   if (flipped)
-    report.findings.push_back({"faces flipped to point outwards", flipped, "part " + std::to_string(example) + " was inside out",
-                               false, "nothing to fix; the input's normals pointed inwards"});
+    report.findings.push_back({"faces_flipped", "faces flipped to point outwards", flipped,
+                               "part " + std::to_string(example) + " was inside out", false,
+                               "nothing to fix; the input's normals pointed inwards"});
   for (double& v : report.part_volume) v = std::abs(v);
   return flipped;
 }

@@ -12,7 +12,8 @@
 namespace sdm {
 
 struct Finding {
-  std::string kind;     // short identifier, e.g. "non_manifold_edges"
+  std::string id;       // short identifier, e.g. "non_manifold_edges" (what --strict and programs match)
+  std::string kind;     // what it is, in words, e.g. "non-manifold edges"
   long count = 0;
   std::string example;  // one offending element, e.g. "edge (12, 40) used by 3 faces"
   bool fatal = false;   // the pipeline refuses the mesh
