@@ -288,7 +288,7 @@ BaseSource base_source(const Mesh& mesh, const Skeleton& skeleton, int target_ve
 }
 
 // How far a base mesh's boundary loop may stray from the input's, in bounding-box diagonals:
-// measured on open meshes, within the round trip's Hausdorff at level 3 (docs/DECISIONS.md).
+// measured on open meshes, within the round trip's Hausdorff at level 3 (DECISIONS 1, "Open meshes").
 constexpr double kBoundaryTolerance = 0.002;
 
 // Above this many vertices, and more than kMultipleChoiceFactor times the target, the decimation

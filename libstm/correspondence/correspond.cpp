@@ -333,7 +333,7 @@ TargetSkeleton recognise_or_register(const Mesh& source, const Skeleton& skeleto
     // limb with another (attachments 9.1 % apart).
     // And where it would be taken with its limbs meeting the core at places almost too far apart to
     // be (marginal_attachment), or between bodies of other proportions (marginal_distortion): Homer's
-    // medial skeleton onto FAUST 007's (docs/DECISIONS.md). The given pair is kept unless another fits closer.
+    // medial skeleton onto FAUST 007's (DECISIONS 5, "Other extraction candidates"). The given pair is kept unless another fits closer.
     const bool unmatched = !body || lengths_disagree(body->skeletons, opt);
     const bool taken = !unmatched && registration_taken(*body, opt);
     const bool marginal = taken && (body->attachment > opt.marginal_attachment || body->distortion > opt.marginal_distortion);
