@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # `make fuzz`: builds the libFuzzer targets of tests/fuzz with clang, AddressSanitizer and
 # UndefinedBehaviorSanitizer (in build-fuzz/), then fuzzes each reader for FUZZ_SECONDS (default 60;
-# the long runs of DESIGN 6.1 are FUZZ_SECONDS=600) from the seeds in tests/fuzz/corpus/, one target at a
+# the long runs of DECISIONS 1 are FUZZ_SECONDS=600) from the seeds in tests/fuzz/corpus/, one target at a
 # time on FUZZ_JOBS processes. The corpus grows in build-fuzz/corpus/; a crash, a sanitizer report,
 # a leak, a hang (-timeout) or an allocation over -malloc_limit_mb stops the target with its input
 # saved in build-fuzz/findings/ and fails the script. Prints a table: executions, rate, corpus.

@@ -2,7 +2,7 @@
 // Where the FAUST correspondence error of register_bodies is (ground truth: vertex i <-> vertex i),
 // for the hidden [faust_measure] case: per chain of the chosen match, as colours on the target,
 // and per node as the angle between the registration's rotations and the true ones (each node's
-// vertices and its neighbours' fitted by Kabsch onto their true places). DESIGN 6 quotes it.
+// vertices and its neighbours' fitted by Kabsch onto their true places). DECISIONS 5, "Where the FAUST error is", quotes it.
 #include "faust_pairs.h"
 
 #include "libstm/core/image.h"

@@ -1,4 +1,4 @@
-// `sdm correspond` and correspond() (libstm/correspondence/correspond, DESIGN 6.5): the transfer's
+// `sdm correspond` and correspond() (libstm/correspondence/correspond, DECISIONS 5): the transfer's
 // dense correspondence without a texture or GL. A new tessellation of the ypsilon gets, per vertex,
 // a point of the source on the surface under it; a bent and thickened ypsilon gets its points on the
 // same branch; a target of another branching is refused with nothing written.

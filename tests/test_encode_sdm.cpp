@@ -229,7 +229,7 @@ TEST_CASE("A large mesh's base mesh (multiple-choice collapses first) is closed,
 // a top base face that misses the top meets the bottom 0.06 away, well within the face's reach
 // (0.7): BaseRegions must refuse the bottom's faces to the top's base faces and accept the top's.
 // (On CAD parts such crossings made the encoder put points on the plates' other sides: anchor_dense
-// RMS 0.305 -> 0.132 %, Hausdorff 4.29 -> 2.60 % once refused; DESIGN 6.4.)
+// RMS 0.305 -> 0.132 %, Hausdorff 4.29 -> 2.60 % once refused; DECISIONS 4.)
 TEST_CASE("BaseRegions: a base face takes crossings on its own side of a thin plate only", "[encode_sdm]") {
   Mesh box;
   std::vector<Mesh::VertexHandle> v;

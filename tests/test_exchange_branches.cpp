@@ -131,7 +131,7 @@ TEST_CASE("exchanges that share a junction are not combined", "[exchange_branche
 }
 
 // The transfer's skeleton of every shared mesh (and of the open CAD part), its exchange variants
-// counted and checked (hidden: run with [exchange_measure]; DESIGN 6). SDM_TEST_DUMP=DIR keeps
+// counted and checked (hidden: run with [exchange_measure]; DECISIONS 5). SDM_TEST_DUMP=DIR keeps
 // the skeletons there.
 #include "test_util.h"
 #include "libstm/mesh/mesh.h"

@@ -183,7 +183,7 @@ std::pair<double, double> correspondence_error(const sdm::Mesh& source, const st
 // source's, so 007 is carried and 024 registered as another body. Measured 2026-11-26: carried
 // 0.002 % mean; registered 2.86 %, p90 6.1 % (the closed 024: 2.04 %, 4.2 %; the same holes with the
 // vertices numbered otherwise gave 2.03-2.93 %: the extraction still depends on the vertex order,
-// DESIGN 6). The thresholds hold today's accuracy between bodies.
+// DECISIONS 1, "Open meshes"). The thresholds hold today's accuracy between bodies.
 TEST_CASE("sdm transfer onto FAUST bodies with holes", "[open_mesh]") {
   if (!faust::have("tr_reg_007.off") || !faust::have("tr_reg_024.off")) {
     WARN("no FAUST meshes at " << faust::humans_dir() << ": skipped");

@@ -484,7 +484,7 @@ TEST_CASE("Every shared model turned 45 degrees at its longest limb keeps its to
     std::printf("%s: node %d of %zu turned 45 deg (radius %.3g): %s -> %s; crossing pairs within 4 radii %ld (rest %ld), 1.5 radii %ld (rest %ld)\n",
                 file.c_str(), m, rest.nodes.size(), r, topology_of(plain).c_str(), topology_of(out).c_str(), near, near_rest, joint, joint_rest);
     CHECK(topology_of(out) == topology_of(plain));
-    // Known gap (DESIGN 6.4, "Posing"): five of the CGAL and wild shapes (anchor, mech-holes-shark,
+    // Known gap (DECISIONS 4, "Posing"): five of the CGAL and wild shapes (anchor, mech-holes-shark,
     // retinal, rotor, beetle) cross 1-151 more face pairs within 1.5 radii of the joint.
     CHECK_NOFAIL(joint <= joint_rest);
   }

@@ -56,7 +56,7 @@ Measured measure(const std::string& name, const sdm::Mesh& a, const sdm::Skeleto
 // candidate matches and the slides of common_branching); 024 -> 007 2.3 %, 5.7 %, 13 %, turned and scaled 2.5 %,
 // 5.8 %, 16 % (the match with left and right swapped, chosen without the registration's twist, gave
 // 22 %). 007 -> 024 turned and scaled, and 024 -> 007 with the arm bent, pass since 2026-11-26 (the
-// extraction still changes under a 1e-7 relative perturbation of the coordinates: DESIGN 6; where
+// extraction still changes under a 1e-7 relative perturbation of the coordinates: DECISIONS 5; where
 // the error is: [faust_measure] with SDM_MEASURE_PARTS, SDM_MEASURE_COLOURS=PREFIX,
 // SDM_MEASURE_ROTATIONS). The target is 1 %, 2.5 % and
 // 1 %: the thresholds hold what is reached, with a margin (before register_bodies, the transfer
@@ -167,7 +167,7 @@ TEST_CASE("sdm transfer --correspondence between two FAUST bodies", "[register_b
 }
 
 // Which candidate match the short registration would choose, against the ground truth (hidden:
-// run with [candidates_measure]); see DESIGN 6, registering other bodies.
+// run with [candidates_measure]); see DECISIONS 5, "Registering other bodies".
 #include "libstm/registration/articulated_registration.h"
 TEST_CASE("register_bodies: candidate matches against the FAUST ground truth", "[.][candidates_measure]") {
   if (!faust::have("tr_reg_007.off") || !faust::have("tr_reg_024.off")) return;
@@ -217,7 +217,7 @@ TEST_CASE("register_bodies: candidate matches against the FAUST ground truth", "
 
 
 // The FAUST ground-truth pairs in one run, with where the error is (hidden: run with
-// [faust_measure]; DESIGN 6 and BENCHMARKS quote it).
+// [faust_measure]; DECISIONS 5 and BENCHMARKS quote it).
 TEST_CASE("register_bodies: FAUST pairs measured", "[.][faust_measure]") {
   if (!faust::have("tr_reg_007.off") || !faust::have("tr_reg_024.off")) return;
   const sdm::Mesh m007 = sdm::load_mesh(faust::humans_dir() + "/tr_reg_007.off");
@@ -244,7 +244,7 @@ TEST_CASE("register_bodies: FAUST pairs measured", "[.][faust_measure]") {
 // of its vertices onto their true places) instead of the smallest rotation of its edges. Measured
 // 2026-11-26: 1.13 % mean, p90 2.43 %, 0.7 % beyond 5 % (rotations 8.9 degrees off after the fit)
 // against 2.04 %, 4.18 %, 6.1 % (45 degrees off): the twist of the limbs is what is missing
-// (DESIGN 6).
+// (DECISIONS 5).
 TEST_CASE("fit_skeleton from the true node rotations: the bound a better start reaches", "[register_bodies]") {
   if (!faust::have("tr_reg_007.off") || !faust::have("tr_reg_024.off")) {
     WARN("no FAUST meshes at " << faust::humans_dir() << ": skipped");
@@ -300,7 +300,7 @@ std::vector<int> ends_nearest(const sdm::Mesh& mesh, const sdm::Skeleton& s, con
 
 }  // namespace
 
-// The places where the limbs meet the torso (BodyRegistration::attachment, DESIGN 6.5) see
+// The places where the limbs meet the torso (BodyRegistration::attachment, DECISIONS 5) see
 // a match that crosses one pair of limbs and keeps the others, which twist and fit barely do: 007 ->
 // 024 with the hands pinned crossed and the head and feet pinned straight lays them further apart
 // than with every end pinned straight (which end is which from SMPL's vertex ids: the top of the

@@ -1,4 +1,4 @@
-// Small separate parts (libstm/correspondence/small_parts, DESIGN 6.5 "Small parts"): a closed blob
+// Small separate parts (libstm/correspondence/small_parts, DECISIONS 5, "Small separate parts"): a closed blob
 // of six vertices inside a model, as inside a scanned body's pelvis, is left out of the matching
 // (its skeleton would get a part of its own and the pair be refused as "connected parts 1 vs 2"),
 // and its vertices take the nearest vertex's source point; `--strict` keeps the refusal.

@@ -465,7 +465,7 @@ TEST_CASE("band transfer with the target written otherwise or moved, measured", 
 }
 
 // Every ordered pair of the five bodies (hidden: run with [bands_all]), each with its candidate
-// matches' measures as `sdm transfer` reports them (the measures DESIGN 6.5 chose the candidate
+// matches' measures as `sdm transfer` reports them (the measures DECISIONS 5 chose the candidate
 // score by).
 TEST_CASE("band transfer on every pair of the five bodies, with the candidates, measured", "[.][bands_all]") {
   for (int s = 0; s < 5; ++s)

@@ -227,7 +227,7 @@ std::vector<double> transfer_round(sdm::GlContext& gl, sdm::Mesh a, const sdm::S
 
 // The acceptance as a user gets it: skeletons extracted from each tessellation, as `sdm transfer`
 // does. The target is recognised as the source's shape and takes the source's skeleton carried
-// over (its own extraction puts the junction elsewhere: 26-33 dB before, docs/DESIGN.md 6.5).
+// over (its own extraction puts the junction elsewhere: 26-33 dB before, docs/DECISIONS.md, section 5).
 TEST_CASE("transfer onto a new tessellation of the ypsilon with extracted skeletons reproduces the source", "[transfer_texture]") {
   sdm::GlContext gl;
   const sdm::Mesh a = sdm::make_primitive("ypsilon", 2000);

@@ -181,7 +181,7 @@ TEST_CASE("sdm transfer between FAUST_r bodies (own triangulations), refined: th
   // benchmark's 5000 ground-truth points (corres/NAME.vts: line k of both files the same point).
   // Measured through the command (the source as an OBJ with a planar uv): refined 3.28 / p90 6.77;
   // from the PLY-source start of "[refine_measure]" (3.25) 2.51 with orthogonal C, 2.77 without
-  // (DESIGN 6.5, "Spectral refinement"). The goal is 3.5 per pair.
+  // (DECISIONS 5, "Spectral refinement"). The goal is 3.5 per pair.
   const std::string dir = faust::humans_dir() + "/../humans_r";
   if (!std::ifstream(dir + "/tr_reg_014.off").good() || !std::ifstream(dir + "/corres/tr_reg_026.vts").good()) {
     WARN("no FAUST_r meshes at " << dir << ": skipped");

@@ -293,7 +293,7 @@ DecodedSurface decode_surface_beside(const SdmImage& image, const DecodeOptions&
     // triangle instead spaced them evenly on the capsule: where the surface lies far from the
     // capsule or across its rays they spread unevenly, and two segments on either side of a base
     // edge spread them differently (decoded edges up to 1.6-2 times the input's longest on the
-    // paper's tubes; now at most 0.9: DESIGN 6).
+    // paper's tubes; now at most 0.9: DECISIONS 4).
     const auto [ray, uv] = ray_at(p.segment, p.flat);
     p.ray = ray, p.u = uv.u, p.v = uv.v;
   });
@@ -319,7 +319,7 @@ DecodedSurface decode_surface_beside(const SdmImage& image, const DecodeOptions&
     // surface; a point displaced farther from its decoded base triangle than half the triangle's
     // longest edge is such a point, and the flat base triangle's own point is the better estimate
     // (pulling it back only to that distance left Spot's 1024 map at RMS 0.020 %, Hausdorff 0.98 %;
-    // the flat point gives 0.011 % and 0.55 %: DESIGN 6).
+    // the flat point gives 0.011 % and 0.55 %: DECISIONS 4).
     if ((p - a.flat).norm() > r) p = a.flat;
     placed[size_t(i)] = p;
   });

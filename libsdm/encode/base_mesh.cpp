@@ -254,7 +254,7 @@ double needle_share(const Mesh& mesh) {
 // input face. Decimating the needles themselves kept base faces the length of the part (a prism with
 // 3000-gon caps: RMS 1.2 % at level 3, against 0.007 % from the remesh). A large closed mesh is
 // remeshed because collapsing its own vertices one by one is the encode's cost: 449k vertices, encode
-// stage 11.0-12.6 -> 6.9-7.4 s, the map's check at level 3 RMS 0.0067 -> 0.0074 % (DESIGN 6.4,
+// stage 11.0-12.6 -> 6.9-7.4 s, the map's check at level 3 RMS 0.0067 -> 0.0074 % (DECISIONS 4,
 // "Encoding large meshes").
 constexpr int kRemeshSourceFrom = 100000;
 
@@ -288,7 +288,7 @@ BaseSource base_source(const Mesh& mesh, const Skeleton& skeleton, int target_ve
 }
 
 // How far a base mesh's boundary loop may stray from the input's, in bounding-box diagonals:
-// measured on open meshes, within the round trip's Hausdorff at level 3 (DESIGN 6).
+// measured on open meshes, within the round trip's Hausdorff at level 3 (DECISIONS 1, "Open meshes").
 constexpr double kBoundaryTolerance = 0.002;
 
 // Above this many vertices, and more than kMultipleChoiceFactor times the target, the decimation
@@ -296,7 +296,7 @@ constexpr double kBoundaryTolerance = 0.002;
 // no heap; 2 candidates while over 4 times that size, where every edge is far shorter than the
 // base mesh's, then OpenMesh's 10) down to kMultipleChoiceFactor times the target, and the greedy
 // heap finishes. The heap alone re-checks every neighbour's collapses after each collapse: 523k
-// vertices to 4000 took 33 s of a 1024 encode's 37 s; now 8.3-10.8 s (DESIGN 6.4,
+// vertices to 4000 took 33 s of a 1024 encode's 37 s; now 8.3-10.8 s (DECISIONS 4,
 // "Encoding large meshes"), the round trip as close (RMS 0.0156 -> 0.0142 %). From 20k vertices down
 // to 3 times the target (was: from 100k, to 8 times): the 29,686-vertex bunny's encode 3.2 -> 2.7 s,
 // RMS 0.0072 -> 0.0070 %, Hausdorff 0.236 -> 0.246 % (bunny00: 0.0065 / 0.212 -> 0.0066 / 0.235 %),
@@ -308,7 +308,7 @@ constexpr int kMultipleChoiceFactor = 3;
 // The mesh the decimater runs on: sdm's mesh with the link condition answered by collapse_ok. The
 // decimater, a template over the mesh, calls mesh_.is_collapse_ok for every candidate collapse it
 // weighs, which this hides; OpenMesh 9's own allocates and looks a property up by name on each
-// call (half of the heap's time: DESIGN 6, "The remesh's link condition"). The same answers.
+// call (half of the heap's time: DECISIONS 6, "The remesh's link condition"). The same answers.
 struct DecimationMesh : Mesh {
   explicit DecimationMesh(const Mesh& m) : Mesh(m) {}
   bool is_collapse_ok(HalfedgeHandle h) const { return collapse_ok(*this, h); }

@@ -3,7 +3,7 @@
 // stored only as capsule coordinates (segment, u, v), never as positions. Positions come from the
 // skeleton and the displacement map at decode time, so a moved skeleton moves the surface.
 //
-// Why not one capsule control mesh per segment (DESIGN 4.8 first draft): segment regions meet
+// Why not one capsule control mesh per segment (DECISIONS 4, "SDM decode"): segment regions meet
 // along irregular curves around branch nodes, and independent capsule patches cannot be stitched
 // into one closed manifold there. A decimated copy of the input is manifold by construction, with
 // the input's boundary loops where it has holes, and its faces carry their segment, so levels of

@@ -1,5 +1,5 @@
 #pragma once
-// Posing decoded points (DESIGN 6.4, "Posing"): each point, decoded at rest, is first pushed away
+// Posing decoded points (DECISIONS 4, "Posing"): each point, decoded at rest, is first pushed away
 // from its location on its segment's axis by the blended radius scale, stretched along the bones by
 // the blended stretch, then moved by the dual quaternion blend (Kavan et al. 2007, "Skinning with
 // dual quaternions": sign-aligned to the heaviest bone's, normalised) of its bones' rigid motions

@@ -1,5 +1,5 @@
 #pragma once
-// The bones of a posed skeleton (DESIGN 6.4, "Posing"): the skeleton graph rooted at its largest
+// The bones of a posed skeleton (DECISIONS 4, "Posing"): the skeleton graph rooted at its largest
 // junction, every segment a bone carried by its parent end's motion (a glTF or Blender joint at the
 // bone's head), each node's rotation given or derived, and per bone the motion of the rest-pose
 // points along it: T(x) = B (S(x) - p) + p', with S a stretch along the bone (its posed length over

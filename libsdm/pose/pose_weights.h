@@ -1,5 +1,5 @@
 #pragma once
-// Blend weights of decoded points over the skeleton's segments (DESIGN 6.4, "Posing"): a point of
+// Blend weights of decoded points over the skeleton's segments (DECISIONS 4, "Posing"): a point of
 // segment s sits at its location, the closest point of s's axis clamped to the segment; its
 // distance to another segment k is the distance along the skeleton from that location to k's
 // nearest end node (through the graph, Dijkstra bounded by the kernel's reach); its weight on k is

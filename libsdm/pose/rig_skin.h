@@ -1,5 +1,5 @@
 #pragma once
-// A decoded mesh's glTF skin (DESIGN 6.4, "Posing"; glTF 2.0 "Skins"): the decode's own blending
+// A decoded mesh's glTF skin (DECISIONS 4, "Posing"; glTF 2.0 "Skins"): the decode's own blending
 // (pose_weights.h) as 4 joints per vertex (rig_weights), one joint per skeleton node at its rest
 // position, parented by the bone tree rooted at the largest junction (pose_skeleton.h), so that
 // Blender, three.js or a game engine pose the decoded mesh by linear blend skinning.

@@ -1,5 +1,5 @@
 #pragma once
-// Blend weights made continuous over the decoded surface where a pose bends it (DESIGN 6.4,
+// Blend weights made continuous over the decoded surface where a pose bends it (DECISIONS 4,
 // "Posing"). pose_weights gives a point its weights from its location on its own segment's axis,
 // so they jump where the points of two segments meet; at a joint turned by theta a jump of dw
 // shears the surface by about dw * theta * r across one edge, and FAUST's arm, whose segments near

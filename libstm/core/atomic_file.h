@@ -29,7 +29,7 @@ void write_bytes_checked(const std::string& path, const void* data, size_t size,
 // program, not by the libraries. SIGKILL cannot be caught: its temporaries stay.
 void remove_temporaries_on_signal();
 
-// The outputs of one run, all of them or none (DESIGN 6): while an OutputCommit is open, every
+// The outputs of one run, all of them or none (DESIGN 3.3, "Writing"): while an OutputCommit is open, every
 // write_atomically leaves its file under its temporary name (registered, so a signal removes it)
 // and commit() renames them all, with the signals of remove_temporaries_on_signal held back until
 // the last rename is done. Destroyed uncommitted (an exception, a failed command), it removes the

@@ -1,5 +1,5 @@
 #pragma once
-// Every file the program reads is opened here (DESIGN 6): only a regular file, after following
+// Every file the program reads is opened here (DECISIONS 1, "Files that are not files"): only a regular file, after following
 // symbolic links, and never with a blocking open, so that a named pipe (FIFO), a device such as
 // /dev/zero or /dev/urandom, a socket or a folder named as an input, a material, a texture or a
 // glTF buffer is refused by name at once instead of hanging or growing without end; and never

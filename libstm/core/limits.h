@@ -1,6 +1,6 @@
 #pragma once
 // The limits every reader and command enforces, in one place, so that a companion file (layout,
-// skeleton, SDM header) cannot ask for more than the command line would accept (DESIGN 6).
+// skeleton, SDM header) cannot ask for more than the command line would accept (DECISIONS 1, "Hostile input").
 #include <cfloat>
 #include <cstdint>
 

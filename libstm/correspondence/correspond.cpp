@@ -333,7 +333,7 @@ TargetSkeleton recognise_or_register(const Mesh& source, const Skeleton& skeleto
     // limb with another (attachments 9.1 % apart).
     // And where it would be taken with its limbs meeting the core at places almost too far apart to
     // be (marginal_attachment), or between bodies of other proportions (marginal_distortion): Homer's
-    // medial skeleton onto FAUST 007's (DESIGN 6). The given pair is kept unless another fits closer.
+    // medial skeleton onto FAUST 007's (DECISIONS 5, "Other extraction candidates"). The given pair is kept unless another fits closer.
     const bool unmatched = !body || lengths_disagree(body->skeletons, opt);
     const bool taken = !unmatched && registration_taken(*body, opt);
     const bool marginal = taken && (body->attachment > opt.marginal_attachment || body->distortion > opt.marginal_distortion);
@@ -400,7 +400,7 @@ Correspondence correspond(const Mesh& source, const Skeleton& skeleton_a, const 
   if (c.kind == CorrespondenceKind::bent) c.segment_rotation = segment_rotations(c.skeletons.a, skeleton_a, tb.node_rotation);
   if (tb.placed.empty()) return c;
   // The refinement's Laplace bases depend on the meshes alone: computed beside the source points
-  // under the target (DESIGN 6.5, "Spectral refinement").
+  // under the target (DECISIONS 5, "Spectral refinement").
   const bool refined = c.diagnostics.refined = c.kind == CorrespondenceKind::registered && opt.refine;
   LaplaceBasis source_basis, target_basis;
   std::unique_ptr<BackgroundTask> bases;

@@ -1,6 +1,6 @@
 #pragma once
 // The dense correspondence between two models with the same skeleton branching, without GL
-// (DESIGN 6.5): per target vertex the source point it shows. The target is recognised as the
+// (DECISIONS 5): per target vertex the source point it shows. The target is recognised as the
 // source's shape (its skeleton carried over), the source in another pose (bent along its skeleton),
 // or another body (registered along its matched skeleton, every symmetric candidate match tried:
 // register_bodies), the source points under the placed source are mended where touching parts
@@ -91,7 +91,7 @@ struct CorrespondOptions {
   // Not tried with `fixed` pairs (they name nodes of the given skeletons).
   std::function<std::optional<Skeleton>(bool target)> other_candidate;
   // A registered target's correspondence (closest points of the placed source) refined in the
-  // Laplace-Beltrami eigenbases of both models (zoomout; DESIGN 6.5, "Spectral refinement"). Not done
+  // Laplace-Beltrami eigenbases of both models (zoomout; DECISIONS 5, "Spectral refinement"). Not done
   // for a target carried or bent (the source's shape or pose), where the closest points are right.
   bool refine = true;
   ZoomOutOptions refinement;

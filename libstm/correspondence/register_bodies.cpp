@@ -45,7 +45,7 @@ constexpr int kCandidateFactor = 4;
 // turns parts as little or less (FAUST 024 -> TOSCA man from the OFF coordinates: 10 % less) but
 // lays the places where the limbs meet the torso 1.4-1.9 times as far apart, while between a mirror
 // and the right match the attachments differ by chance (as much as 1.42 times), so they weigh least.
-// Measured (DESIGN 6.5, "One score for the candidates") on the 20 ordered pairs of the five shared bodies written four
+// Measured (DECISIONS 5, "One score for the candidates") on the 20 ordered pairs of the five shared bodies written four
 // ways (the source as float PLY and as the OFF's own digits; the source, or the target, moved by
 // 1e-7 of the diagonal) with every candidate forced in turn and checked against landmarks: the least
 // score is right in 58 of the 63 runs where a candidate is right, each at least 3.7 % below every
@@ -407,7 +407,7 @@ BodyRegistration register_bodies(const Mesh& source, const Skeleton& skeleton_a,
   r.rival = opt.fit_rival ? symmetric_rival(cands, r) : -1;
   if (r.rival >= 0) {
     // The symmetric rival through the whole fit as well: the short registrations' score can favour a
-    // mirror (DESIGN 6.5, "Symmetric candidates"); the lower final score is kept, and a tie reported.
+    // mirror (DECISIONS 5, "Symmetric candidates"); the lower final score is kept, and a tie reported.
     report_progress(opt.progress, "bending the source along the symmetric rival, candidate match " + std::to_string(r.rival + 1));
     SkeletonFit other = fit_match(source, target, cands[size_t(r.rival)]);
     r.final_score = final_score(cands[size_t(r.chosen)].a, fit), r.rival_score = final_score(cands[size_t(r.rival)].a, other);

@@ -70,7 +70,7 @@ struct BodyRegistration {
   // guess. Names both (1-based) and their figures.
   std::string ambiguity;
   std::vector<BranchFit> branch_fit;  // per chain of the chosen match
-  // The symmetric rival taken through the whole fit (BodyOptions::fit_rival, DESIGN 6.5 "Symmetric
+  // The symmetric rival taken through the whole fit (BodyOptions::fit_rival, DECISIONS 5 "Symmetric
   // candidates"): the best-scoring candidate that sends the source's ends to other target ends, -1
   // when none. final_score and rival_score: the twist of the fitted nodes (mean angle between
   // neighbours' rotations, degrees) times the fit's RMS to the power 3/4, of the kept fit and of

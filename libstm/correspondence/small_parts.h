@@ -1,5 +1,5 @@
 #pragma once
-// Small extra parts (DESIGN 6.5, "Small parts"): a closed part far smaller than the model it comes
+// Small extra parts (DECISIONS 5, "Small separate parts"): a closed part far smaller than the model it comes
 // with (a blob of six vertices inside a scanned body's pelvis, a floating speck) gets its own
 // skeleton component, and the skeletons' branchings then differ ("connected parts 1 vs 2"), which
 // refused the whole pair. Such parts are left out of the matching: the correspondence is computed

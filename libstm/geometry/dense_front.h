@@ -4,9 +4,9 @@
 // it is compiled, and the project is built for the x86-64 baseline (SSE2), where the contraction's
 // fronts ran at 1-2 GFlop/s; the kernel is therefore also compiled for AVX2 with FMA
 // (dense_front_avx2.cpp, where the compiler can) and the processor picks one at run time. Measured
-// on the fronts of the CGAL meshes' contractions: 1.5-2.4 times faster (docs/DESIGN.md 6.2, "Dense
+// on the fronts of the CGAL meshes' contractions: 1.5-2.4 times faster (docs/DECISIONS.md, section 2, "Dense
 // kernels for the processor at hand"). Fronts up to 96 rows, and the solve's steps, are loops of
-// our own: Eigen's blocked routines cost more than the arithmetic there (DESIGN 6.2, "Small fronts
+// our own: Eigen's blocked routines cost more than the arithmetic there (DECISIONS 2, "Small fronts
 // and the solve in level-1 loops").
 namespace sdm {
 

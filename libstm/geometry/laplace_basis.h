@@ -4,7 +4,7 @@
 // L phi = lambda M phi with the smallest eigenvalues, found by shift-invert Lanczos (Spectra's
 // SymEigsShiftSolver on M^-1/2 L M^-1/2, each step one solve with a sparse LDLT of L - sigma M).
 // The basis of functional maps and of their spectral refinement (libstm/registration/zoomout.h;
-// DESIGN 6.5, "Spectral refinement").
+// DECISIONS 5, "Spectral refinement").
 #include <Eigen/Dense>
 #include <Eigen/Sparse>
 #include <array>

@@ -223,8 +223,8 @@ void grow(std::vector<Box>& box, int S, int m, double max_aniso) {
 
 // How many of the packings that fit at the final scale are grown to find the fullest: the first
 // packing alone left a strip of 18 % of the atlas on the scanned Stanford bunny (14 rectangles,
-// coverage 0.83) that other packings at the same scale let their neighbours fill (0.98; DESIGN
-// 6.3, "Packing: the fullest of several packings").
+// coverage 0.83) that other packings at the same scale let their neighbours fill (0.98; DECISIONS
+// 3, "Packing: the fullest of several packings").
 constexpr int kGrownPackings = 8;  // at least
 // More for few rectangles, whose growth is cheap (it compares every pair of rectangles each round):
 // as many as keep (packings x rectangles^2) within this.

@@ -37,7 +37,7 @@ namespace sdm {
 // at a bend or where a fat part narrows, the faces around a joint lie beyond both segments' ends and
 // face the node, so every cap folds them (bunny00: 62 % of the faces in the top 1 % of stretch), and
 // a cylinder that runs on maps them the right way round. An extension lengthens the rectangle, so
-// only joints with such faces get one (DESIGN 6.3: all joints cost 22-26 % of the texels per unit
+// only joints with such faces get one (DECISIONS 3: all joints cost 22-26 % of the texels per unit
 // length on the paper's shapes, which need none).
 // `extensions_used`, when given, receives the extensions (per edge, in radii at edges[e][0] and
 // edges[e][1]; all 0 when no joint needed one).

@@ -1,6 +1,6 @@
 #pragma once
 // Reads a mesh file's header and text before any library reader sees it, and refuses what would
-// make a reader run away, abort or report the wrong problem (DESIGN 6): OpenMesh's readers trust
+// make a reader run away, abort or report the wrong problem (DECISIONS 1, "Hostile input"): OpenMesh's readers trust
 // the counts in a header (an OFF saying -5 or 2e9 vertices reserves or loops without end), assert
 // on an OBJ corner without a vertex index (`f /1 /2 /3` aborts the process), parse coordinates in
 // single precision (a coordinate beyond the float range drops its line) and merge STL corners by

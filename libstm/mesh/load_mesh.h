@@ -1,5 +1,5 @@
 #pragma once
-// The one road from a file to the pipeline, every command's (DESIGN 6.1, "Mesh repair"): read the soup,
+// The one road from a file to the pipeline, every command's (DECISIONS 1, "Mesh repair"): read the soup,
 // drop specks (--min-part), validate; when validation finds what repair mends (welds, duplicated
 // or collapsed faces, non-manifold edges and vertices, inconsistent orientation), repair and
 // validate again; orient every part outward; build the halfedge mesh.

@@ -1,5 +1,5 @@
 #pragma once
-// Scans without faces (DESIGN 6.1, "Point clouds"): positions with optional normals and colours,
+// Scans without faces (DECISIONS 1, "Point clouds"): positions with optional normals and colours,
 // read from .xyz, PCL's .pcd, and PLY or OFF files with vertices and no faces; checked like a mesh
 // (coordinates finite and within range, counts within the file, duplicates merged and counted)
 // and refused when no skeleton can come from them (too few points, all on a plane or a line).

@@ -1,6 +1,6 @@
 #pragma once
 // Repair of a triangle soup before validation: the defects every mesh tool mends without asking
-// (DESIGN 6.1, "Mesh repair"). Each step is a topological decision made on the soup, never a move
+// (DECISIONS 1, "Mesh repair"). Each step is a topological decision made on the soup, never a move
 // of a point, so the repaired surface is the input surface:
 //  1. coincident vertices welded: exactly equal coordinates first (a soup OBJ, an exporter's split
 //     normals), then boundary vertices within a tolerance relative to the model's diagonal (a
@@ -52,7 +52,7 @@ struct RepairReport {
 };
 
 /// What validation already knows of the soup (scan_topology), so that repair runs only the steps
-/// its findings call for, and splits only the vertices it names (DESIGN 6.1, "Mesh repair"). The
+/// its findings call for, and splits only the vertices it names (DECISIONS 1, "Mesh repair"). The
 /// default, no hints, runs every step everywhere.
 struct RepairHints {
   const EdgeTable* table = nullptr;            ///< the soup's edge table, every face in it; null: made anew

@@ -4,7 +4,7 @@
 // the new model takes the node of the source corner under it on the registered source surface.
 // Two tessellations of one shape then have one skeleton, and a texture transferred between them
 // lines up texel for texel (extracting the skeleton again moves junctions by up to a tenth of the
-// model on Spot: DESIGN 6.5, transfer). The correspondence and the vertex rule also serve a skeleton
+// model on Spot: DECISIONS 5, transfer). The correspondence and the vertex rule also serve a skeleton
 // bent onto its target (fit_skeleton) and the transfer's coordinates.
 #include "libstm/mesh/mesh.h"
 #include "libstm/registration/register_surfaces.h"

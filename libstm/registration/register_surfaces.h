@@ -4,7 +4,7 @@
 // translation (Umeyama 1991). Texture transfer uses it to recognise a target that is the source's
 // shape tessellated anew (moved or scaled, perhaps): its skeleton is then the source's, carried
 // over (carry_skeleton), instead of one extracted again, because extraction depends on the
-// tessellation (DESIGN 6.5, transfer).
+// tessellation (DECISIONS 5, transfer).
 #include "libstm/geometry/differential_geometry.h"
 #include "libstm/mesh/mesh.h"
 #include "libstm/mesh/mesh_geometry.h"

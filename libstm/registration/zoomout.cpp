@@ -28,7 +28,7 @@ LaplaceBasis mesh_laplace_basis(const Mesh& mesh, int k) {
 namespace {
 
 // The functions and embeddings in single precision: the nearest rows and the small products
-// between them need no more, and take half the time (DESIGN 6.5, "Spectral refinement").
+// between them need no more, and take half the time (DECISIONS 5, "Spectral refinement").
 using RowMatrix = Eigen::Matrix<float, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
 
 // The first k functions of a basis at unit area (M-orthonormal for the mass over the area).

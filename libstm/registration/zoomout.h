@@ -10,7 +10,7 @@
 // the spatial coordinates (on the source: a candidate's position against the start's point, so that
 // the refinement stays near where the start put each vertex), and only among the source vertices
 // near the start's point. Each step's C is made orthogonal (an isometry's). Finally each target vertex takes the point of a
-// face around its source vertex nearest in those coordinates (a vertex-to-point map). DESIGN 6.5,
+// face around its source vertex nearest in those coordinates (a vertex-to-point map). DECISIONS 5,
 // "Spectral refinement".
 #include "libstm/geometry/laplace_basis.h"
 #include "libstm/mesh/mesh.h"
@@ -22,7 +22,7 @@
 namespace sdm {
 
 struct ZoomOutOptions {
-  // The defaults are the best of the variants measured on the 12 ordered FAUST pairs (DESIGN 6.5,
+  // The defaults are the best of the variants measured on the 12 ordered FAUST pairs (DECISIONS 5,
   // "Spectral refinement"): mean geodesic error 3.05 -> 2.43, worst pair's 90th percentile 9.62 ->
   // 7.01 (through 5 points per edge, correspondence_error).
   int k_start = 20, k_end = 150, step = 20;  // the basis sizes, k_start, k_start + step, ..., k_end
@@ -41,7 +41,7 @@ struct ZoomOutOptions {
   // C replaced at each step by its nearest orthogonal matrix (U V^T of its SVD): the functional map
   // of an isometry between the unit-area bases is orthogonal (Ovsjanikov et al. 2012; the
   // orthogonality term of Ren et al. 2021's discrete solver, here as a projection). FAUST_r 014 <->
-  // 026: mean 4.00 -> 3.70 (DESIGN 6.5, "Spectral refinement").
+  // 026: mean 4.00 -> 3.70 (DECISIONS 5, "Spectral refinement").
   bool orthogonal = true;
   int threads = 0;  // 0: one per hardware thread; the result does not depend on it
 };

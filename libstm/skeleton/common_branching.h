@@ -8,7 +8,7 @@
 // by length AND by the share of the model's vertices, i.e. its volume): insignificant end branches
 // are pruned, insignificant chains between two junctions are contracted into one junction. Among
 // the reductions that make the branchings equal, the one with the fewest operations, then the
-// least significance removed, then the lowest match cost (match_skeletons) is chosen. DESIGN 6.
+// least significance removed, then the lowest match cost (match_skeletons) is chosen. DECISIONS 5, "Common branching".
 #include "libstm/skeleton/skeleton.h"
 
 #include <array>

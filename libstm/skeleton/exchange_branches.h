@@ -6,7 +6,7 @@
 // with the pair crossed, the left arm of one on the right arm of the other: the split, not the
 // shape, then decides left and right, and no candidate match has them right. The variants here
 // exchange such a pair between its two junctions, so that the matcher offers both assignments and
-// the registration chooses between them (register_bodies). DESIGN 6.
+// the registration chooses between them (register_bodies). DECISIONS 5, "keeps left and right".
 #include "libstm/skeleton/skeleton.h"
 
 #include <vector>

@@ -68,7 +68,7 @@ SkeletonMatch match_skeletons(const Skeleton& a, const Skeleton& b, const std::v
 /// came out hung from a junction 0.5 % of the length from its pelvis's). Pose does not change
 /// the shares, and two bodies of one kind keep them within a factor of about 1.5 (FAUST people,
 /// the TOSCA gorilla and man); a match that pairs a leg with a head or an arm whose extracted
-/// chain runs down the side of the torso gives 3 or more (DESIGN 6.5, common branching).
+/// chain runs down the side of the torso gives 3 or more (DECISIONS 5, common branching).
 double length_disagreement(const SkeletonMatch& m, double min_share = 0.05);
 
 /// The candidates a registration chooses among (texture transfer between different bodies: which is

@@ -30,12 +30,12 @@ namespace sdm {
 // Extraction options for the two models of a transfer: junctions centred at the widest inside
 // ball of their cluster (SkeletonOptions::centre_junctions), so that two tessellations of one
 // shape get their junctions in the same place (ypsilon onto its remesh: 21-25 dB -> 31-33 dB), and
-// the medial-pole candidate preferred whenever it is valid (DESIGN 6).
+// the medial-pole candidate preferred whenever it is valid (DECISIONS 5, "made robust to the extraction").
 SkeletonOptions transfer_skeleton_options();
 
 /// The other extraction candidate of `mesh` for a transfer: transfer_skeleton_options() with the
 /// method that extract_skeleton (with those options; `stats` are its statistics) did not keep: the
-/// contraction where every part kept the medial poles, else the medial poles. DESIGN 6.
+/// contraction where every part kept the medial poles, else the medial poles. DECISIONS 5, "keeps left and right".
 Skeleton other_transfer_candidate(const Mesh& mesh, const SkeletonStats& stats, const Progress& progress = nullptr);
 
 // The target's layout: layout_a's atlas (size, margin, scale, every rectangle x, y, w, h, rotated,
