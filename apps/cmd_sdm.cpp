@@ -1,5 +1,6 @@
 // sdm encode / decode / roundtrip: skeleton displacement maps.
 #include "apps/cli_common.h"
+#include "apps/cloud_maps.h"
 #include "apps/commands.h"
 #include "apps/memory_budget.h"
 #include "libsdm/decode/decode_sdm.h"
@@ -21,6 +22,7 @@
 #include "libstm/core/stopwatch.h"
 #include "libstm/layout/layout.h"
 #include "libstm/mesh/mesh.h"
+#include "libstm/mesh/point_cloud.h"
 #include "libstm/mesh/validate_mesh.h"
 
 
@@ -253,7 +255,7 @@ Command add_encode_command(CLI::App& parent) {
   auto* app = parent.add_subcommand(
       "encode", "Encode a mesh (closed, or open with holes) as a skeleton displacement map: one OpenEXR file (channels Y = displacement, A = mask)\n"
                 "with the layout and base mesh in its header, so 'sdm decode' needs nothing else.");
-  app->add_option("mesh", o->mesh, "Input mesh (.obj, .off, .ply, .stl, .glb, .gltf)")->required();
+  app->add_option("mesh", o->mesh, "Input mesh (.obj, .off, .ply, .stl, .glb, .gltf) or point cloud (.xyz, .pcd, .ply or .off without faces)")->required();
   app->add_option("-o,--output", o->out, "Output map (.exr)")->required();
   app->add_option("--size", o->size, "Atlas size in texels")->capture_default_str()->check(number_in(16, 16384));
   app->add_option("--layout", o->layout, "Use this layout (from 'sdm stm') instead of computing one");
@@ -271,6 +273,8 @@ Command add_encode_command(CLI::App& parent) {
   app->add_flag("--json", o->json, "Print one JSON object with the summary");
   return {app, [o]() {
             if (o->layout.empty()) check_atlas_memory(o->size, 10, o->max_memory);
+            if (sdm::is_point_cloud_file(o->mesh))
+              return cloud_encode({o->mesh, o->out, o->png, o->precision, "", o->size, 3, 0, o->face_error, -1, o->json});
             const sdm::SdmPrecision precision = sdm::SdmPrecision::parse(o->precision);
             sdm::Stopwatch clock;
             const sdm::Mesh mesh = load_mesh_min_part(o->mesh, o->min_part, o->fill_holes);
@@ -592,7 +596,7 @@ Command add_pose_command(CLI::App& parent) {
 
 Command add_roundtrip_command(CLI::App& parent) {
   struct Opts {
-    std::string mesh, out, png, precision = "10";
+    std::string mesh, out, png, precision = "10", reference;
     int size = 1024, lod = 3, samples = 100000;
     double max_rms = -1, min_part = 0, min_carried = 0.9, face_error = sdm::EncodeOptions().flat_above;
     bool fill_holes = false;
@@ -604,7 +608,10 @@ Command add_roundtrip_command(CLI::App& parent) {
       "roundtrip", "Encode a mesh, decode it, and measure the reconstruction error: symmetric Hausdorff and RMS\n"
                    "distance by dense sampling, as fractions of the bounding-box diagonal, and PSNR.\n"
                    "Exits 3 when the RMS exceeds --max-rms.");
-  app->add_option("mesh", o->mesh, "Input mesh (.obj, .off, .ply, .stl, .glb, .gltf)")->required();
+  app->add_option("mesh", o->mesh, "Input mesh (.obj, .off, .ply, .stl, .glb, .gltf) or point cloud (.xyz, .pcd, .ply or .off without faces)")->required();
+  app->add_option("--reference", o->reference,
+                  "For a point cloud: also measure the decoded surface against this mesh (RMS and Hausdorff both ways); the points "
+                  "themselves are measured one way, each to the decoded surface");
   app->add_option("--size", o->size, "Atlas size in texels")->capture_default_str()->check(number_in(16, 16384));
   app->add_option("--lod", o->lod, "Level of detail of the decode")->capture_default_str()->check(number_in(0, 8));
   app->add_option("--samples", o->samples, "Points sampled on each surface")->capture_default_str()->check(number_in(1000, 1e7));
@@ -625,6 +632,10 @@ Command add_roundtrip_command(CLI::App& parent) {
   app->add_flag("--json", o->json, "Print one JSON object with the summary");
   return {app, [o]() {
             const sdm::Stopwatch total;
+            if (sdm::is_point_cloud_file(o->mesh))
+              return cloud_roundtrip({o->mesh, o->out, o->png, o->precision, o->reference, o->size, o->lod, o->samples, o->face_error,
+                                      o->max_rms, o->json});
+            if (!o->reference.empty()) throw sdm::InputError("--reference is for a point cloud; a mesh is its own reference");
             const sdm::SdmPrecision precision = sdm::SdmPrecision::parse(o->precision);
             const sdm::Mesh mesh = load_mesh_min_part(o->mesh, o->min_part, o->fill_holes);
             const sdm::SelfIntersections crossings = check_self_intersections(mesh, o->strict);

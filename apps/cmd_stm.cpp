@@ -1,4 +1,5 @@
 #include "apps/cli_common.h"
+#include "apps/cloud_input.h"
 #include "apps/commands.h"
 #include "apps/memory_budget.h"
 #include "libstm/layout/draw_atlas.h"
@@ -6,6 +7,7 @@
 #include "libstm/core/limits.h"
 #include "libstm/layout/layout.h"
 #include "libstm/mesh/mesh.h"
+#include "libstm/mesh/point_cloud.h"
 #include "libstm/skeleton/skeleton.h"
 
 #include <filesystem>
@@ -45,7 +47,9 @@ Command add_stm_command(CLI::App& parent) {
       "stm", "Compute the skeleton texture map layout of a mesh: one capsule per skeleton segment, its\n"
              "rectangle packed into one square atlas. Writes the layout (JSON, it includes the skeleton) and\n"
              "prints the segments, the atlas coverage and the L2 stretch of the STM coordinates.");
-  app->add_option("mesh", o->mesh, "Input mesh (.obj, .off, .ply, .stl, .glb, .gltf), closed and manifold")->required();
+  app->add_option("mesh", o->mesh,
+                  "Input mesh (.obj, .off, .ply, .stl, .glb, .gltf), closed and manifold, or point cloud (.xyz, .pcd, .ply or .off "
+                  "without faces: the layout of the surface its points describe, around the cloud's skeleton)")->required();
   app->add_option("-o,--output", o->out, "Layout file to write (.json, format sdm-layout)")->required();
   app->add_option("--skeleton", o->skeleton,
                   "Use this skeleton (JSON, format sdm-skeleton, made for this mesh) instead of extracting one\n"
@@ -61,6 +65,7 @@ Command add_stm_command(CLI::App& parent) {
   app->add_flag("--json", o->json, "Print one JSON object instead of text");
   return {app, [o]() {
             check_atlas_memory(o->size, 10, o->max_memory);
+            if (sdm::is_point_cloud_file(o->mesh)) return cloud_stm(o->mesh, o->out, o->size, o->margin, o->uv_obj, o->json);
             sdm::Mesh mesh = load_mesh_min_part(o->mesh, o->min_part, o->fill_holes);
             LayoutSource from;
             from.skeleton_file = o->skeleton;
