@@ -17,7 +17,8 @@ struct CloudReach {
 };
 
 /// Per texel of `im` (made for `layout`), whether its surface point (capsule ray at D) lies within
-/// the support of the points (PointSetSurface::supported).
+/// the support of the points (PointSetSurface::supported, the support the surface was traced in:
+/// 4 local spacings, so a gap counts from 4 spacings inside its rim).
 CloudReach cloud_reach(const SdmImage& im, const Layout& layout, const PointSetSurface& surface);
 
 /// encode_sdm of the cloud's surface with its layout, and the texels the points reach.

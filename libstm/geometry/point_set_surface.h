@@ -16,7 +16,7 @@ class PointKdTree;
 
 struct PointSetSurfaceOptions {
   int neighbours = 20;    ///< points weighted at a query (the k nearest)
-  double width = 1.0;     ///< Gaussian width h as a multiple of the neighbours' mean local spacing
+  double width = 2.0;     ///< Gaussian width h as a multiple of the neighbours' mean local spacing
   double reach = 4.0;     ///< a query is in the support when its nearest point lies within reach local spacings
   int spacing_rank = 6;   ///< a point's local spacing: the distance to its spacing_rank-th nearest other point
 };
