@@ -2,6 +2,7 @@
 
 #include "apps/commands.h"
 #include "libstm/core/stopwatch.h"
+#include "libstm/layout/cloud_layout.h"
 #include "libstm/mesh/point_cloud.h"
 #include "libstm/skeleton/point_skeleton.h"
 
@@ -50,6 +51,33 @@ int cloud_skeleton(const std::string& path, const std::string& out, const std::s
                       {"read_seconds", read_seconds},
                       {"seconds", st.seconds},
                       {"contraction_seconds", st.contraction_seconds}};
+  if (json) print_json(j);
+  else print_lines(out, j);
+  return 0;
+}
+
+int cloud_stm(const std::string& path, const std::string& out, int size, int margin, const std::string& uv_obj, bool json) {
+  sdm::CloudReport report;
+  const sdm::PointCloud cloud = sdm::load_point_cloud(path, &report, false);  // normals estimated by cloud_layout when missing
+  sdm::CloudLayoutOptions o;
+  o.layout.size = size;
+  o.layout.margin = margin;
+  o.progress = [](const std::string& s) { progress("  " + s); };
+  const sdm::CloudLayout cl = sdm::cloud_layout(cloud, o);
+  const sdm::StmCoordinates c = sdm::stm_coordinates(cl.surface, cl.layout);
+  sdm::write_layout_json(cl.layout, out);
+  if (!uv_obj.empty()) sdm::write_mesh(c.mesh, uv_obj);
+  nlohmann::json j = {{"points", report.points},
+                      {"normals_estimated", cl.normals_estimated},
+                      {"skeleton_nodes", cl.point_skeleton.nodes.size()},
+                      {"segments", cl.layout.segments.size()},
+                      {"surface_vertices", cl.traced_vertices},
+                      {"gaps_filled", cl.filled_loops},
+                      {"coverage", cl.layout.coverage},
+                      {"stretch", c.stretch},
+                      {"skeleton_seconds", cl.skeleton_seconds},
+                      {"surface_seconds", cl.surface_seconds},
+                      {"layout_seconds", cl.layout_seconds}};
   if (json) print_json(j);
   else print_lines(out, j);
   return 0;

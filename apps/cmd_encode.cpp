@@ -1,5 +1,6 @@
 // sdm encode: a mesh as a skeleton displacement map (one OpenEXR file).
 #include "apps/cli_common.h"
+#include "apps/cloud_maps.h"
 #include "apps/commands.h"
 #include "apps/encode_checks.h"
 #include "apps/options.h"
@@ -11,6 +12,7 @@
 #include "libstm/layout/layout.h"
 #include "libstm/mesh/mesh.h"
 #include "libstm/mesh/mesh_geometry.h"
+#include "libstm/mesh/point_cloud.h"
 
 #include <algorithm>
 #include <cmath>
@@ -60,7 +62,7 @@ Command add_encode_command(CLI::App& parent) {
   auto* app = parent.add_subcommand(
       "encode", "Encode a mesh (closed, or open with holes) as a skeleton displacement map: one OpenEXR file (channels Y = displacement, A = mask)\n"
                 "with the layout and base mesh in its header, so 'sdm decode' needs nothing else.");
-  app->add_option("mesh", o->mesh, "Input mesh (.obj, .off, .ply, .stl, .glb, .gltf)")->required();
+  app->add_option("mesh", o->mesh, "Input mesh (.obj, .off, .ply, .stl, .glb, .gltf) or point cloud (.xyz, .pcd, .ply or .off without faces)")->required();
   app->add_option("-o,--output", o->out, "Output map (.exr)")->required();
   add_layout_options(app, o->layout, {true, true, false});
   app->add_option("--png", o->png, "Also write a false-colour picture of the map (.png)");
@@ -76,6 +78,8 @@ Command add_encode_command(CLI::App& parent) {
   app->add_flag("--json", o->json, "Print one JSON object with the summary");
   return {app, [o]() {
             check_layout_memory(o->layout, 10, o->max_memory);
+            if (sdm::is_point_cloud_file(o->mesh))
+              return cloud_encode({o->mesh, o->out, o->png, o->precision, "", o->layout.options.size, 3, 0, o->face_error, -1, o->json});
             const sdm::SdmPrecision precision = sdm::SdmPrecision::parse(o->precision);
             sdm::Stopwatch clock;
             const sdm::Mesh mesh = load_mesh_min_part(o->mesh, o->min_part, o->fill_holes);

@@ -1,5 +1,6 @@
 // sdm roundtrip: encode, decode and measure the reconstruction error.
 #include "apps/cli_common.h"
+#include "apps/cloud_maps.h"
 #include "apps/commands.h"
 #include "apps/decoded_mesh.h"
 #include "apps/encode_checks.h"
@@ -14,6 +15,7 @@
 #include "libstm/layout/layout.h"
 #include "libstm/mesh/mesh.h"
 #include "libstm/mesh/mesh_geometry.h"
+#include "libstm/mesh/point_cloud.h"
 #include "libstm/mesh/surface_distance.h"
 #include "libstm/render/render_mesh.h"
 
@@ -96,7 +98,7 @@ void write_error_png(const sdm::Mesh& input, sdm::Mesh decoded, double diag, con
 
 Command add_roundtrip_command(CLI::App& parent) {
   struct Opts {
-    std::string mesh, out, png, precision = "10";
+    std::string mesh, out, png, precision = "10", reference;
     LayoutSource layout = layout_defaults(1024, 4, true);  // the stages announced
     int lod = 3, samples = 100000;
     double max_rms = -1, min_part = 0, min_carried = 0.9, face_error = sdm::EncodeOptions().flat_above;
@@ -109,7 +111,10 @@ Command add_roundtrip_command(CLI::App& parent) {
       "roundtrip", "Encode a mesh, decode it, and measure the reconstruction error: symmetric Hausdorff and RMS\n"
                    "distance by dense sampling, as fractions of the bounding-box diagonal, and PSNR.\n"
                    "Exits 3 when the RMS exceeds --max-rms.");
-  app->add_option("mesh", o->mesh, "Input mesh (.obj, .off, .ply, .stl, .glb, .gltf)")->required();
+  app->add_option("mesh", o->mesh, "Input mesh (.obj, .off, .ply, .stl, .glb, .gltf) or point cloud (.xyz, .pcd, .ply or .off without faces)")->required();
+  app->add_option("--reference", o->reference,
+                  "For a point cloud: also measure the decoded surface against this mesh (RMS and Hausdorff both ways); the points "
+                  "themselves are measured one way, each to the decoded surface");
   add_layout_options(app, o->layout, {});
   app->add_option("--lod", o->lod, "Level of detail of the decode")->capture_default_str()->check(number_in(0, 8));
   app->add_option("--samples", o->samples, "Points sampled on each surface")->capture_default_str()->check(number_in(1000, 1e7));
@@ -130,6 +135,10 @@ Command add_roundtrip_command(CLI::App& parent) {
   app->add_flag("--json", o->json, "Print one JSON object with the summary");
   return {app, [o]() {
             check_layout_memory(o->layout, 10, o->max_memory);
+            if (sdm::is_point_cloud_file(o->mesh))
+              return cloud_roundtrip({o->mesh, o->out, o->png, o->precision, o->reference, o->layout.options.size, o->lod, o->samples,
+                                      o->face_error, o->max_rms, o->json});
+            if (!o->reference.empty()) throw sdm::InputError("--reference is for a point cloud; a mesh is its own reference");
             const sdm::Stopwatch total;
             const sdm::SdmPrecision precision = sdm::SdmPrecision::parse(o->precision);
             const sdm::Mesh mesh = load_mesh_min_part(o->mesh, o->min_part, o->fill_holes);

@@ -1,10 +1,12 @@
 #include "apps/cli_common.h"
+#include "apps/cloud_input.h"
 #include "apps/commands.h"
 #include "apps/options.h"
 #include "libstm/layout/draw_atlas.h"
 #include "libstm/core/errors.h"
 #include "libstm/layout/layout.h"
 #include "libstm/mesh/mesh.h"
+#include "libstm/mesh/point_cloud.h"
 #include "libstm/skeleton/skeleton.h"
 
 #include <filesystem>
@@ -43,7 +45,9 @@ Command add_stm_command(CLI::App& parent) {
       "stm", "Compute the skeleton texture map layout of a mesh: one capsule per skeleton segment, its\n"
              "rectangle packed into one square atlas. Writes the layout (JSON, it includes the skeleton) and\n"
              "prints the segments, the atlas coverage and the L2 stretch of the STM coordinates.");
-  app->add_option("mesh", o->mesh, "Input mesh (.obj, .off, .ply, .stl, .glb, .gltf), closed and manifold")->required();
+  app->add_option("mesh", o->mesh,
+                  "Input mesh (.obj, .off, .ply, .stl, .glb, .gltf), closed and manifold, or point cloud (.xyz, .pcd, .ply or .off "
+                  "without faces: the layout of the surface its points describe, around the cloud's skeleton)")->required();
   app->add_option("-o,--output", o->out, "Layout file to write (.json, format sdm-layout)")->required();
   add_layout_options(app, o->layout, {false, true, true});
   app->add_option("--uv-obj", o->uv_obj, "Also write the mesh with its STM coordinates as uv (OBJ; seam vertices duplicated)");
@@ -55,6 +59,8 @@ Command add_stm_command(CLI::App& parent) {
   app->add_flag("--json", o->json, "Print one JSON object instead of text");
   return {app, [o]() {
             check_layout_memory(o->layout, 10, o->max_memory);
+            if (sdm::is_point_cloud_file(o->mesh))
+              return cloud_stm(o->mesh, o->out, o->layout.options.size, o->layout.options.margin, o->uv_obj, o->json);
             sdm::Mesh mesh = load_mesh_min_part(o->mesh, o->min_part, o->fill_holes);
             const sdm::Layout layout = layout_for(mesh, o->layout, o->max_memory).layout;
             const sdm::StmCoordinates c = sdm::stm_coordinates(mesh, layout);

@@ -1,0 +1,75 @@
+#include "libstm/geometry/point_set_surface.h"
+
+#include "libstm/core/errors.h"
+#include "libstm/core/parallel.h"
+#include "libstm/geometry/point_kdtree.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace sdm {
+
+PointSetSurface::PointSetSurface(const std::vector<Eigen::Vector3d>& points, const std::vector<Eigen::Vector3d>& normals,
+                                 const PointSetSurfaceOptions& options)
+    : points_(points), normals_(normals), options_(options) {
+  if (points.size() != normals.size()) throw InputError("a point set surface needs one normal per point");
+  if (points.size() < size_t(std::max(options.neighbours, options.spacing_rank) + 1))
+    throw InputError("a point set surface needs more than " + std::to_string(std::max(options.neighbours, options.spacing_rank)) + " points");
+  tree_ = std::make_unique<PointKdTree>(points);
+  spacing_.assign(points.size(), 0.0);
+  parallel_for(int(points.size()), 1024, [&](int i) {
+    std::vector<double> d2;
+    tree_->nearest(points[size_t(i)], options_.spacing_rank + 1, &d2);
+    spacing_[size_t(i)] = std::sqrt(d2.back());
+  });
+  std::vector<double> sorted = spacing_;
+  std::nth_element(sorted.begin(), sorted.begin() + long(sorted.size() / 2), sorted.end());
+  median_spacing_ = sorted[sorted.size() / 2];
+}
+
+PointSetSurface::~PointSetSurface() = default;
+
+PointSetSurface::Sample PointSetSurface::at(const Eigen::Vector3d& x) const {
+  std::vector<double> d2;
+  const std::vector<int> near = tree_->nearest(x, options_.neighbours, &d2);
+  Sample s;
+  if (near.empty() || std::sqrt(d2[0]) > options_.reach * spacing_[size_t(near[0])]) return s;
+  double mean_spacing = 0;
+  for (int j : near) mean_spacing += spacing_[size_t(j)];
+  mean_spacing /= double(near.size());
+  const double h2 = std::pow(options_.width * mean_spacing, 2);
+  // Weights relative to the nearest point's, so that a query far from every point (but within the
+  // support of a sparse one) does not underflow.
+  double weight = 0, value = 0;
+  Eigen::Vector3d normal = Eigen::Vector3d::Zero();
+  for (size_t k = 0; k < near.size(); ++k) {
+    const double w = std::exp(-(d2[k] - d2[0]) / h2);
+    const size_t j = size_t(near[k]);
+    weight += w;
+    value += w * normals_[j].dot(x - points_[j]);
+    normal += w * normals_[j];
+  }
+  s.defined = weight > 0 && normal.norm() > 1e-12 * weight;
+  if (!s.defined) return s;
+  s.value = value / weight;
+  s.normal = normal.normalized();
+  return s;
+}
+
+Eigen::Vector3d PointSetSurface::project(const Eigen::Vector3d& x, int steps) const {
+  Eigen::Vector3d y = x;
+  for (int i = 0; i < steps; ++i) {
+    const Sample s = at(y);
+    if (!s.defined) return x;
+    y -= s.value * s.normal;
+  }
+  return y;
+}
+
+bool PointSetSurface::supported(const Eigen::Vector3d& x) const {
+  std::vector<double> d2;
+  const std::vector<int> near = tree_->nearest(x, 1, &d2);
+  return !near.empty() && std::sqrt(d2[0]) <= options_.reach * spacing_[size_t(near[0])];
+}
+
+}  // namespace sdm
