@@ -1,0 +1,68 @@
+// sdm bench --pipeline: a mesh through the whole pipeline (docs/BENCHMARKS.md, "Pipeline stages by mesh size").
+#include "apps/bench.h"
+#include "apps/commands.h"
+#include "libsdm/decode/decode_sdm.h"
+#include "libsdm/encode/encode_sdm.h"
+#include "libstm/core/stopwatch.h"
+#include "libstm/layout/layout.h"
+#include "libstm/mesh/load_mesh.h"
+#include "libstm/mesh/mesh.h"
+#include "libstm/skeleton/extract_skeleton.h"
+
+#include <cmath>
+#include <iomanip>
+#include <iostream>
+
+namespace sdm::cli {
+
+// Per file: load, skeleton, layout (--size atlas), encode (same size) and decode at level 3, the
+// fastest of `repeat` runs each (in-memory, as the commands run them without their checks), the
+// decode's rate in faces per second, and the process's peak memory after them.
+int run_pipeline_bench(const BenchOptions& o) {
+  nlohmann::json rows = nlohmann::json::array();
+  for (const std::string& path : o.pipeline) {
+    double load = INFINITY, skeleton = INFINITY, layout = INFINITY, encode = INFINITY, decode = INFINITY;
+    size_t vertices = 0, faces = 0;
+    for (int i = 0; i < o.repeat; ++i) {
+      Stopwatch sw;
+      const Mesh mesh = load_mesh(path);
+      load = std::min(load, sw.lap());
+      const Skeleton sk = extract_skeleton(mesh);
+      skeleton = std::min(skeleton, sw.lap());
+      LayoutOptions lo;
+      lo.size = o.size;
+      const Layout L = compute_layout(mesh, sk, lo);
+      layout = std::min(layout, sw.lap());
+      EncodeOptions eo;
+      eo.fill_unread = false;  // as `sdm encode` writes a file
+      const SdmImage im = encode_sdm(mesh, L, eo);
+      encode = std::min(encode, sw.lap());
+      DecodeOptions d;
+      d.level = 3;
+      faces = decode_sdm(im, d).n_faces();
+      decode = std::min(decode, sw.lap());
+      vertices = mesh.n_vertices();
+    }
+    std::cerr << "bench: pipeline " << path << "\n";
+    rows.push_back({{"file", path}, {"vertices", vertices}, {"load_s", load}, {"skeleton_s", skeleton}, {"layout_s", layout},
+                    {"encode_s", encode}, {"decode3_s", decode}, {"decode3_faces", faces}, {"decode3_faces_per_s", double(faces) / decode},
+                    {"skeleton_to_decode_s", skeleton + layout + encode + decode}});
+  }
+  if (o.json) {
+    print_json({{"machine", machine_line()}, {"size", o.size}, {"pipelines", rows}, {"peak_rss_mb", double(peak_rss_bytes()) / 1e6}});
+    return 0;
+  }
+  std::cout << "Pipeline (atlas " << o.size << ", decode level 3; fastest of " << o.repeat << "; " << machine_line() << ")\n"
+            << "| file | vertices | load (s) | skeleton (s) | layout (s) | encode (s) | decode 3 (s) | decoded faces/s | skeleton to decode (s) |\n"
+            << "|---|---|---|---|---|---|---|---|---|\n";
+  for (const auto& r : rows)
+    std::cout << "| " << r["file"].get<std::string>() << " | " << r["vertices"] << " | " << std::fixed << std::setprecision(2)
+              << r["load_s"].get<double>() << " | " << r["skeleton_s"].get<double>() << " | " << r["layout_s"].get<double>() << " | "
+              << r["encode_s"].get<double>() << " | " << r["decode3_s"].get<double>() << " | " << std::setprecision(0)
+              << r["decode3_faces_per_s"].get<double>() << " | " << std::setprecision(2) << r["skeleton_to_decode_s"].get<double>()
+              << " |\n";
+  std::cout << "Peak memory of the process: " << std::setprecision(0) << double(peak_rss_bytes()) / 1e6 << " MB\n";
+  return 0;
+}
+
+}  // namespace sdm::cli

@@ -1,0 +1,113 @@
+// sdm decode: the mesh of a skeleton displacement map, at a level of detail, optionally posed or rigged.
+#include "apps/cli_common.h"
+#include "apps/commands.h"
+#include "apps/decoded_mesh.h"
+#include "apps/memory_budget.h"
+#include "libsdm/decode/decode_sdm.h"
+#include "libsdm/map/sdm_exr.h"
+#include "libsdm/pose/pose_skeleton.h"
+#include "libstm/core/errors.h"
+#include "libstm/core/parallel.h"
+#include "libstm/core/stopwatch.h"
+#include "libstm/layout/layout.h"
+#include "libstm/mesh/mesh.h"
+
+#include <iostream>
+#include <map>
+#include <memory>
+#include <optional>
+
+namespace sdm::cli {
+namespace {
+
+// --lod-segment ID=L
+std::map<int, int> parse_segment_levels(const std::vector<std::string>& items) {
+  std::map<int, int> out;
+  for (const auto& s : items) {
+    const auto eq = s.find('=');
+    try {
+      if (eq == std::string::npos) throw std::invalid_argument("");
+      size_t a = 0, b = 0;
+      const int id = std::stoi(s.substr(0, eq), &a);
+      const int level = std::stoi(s.substr(eq + 1), &b);
+      if (a != eq || b != s.size() - eq - 1) throw std::invalid_argument("");
+      out[id] = level;
+    } catch (const std::exception&) {
+      throw sdm::InputError("--lod-segment '" + s + "' is not of the form ID=LEVEL (e.g. 3=1)");
+    }
+  }
+  return out;
+}
+
+}  // namespace
+
+Command add_decode_command(CLI::App& parent) {
+  struct Opts {
+    std::string map, out, skeleton, write_skeleton;
+    int lod = 3;
+    std::vector<std::string> segment_lod;
+    std::string max_memory;
+    bool json = false, rig = false;
+  };
+  auto o = std::make_shared<Opts>();
+  auto* app = parent.add_subcommand(
+      "decode", "Rebuild the mesh from a skeleton displacement map, with a level of detail chosen globally\n"
+                "or per segment, optionally around a skeleton with moved nodes (same graph).");
+  app->add_option("map", o->map, "Input map (.exr from 'sdm encode')")->required();
+  app->add_option("-o,--output", o->out, "Output mesh (.obj, .ply, .off, .stl, .glb, .gltf)")->required();
+  app->add_option("--lod", o->lod, "Level of detail: every base edge is cut into 2^L pieces")->capture_default_str()->check(number_in(0, 8));
+  app->add_option("--lod-segment", o->segment_lod, "Per-segment level, ID=L (repeatable)");
+  app->add_option("--skeleton", o->skeleton,
+                  "Decode posed by this skeleton: the map's own skeleton (see --write-skeleton) with moved nodes, optionally "
+                  "node_rotations and segment_radius_scale (README; as 'sdm pose')");
+  app->add_option("--write-skeleton", o->write_skeleton,
+                  "Also write the map's skeleton (.json, or .obj polyline): edit its node positions for --skeleton");
+  app->add_flag("--rig", o->rig,
+                "Write the mesh at rest with a glTF skin (.glb/.gltf only): a joint per skeleton node, 4 weights per vertex from "
+                "the decode's blending; with --skeleton the joints hold that pose");
+  add_max_memory_option(app, o->max_memory);
+  app->add_flag("--json", o->json, "Print one JSON object with the summary");
+  return {app, [o]() {
+            const sdm::Stopwatch clock;
+            if (o->rig) check_rig_output(o->out);
+            const sdm::SdmImage im = sdm::read_sdm_exr(o->map);
+            sdm::DecodeOptions d;
+            d.level = o->lod;
+            d.segment_level = parse_segment_levels(o->segment_lod);
+            const sdm::DecodeEstimate e = sdm::estimate_decode(im, d);
+            check_memory(e.bytes, o->max_memory, "decoding " + std::to_string(int64_t(e.triangles / 1e6)) + " million triangles",
+                         "use a lower --lod (each level quadruples the triangles)");
+            if (!o->skeleton.empty()) d.skeleton = sdm::read_skeleton_json(o->skeleton);
+            std::optional<sdm::Skeleton> posed;
+            if (o->rig) posed.swap(d.skeleton);  // decoded at rest, the pose goes into the joints
+            const sdm::Layout layout = o->rig ? sdm::layout_from_json(im.layout) : sdm::Layout{};
+            if (posed) sdm::pose_skeleton(layout.skeleton, *posed);  // the graph checked before the work
+            sdm::DecodeTrace trace;
+            const sdm::Mesh mesh = sdm::decode_sdm(im, d, o->rig ? &trace : nullptr);
+            const double s = clock.seconds();
+            // The output's topology is checked on the second core while the file is written.
+            SurfaceTopology top;
+            sdm::run_concurrently([&] { top = topology_of(mesh); }, [&] {
+              if (o->rig) write_rigged(mesh, layout, trace, posed ? &*posed : nullptr, o->out);
+              else sdm::write_mesh(mesh, o->out);
+            });
+            note_float32_rounding(mesh, o->out);
+            if (!o->write_skeleton.empty()) {
+              const sdm::Skeleton sk = sdm::layout_from_json(im.layout).skeleton;
+              if (o->write_skeleton.size() > 4 && o->write_skeleton.substr(o->write_skeleton.size() - 4) == ".obj")
+                sdm::write_skeleton_obj(sk, o->write_skeleton);
+              else
+                sdm::write_skeleton_json(sk, o->write_skeleton);
+            }
+            if (o->json) {
+              print_json({{"output", o->out}, {"vertices", mesh.n_vertices()}, {"faces", mesh.n_faces()},
+                          {"closed", top.closed()}, {"manifold", top.manifold}, {"boundary_loops", top.boundary_loops}, {"seconds", s}});
+            } else {
+              std::cout << o->out << ": " << mesh.n_vertices() << " vertices, " << mesh.n_faces() << " faces, "
+                        << top.text() << ", " << s << " s\n";
+            }
+            return 0;
+          }};
+}
+
+}  // namespace sdm::cli

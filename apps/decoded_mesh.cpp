@@ -1,0 +1,38 @@
+#include "apps/decoded_mesh.h"
+
+#include "libsdm/pose/rig_skin.h"
+#include "libstm/core/errors.h"
+#include "libstm/mesh/gltf_skin.h"
+#include "libstm/mesh/validate_mesh.h"
+
+#include <algorithm>
+#include <cctype>
+#include <filesystem>
+#include <iostream>
+
+namespace sdm::cli {
+
+SurfaceTopology topology_of(const sdm::Mesh& m) {
+  const sdm::MeshReport r = sdm::validate_mesh(sdm::mesh_to_soup(m));
+  return {r.usable(), r.boundary_loops};
+}
+
+void check_rig_output(const std::string& out) {
+  std::string ext = std::filesystem::path(out).extension().string();
+  for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
+  if (ext != ".glb" && ext != ".gltf")
+    throw sdm::InputError("--rig writes a glTF skin: the output must be .glb or .gltf, not '" + out + "'");
+}
+
+void write_rigged(const sdm::Mesh& mesh, const sdm::Layout& layout, const sdm::DecodeTrace& trace, const sdm::Skeleton* posed,
+                  const std::string& out) {
+  std::vector<Eigen::Vector3d> points;
+  points.reserve(mesh.n_vertices());
+  for (auto v : mesh.vertices()) points.push_back(sdm::point(mesh, v));
+  if (posed && std::any_of(posed->segment_radius_scale.begin(), posed->segment_radius_scale.end(), [](double f) { return f != 1.0; }))
+    std::cerr << "warning: --rig writes a glTF skin, which carries joint motions only: the radius scales are left out of "
+              << out << " (write a mesh without --rig to keep them)\n";
+  sdm::write_gltf_skinned(mesh, sdm::rig_skin(layout, points, trace.vertex_segment, sdm::face_matrix(mesh), posed), out);
+}
+
+}  // namespace sdm::cli
