@@ -37,6 +37,48 @@ Eigen::MatrixX3d as_matrix(const std::vector<Eigen::Vector3d>& p) {
   return V;
 }
 
+// The triangles of each base face, and the base faces sharing a corner with each.
+struct NearbyTriangles {
+  std::vector<std::vector<int>> of_face, around_face;
+  NearbyTriangles(const Eigen::MatrixX3i& T, const std::vector<int>& triangle_face, const Eigen::MatrixX3i& base)
+      : of_face(size_t(base.rows())), around_face(size_t(base.rows())) {
+    for (Eigen::Index t = 0; t < T.rows(); ++t) of_face[size_t(triangle_face[size_t(t)])].push_back(int(t));
+    std::vector<std::vector<int>> at_corner(size_t(base.rows() ? base.maxCoeff() + 1 : 0));
+    for (Eigen::Index f = 0; f < base.rows(); ++f)
+      for (int c = 0; c < 3; ++c) at_corner[size_t(base(f, c))].push_back(int(f));
+    for (Eigen::Index f = 0; f < base.rows(); ++f) {
+      auto& a = around_face[size_t(f)];
+      for (int c = 0; c < 3; ++c) a.insert(a.end(), at_corner[size_t(base(f, c))].begin(), at_corner[size_t(base(f, c))].end());
+      std::sort(a.begin(), a.end());
+      a.erase(std::unique(a.begin(), a.end()), a.end());
+    }
+  }
+};
+
+// The crossing pairs with a triangle flagged in `look` (every pair when it is empty). After the first
+// round only points near folds move, and a fold's pairs lie within base faces sharing a corner: the
+// search then runs over the triangles of the base faces around the flagged ones only.
+std::vector<std::array<int, 2>> local_crossings(const Eigen::MatrixX3d& V, const Eigen::MatrixX3i& T, const std::vector<char>& look,
+                                                const NearbyTriangles& nearby) {
+  if (look.empty()) return crossing_face_pairs(V, T);
+  std::vector<char> face_near(nearby.of_face.size(), 0);
+  for (size_t f = 0; f < nearby.of_face.size(); ++f) {
+    bool flagged = false;
+    for (int t : nearby.of_face[f]) flagged |= look[size_t(t)] != 0;
+    if (flagged)
+      for (int g : nearby.around_face[f]) face_near[size_t(g)] = 1;
+  }
+  std::vector<int> some;
+  for (size_t f = 0; f < face_near.size(); ++f)
+    if (face_near[f]) some.insert(some.end(), nearby.of_face[f].begin(), nearby.of_face[f].end());
+  Eigen::MatrixX3i sub(Eigen::Index(some.size()), 3);
+  std::vector<char> sub_look(some.size());
+  for (size_t k = 0; k < some.size(); ++k) sub.row(Eigen::Index(k)) = T.row(some[k]), sub_look[k] = look[size_t(some[k])];
+  std::vector<std::array<int, 2>> out = crossing_face_pairs(V, sub, sub_look);
+  for (auto& p : out) p = {std::min(some[size_t(p[0])], some[size_t(p[1])]), std::max(some[size_t(p[0])], some[size_t(p[1])])};
+  return out;
+}
+
 }  // namespace
 
 UntangleReport untangle_decoded(std::vector<Eigen::Vector3d>& points, const std::vector<Eigen::Vector3d>& flat,
@@ -52,9 +94,10 @@ UntangleReport untangle_decoded(std::vector<Eigen::Vector3d>& points, const std:
   std::vector<char> look;  // the triangles whose pairs are looked at (empty: all)
   std::vector<std::array<int, 2>> local;
   std::vector<char> moved_point(n, 0);
+  const NearbyTriangles nearby(triangles, triangle_face, base_triangles);
   for (int round = 0; round <= kRounds; ++round) {
     local.clear();
-    for (const auto& p : crossing_face_pairs(as_matrix(points), triangles, look))
+    for (const auto& p : local_crossings(as_matrix(points), triangles, look, nearby))
       if (faces_share_corner(base_triangles, triangle_face[size_t(p[0])], triangle_face[size_t(p[1])])) local.push_back(p);
     if (round == 0) report.crossing = long(local.size());
     if (local.empty() || round == kRounds) break;

@@ -413,11 +413,6 @@ SdmImage encode_sdm(const Mesh& mesh, const Layout& layout, const EncodeOptions&
     }
     if (unresolved.empty() || round == options.refine_rounds) {
       st.flat_faces = int(scene.base.flat_faces.size());
-      DecodeOptions o;
-      o.level = kCheckLevel;
-      UntangleReport left = decode_surface(im, o).untangle;
-      st.crossings_left = left.left;
-      st.crossing_segments = std::move(left.left_segments);
       if (stats) *stats = st;
       return im;
     }

@@ -18,7 +18,6 @@
 #include <algorithm>
 #include <cmath>
 #include <functional>
-#include <vector>
 
 namespace sdm {
 
@@ -49,10 +48,6 @@ struct EncodeStats {
   int flat_faces = 0;   // base faces placed on their flat triangle (base_mesh.h)
   int decimations = 0;  // base meshes made: 1, plus one per refinement (EncodeOptions::refine_above)
   long kept = 0;        // vertices of the input kept in the last base mesh by the refinements
-  // Decoded at level 3, the folds the decoder could not untangle (untangle_decoded.h): crossing face
-  // pairs left, and the segments of their points.
-  long crossings_left = 0;
-  std::vector<int> crossing_segments;
 };
 
 // Texels outside every rectangle get D = 0, A = 0. The layout must have been computed for `mesh`.
