@@ -153,6 +153,40 @@ double sample_own_texels(const BaseMesh& base, const LayoutSegment& seg, const T
   });
 }
 
+// Corners on a reference capsule of the segment's radius (their rays, at their stored (u, v)).
+// Points inside a face take the ray through their flat point instead, through capsule_uv, which
+// handles the phi = 0 seam and the poles, where (u, v) themselves jump.
+std::vector<std::array<Eigen::Vector3d, 3>> reference_corners(const BaseMesh& base, const Layout& layout,
+                                                              const std::vector<CapsuleFrame>& frames) {
+  std::vector<std::array<Eigen::Vector3d, 3>> reference(base.triangles.rows());
+  for (int f = 0; f < base.triangles.rows(); ++f) {
+    const LayoutSegment& seg = layout.segments[base.face_segment[f]];
+    for (int c = 0; c < 3; ++c) {
+      const auto& uv = base.corner_uv[f][c];
+      const CapsuleRay ray = capsule_ray(frames[base.face_segment[f]], seg.w, seg.h, seg.d, uv.x(), uv.y());
+      reference[f][c] = ray.origin + seg.radius * ray.direction;
+    }
+  }
+  return reference;
+}
+
+// Per base face, half its longest decoded edge: how far its points may lie from its flat triangle.
+std::vector<double> face_reach(const std::vector<std::array<Eigen::Vector3d, 3>>& corner) {
+  std::vector<double> reach(corner.size());
+  for (size_t f = 0; f < corner.size(); ++f) {
+    double longest = 0;
+    for (int c = 0; c < 3; ++c) longest = std::max(longest, (corner[f][c] - corner[f][(c + 1) % 3]).norm());
+    reach[f] = 0.5 * longest;
+  }
+  return reach;
+}
+
+std::vector<Eigen::Vector3d> flat_points_of(const std::vector<PointRay>& at) {
+  std::vector<Eigen::Vector3d> flat(at.size());
+  for (size_t i = 0; i < at.size(); ++i) flat[i] = at[i].flat;
+  return flat;
+}
+
 // The base mesh's vertex normals: the area-weighted normals of the decoded base faces around each
 // corner, so that a normal interpolated over a face is continuous across its edges and corners.
 std::vector<Eigen::Vector3d> base_vertex_normals(const BaseMesh& base, const std::vector<std::array<Eigen::Vector3d, 3>>& corner) {
@@ -282,18 +316,7 @@ DecodedSurface decode_surface_beside(const SdmImage& image, const DecodeOptions&
   if (beside) task.emplace([&] { beside(tess); });
   std::vector<CapsuleFrame> frames;
   for (size_t s = 0; s < layout.segments.size(); ++s) frames.push_back(capsule_frame(layout, int(s)));
-  // Corners on a reference capsule of the segment's radius (their rays, at their stored (u, v)).
-  // Points inside a face take the ray through their flat point instead, through capsule_uv, which
-  // handles the phi = 0 seam and the poles, where (u, v) themselves jump.
-  std::vector<std::array<Eigen::Vector3d, 3>> reference(base.triangles.rows());
-  for (int f = 0; f < base.triangles.rows(); ++f) {
-    const LayoutSegment& seg = layout.segments[base.face_segment[f]];
-    for (int c = 0; c < 3; ++c) {
-      const auto& uv = base.corner_uv[f][c];
-      const CapsuleRay ray = capsule_ray(frames[base.face_segment[f]], seg.w, seg.h, seg.d, uv.x(), uv.y());
-      reference[f][c] = ray.origin + seg.radius * ray.direction;
-    }
-  }
+  const std::vector<std::array<Eigen::Vector3d, 3>> reference = reference_corners(base, layout, frames);
   // Where a base face's corners land: their (u, v) are exact, and so is their displacement where
   // the file stores it (format 3); older files read it from the map.
   auto ray_at = [&](int s, const Eigen::Vector3d& q) {
@@ -304,7 +327,6 @@ DecodedSurface decode_surface_beside(const SdmImage& image, const DecodeOptions&
   if (image.residual && base.corner_d.empty())
     throw InputError("the SDM stores residuals but its base mesh has no corner displacements: the file is damaged");
   std::vector<std::array<Eigen::Vector3d, 3>> corner(base.triangles.rows());
-  std::vector<double> reach(base.triangles.rows());
   for (int f = 0; f < base.triangles.rows(); ++f) {
     const int s = base.face_segment[f];
     for (int c = 0; c < 3; ++c) {
@@ -312,10 +334,8 @@ DecodedSurface decode_surface_beside(const SdmImage& image, const DecodeOptions&
       const double d = base.corner_d.empty() ? sample_displacement(image, layout.segments[s], uv.u, uv.v) : base.corner_d[f][c];
       corner[f][c] = ray.origin + d * ray.direction;
     }
-    double longest = 0;
-    for (int c = 0; c < 3; ++c) longest = std::max(longest, (corner[f][c] - corner[f][(c + 1) % 3]).norm());
-    reach[f] = 0.5 * longest;
   }
+  const std::vector<double> reach = face_reach(corner);
   // Rays and flat points of every decoded point, then the texels their lookups need, then the
   // points, each stage in parallel; the mesh is built in order.
   const size_t n = tess.point_face.size();
@@ -381,9 +401,7 @@ DecodedSurface decode_surface_beside(const SdmImage& image, const DecodeOptions&
   out.triangle_face = std::move(tess.triangle_face);
   out.point_segment.resize(n);
   for (size_t i = 0; i < n; ++i) out.point_segment[i] = at[i].segment;
-  std::vector<Eigen::Vector3d> flat_at(n);
-  for (size_t i = 0; i < n; ++i) flat_at[i] = at[i].flat;
-  out.untangle = untangle_decoded(out.points, flat_at, out.triangles, out.triangle_face, base.triangles, out.point_segment);
+  out.untangle = untangle_decoded(out.points, flat_points_of(at), out.triangles, out.triangle_face, base.triangles, out.point_segment);
   // Decoded at rest, then posed by the segments' blended motions (deform_decoded.h).
   if (options.skeleton) pose_points(layout, *options.skeleton, out.point_segment, out.triangles, out.points);
   return out;
