@@ -95,8 +95,9 @@ Command add_encode_command(CLI::App& parent) {
             const double encode_s = clock.lap();
             progress("  checking the map (decoded at level 3)");
             const double diag = sdm::bounding_box_diagonal(mesh);
-            const sdm::SurfaceCoverage carried =
-                check_carried(mesh, sdm::decode_sdm(sdm::as_stored(im, precision), sdm::DecodeOptions{}), diag, o->min_carried, o->strict);
+            sdm::DecodeTrace trace;
+            const sdm::SurfaceCoverage carried = check_carried(
+                mesh, sdm::decode_sdm(sdm::as_stored(im, precision), sdm::DecodeOptions{}, &trace), diag, o->min_carried, o->strict);
             const double check_s = clock.lap();
             sdm::write_sdm_exr(im, o->out, precision);
             if (!o->png.empty()) sdm::write_png(false_colour(im), o->png);
@@ -106,13 +107,18 @@ Command add_encode_command(CLI::App& parent) {
                           {"texels", st.texels}, {"own_hits", st.own_hits}, {"other_hits", st.other_hits},
                           {"filled", st.filled}, {"base_faces", st.base_faces}, {"flat_faces", st.flat_faces}, {"layout_seconds", layout_s},
                           {"encode_seconds", encode_s}, {"check_seconds", check_s}, {"carried", carried.share},
-                          {"carried_rms", carried.rms / diag}, {"self_intersections", crossings.pairs}});
+                          {"carried_rms", carried.rms / diag}, {"self_intersections", crossings.pairs},
+                          {"decode_folds", {{"level", 3}, {"untangled", trace.untangle.crossing - trace.untangle.left},
+                                            {"left", trace.untangle.left}, {"segments", trace.untangle.left_segments}}}});
             } else {
               std::cout << o->out << ": " << im.width << "x" << im.height << ", " << layout.segments.size() << " segments, "
                         << st.base_faces << " base faces, " << std::round(1000 * own) / 10 << " % of segment texels on their own surface\n"
                         << "  carries " << std::round(1000 * carried.share) / 10 << " % of the surface within "
                         << 100 * kCarriedTolerance << " % of the diagonal at level 3 (RMS "
                         << 100 * carried.rms / diag << " %)\n"
+                        << (trace.untangle.left ? "  level 3 keeps " + std::to_string(trace.untangle.left) +
+                                                      " folded face pairs (crossing) it could not untangle\n"
+                                                : std::string())
                         << "  layout " << layout_s << " s, encode " << encode_s << " s, check " << check_s << " s\n";
             }
             return 0;

@@ -3,6 +3,7 @@
 // tessellated with OpenSubdiv's Bfr patterns at a rate of 2^level per face (the level of its
 // segment), each new point is placed on its capsule ray at the displacement read from the map, and
 // the result is one closed mesh whatever the mix of levels (tessellate_mesh.h).
+#include "libsdm/decode/untangle_decoded.h"
 #include "libsdm/map/sdm_exr.h"
 #include "libstm/mesh/mesh.h"
 #include "libstm/skeleton/skeleton.h"
@@ -21,9 +22,10 @@ struct DecodeOptions {
 };
 
 // Where each output vertex comes from: the segment that placed it and its base face; and the base
-// face of each output face.
+// face of each output face; the folds untangled (untangle_decoded.h).
 struct DecodeTrace {
   std::vector<int> vertex_segment, vertex_base_face, face_base_face;
+  UntangleReport untangle;
 };
 
 // Throws InputError when the header lacks a layout or base mesh, a level is out of range (0..8),
@@ -39,6 +41,7 @@ struct DecodedSurface {
   std::vector<Eigen::Vector3d> points;
   Eigen::MatrixX3i triangles;
   std::vector<int> point_face, triangle_face, point_segment;
+  UntangleReport untangle;  // the folds untangled at rest (untangle_decoded.h)
 };
 DecodedSurface decode_surface(const SdmImage& image, const DecodeOptions& options = {}, const std::vector<int>& faces = {});
 

@@ -9,6 +9,9 @@
 // Coplanar overlaps are not reported.
 #include <Eigen/Dense>
 
+#include <array>
+#include <vector>
+
 namespace sdm {
 
 struct SelfIntersections {
@@ -20,5 +23,13 @@ struct SelfIntersections {
 /// V, F: a triangle mesh. Counts the pairs of faces without a common vertex that cross, stopping
 /// at max_pairs.
 SelfIntersections find_self_intersections(const Eigen::MatrixX3d& V, const Eigen::MatrixX3i& F, long max_pairs = 1000000);
+
+/// Every crossing pair (f, g), f < g, as CGAL's PMP::self_intersections counts them (the measure of
+/// the independent checker): pairs without a common vertex as above, and also pairs with exactly one
+/// common vertex whose edges opposite it cross the other face (a fold through that vertex) and pairs
+/// with a common edge folded flat onto each other (normals within 1e-4 of opposite). `faces`, when
+/// given, restricts the pairs to those with at least one face flagged (the rest are not looked at).
+std::vector<std::array<int, 2>> crossing_face_pairs(const Eigen::MatrixX3d& V, const Eigen::MatrixX3i& F,
+                                                    const std::vector<char>& faces = {});
 
 }  // namespace sdm
