@@ -98,7 +98,7 @@ TEST_CASE("end_distances: two tessellations of the ypsilon agree at the same pla
 // The hidden measure: per pair, correspond() without refinement (cached: the start and, per matched
 // end, its vertices on both models), then the refinement without and with the end distances.
 // SDM_CR_PAIRS = "SOURCE.off,TARGET.off,vts|pairs|same,GT1,GT2;..." (GT files as
-// judge/scripts/corr_error_gt.py reads them), SDM_CR_VARIANTS = "feature_weight,window,spatial_weight;...",
+// judge/scripts/corr_error_gt.py reads them), SDM_CR_VARIANTS = "feature_weight,feature_weight_end,window,spatial_weight;...",
 // SDM_CR_CACHE a folder (default /tmp/sdm-corr-refine-cache).
 namespace {
 
@@ -157,11 +157,11 @@ TEST_CASE("end distances in the refinement: variants on the benchmarks' pairs", 
   const std::string cache = std::getenv("SDM_CR_CACHE") ? std::getenv("SDM_CR_CACHE") : "/tmp/sdm-corr-refine-cache";
   std::filesystem::create_directories(cache);
   const std::string pairs = std::getenv("SDM_CR_PAIRS") ? std::getenv("SDM_CR_PAIRS") : "";
-  const std::string variants = std::getenv("SDM_CR_VARIANTS") ? std::getenv("SDM_CR_VARIANTS") : "0,0.06,50;50,0.06,50";
+  const std::string variants = std::getenv("SDM_CR_VARIANTS") ? std::getenv("SDM_CR_VARIANTS") : "0,-1,0.06,50;25,-1,0.06,50";
   std::vector<sdm::ZoomOutOptions> opts;
   for (const std::string& v : split(variants, ';')) {
     sdm::ZoomOutOptions o;
-    std::sscanf(v.c_str(), "%lf,%lf,%lf", &o.feature_weight, &o.window, &o.spatial_weight);
+    std::sscanf(v.c_str(), "%lf,%lf,%lf,%lf", &o.feature_weight, &o.feature_weight_end, &o.window, &o.spatial_weight);
     opts.push_back(o);
   }
   std::vector<double> sum(opts.size() + 1, 0);

@@ -198,8 +198,8 @@ std::vector<SourcePoint> zoomout(const Mesh& source, const LaplaceBasis& source_
   if (featured && (features.source.rows() != Eigen::Index(source.n_vertices()) || features.target.rows() != Eigen::Index(target.n_vertices()) ||
                    features.source.cols() != features.target.cols()))
     throw InputError("zoomout: the features do not have one row per vertex of each mesh and as many columns on both");
-  const RowMatrix f_s = featured ? RowMatrix((o.feature_weight * features.source).cast<float>()) : RowMatrix(),
-                  f_t = featured ? RowMatrix((o.feature_weight * features.target).cast<float>()) : RowMatrix();
+  const RowMatrix unit_f_s = featured ? RowMatrix(features.source.cast<float>()) : RowMatrix(),
+                  unit_f_t = featured ? RowMatrix(features.target.cast<float>()) : RowMatrix();
   const int nt = int(target.n_vertices()), k_end = o.k_end;
   const RowMatrix phi_s = unit_functions(source_basis, k_end), phi_t = unit_functions(target_basis, k_end);
   const Eigen::VectorXf mass_t = (target_basis.mass / target_basis.mass.sum()).cast<float>(), mass_s = (source_basis.mass / source_basis.mass.sum()).cast<float>();
@@ -230,6 +230,9 @@ std::vector<SourcePoint> zoomout(const Mesh& source, const LaplaceBasis& source_
     const double at = k_end > o.k_start ? double(k - o.k_start) / (k_end - o.k_start) : 1.0;
     const double w_end = o.spatial_weight_end >= 0 ? o.spatial_weight_end : o.spatial_weight;
     const double w = ((1 - at) * o.spatial_weight + at * w_end) / source_scale;
+    const double fw_end = o.feature_weight_end >= 0 ? o.feature_weight_end : o.feature_weight;
+    const float fw = float((1 - at) * o.feature_weight + at * fw_end);
+    const RowMatrix f_s = featured ? RowMatrix(fw * unit_f_s) : RowMatrix(), f_t = featured ? RowMatrix(fw * unit_f_t) : RowMatrix();
     // C = Phi_T^T M_T Pi Phi_S (k x k), then Pi Phi_S ~ Phi_T C row by row; with the map the other
     // way too, C averaged with (Phi_S^T M_S Pi' Phi_T)^T.
     Eigen::MatrixXf C = phi_t.leftCols(k).transpose() * (mass_t.asDiagonal() * pulled_back(source, map, phi_s, k));

@@ -44,8 +44,11 @@ struct ZoomOutOptions {
   // 026: mean 4.00 -> 3.70 (DESIGN 6.5, "Spectral refinement").
   bool orthogonal = true;
   // The weight of the intrinsic features (ZoomOutFeatures, at unit area) in the same search: 0
-  // leaves them out.
+  // leaves them out (the default). With the distances to the skeletons' ends (end_distances) at 25:
+  // FAUST_r 026 -> 014 4.07 -> 3.49 and 014 -> 026 3.29 -> 3.05, but SHREC'19 01 -> 16 3.59 -> 4.00
+  // and 44 -> 16 2.46 -> 2.78 (docs/BENCHMARKS.md, "End distances in the spectral refinement").
   double feature_weight = 0;
+  double feature_weight_end = -1;  // the weight at k_end (linear in k between; < 0: feature_weight throughout)
   int threads = 0;  // 0: one per hardware thread; the result does not depend on it
 };
 
