@@ -2,6 +2,7 @@
 
 #include "libstm/core/errors.h"
 #include "libstm/core/parallel.h"
+#include "libstm/correspondence/end_distances.h"
 #include "libstm/registration/carry_skeleton.h"
 #include "libstm/registration/fit_skeleton.h"
 #include "libstm/registration/mend_islands.h"
@@ -415,7 +416,8 @@ Correspondence correspond(const Mesh& source, const Skeleton& skeleton_a, const 
     refine = [&](const std::vector<SourcePoint>& start) {
       bases->wait();
       report_progress(opt.progress, "refining the correspondence in the Laplace-Beltrami eigenbases");
-      return zoomout(source, source_basis, target, target_basis, start, opt.refinement);
+      const ZoomOutFeatures features = opt.refinement.feature_weight > 0 ? end_distances(source, target, c.skeletons) : ZoomOutFeatures{};
+      return zoomout(source, source_basis, target, target_basis, start, opt.refinement, features);
     };
   source_points(source, tb.placed, target, c.skeletons.a, c, refine);
   return c;

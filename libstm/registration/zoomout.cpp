@@ -64,13 +64,18 @@ std::vector<std::vector<int>> search_windows(const std::vector<Eigen::Vector3d>&
 // Rows [w * spatial, phi * C] (C empty: phi alone), the spatial part left out when w = 0. The
 // spatial part first: it is most of the distance to a far candidate, so a partial sum over it
 // rules most candidates out (nearest_rows).
-RowMatrix embedding(const RowMatrix& phi, int k, const Eigen::MatrixXf& C, const std::vector<Eigen::Vector3d>& spatial, double w) {
+// Intrinsic features (ZoomOutFeatures: a few columns per vertex, already weighted) follow the
+// spatial part.
+RowMatrix embedding(const RowMatrix& phi, int k, const Eigen::MatrixXf& C, const std::vector<Eigen::Vector3d>& spatial, double w,
+                    const RowMatrix& features = {}) {
   const int d = w > 0 ? 3 : 0;
-  RowMatrix e(phi.rows(), k + d);
+  const Eigen::Index m = features.rows() == phi.rows() ? features.cols() : 0;
+  RowMatrix e(phi.rows(), k + d + m);
   if (C.size()) e.rightCols(k) = phi.leftCols(k) * C;
   else e.rightCols(k) = phi.leftCols(k);
   if (w > 0)
     for (Eigen::Index i = 0; i < e.rows(); ++i) e.row(i).head(3) = (w * spatial[size_t(i)]).cast<float>().transpose();
+  if (m) e.middleCols(d, m) = features;
   return e;
 }
 
@@ -186,8 +191,15 @@ void check_zoomout_input(const Mesh& source, const LaplaceBasis& sb, const Mesh&
 }  // namespace
 
 std::vector<SourcePoint> zoomout(const Mesh& source, const LaplaceBasis& source_basis, const Mesh& target,
-                                 const LaplaceBasis& target_basis, const std::vector<SourcePoint>& start, const ZoomOutOptions& o) {
+                                 const LaplaceBasis& target_basis, const std::vector<SourcePoint>& start, const ZoomOutOptions& o,
+                                 const ZoomOutFeatures& features) {
   check_zoomout_input(source, source_basis, target, target_basis, start, o);
+  const bool featured = features.source.cols() > 0 && o.feature_weight > 0;
+  if (featured && (features.source.rows() != Eigen::Index(source.n_vertices()) || features.target.rows() != Eigen::Index(target.n_vertices()) ||
+                   features.source.cols() != features.target.cols()))
+    throw InputError("zoomout: the features do not have one row per vertex of each mesh and as many columns on both");
+  const RowMatrix unit_f_s = featured ? RowMatrix(features.source.cast<float>()) : RowMatrix(),
+                  unit_f_t = featured ? RowMatrix(features.target.cast<float>()) : RowMatrix();
   const int nt = int(target.n_vertices()), k_end = o.k_end;
   const RowMatrix phi_s = unit_functions(source_basis, k_end), phi_t = unit_functions(target_basis, k_end);
   const Eigen::VectorXf mass_t = (target_basis.mass / target_basis.mass.sum()).cast<float>(), mass_s = (source_basis.mass / source_basis.mass.sum()).cast<float>();
@@ -218,6 +230,9 @@ std::vector<SourcePoint> zoomout(const Mesh& source, const LaplaceBasis& source_
     const double at = k_end > o.k_start ? double(k - o.k_start) / (k_end - o.k_start) : 1.0;
     const double w_end = o.spatial_weight_end >= 0 ? o.spatial_weight_end : o.spatial_weight;
     const double w = ((1 - at) * o.spatial_weight + at * w_end) / source_scale;
+    const double fw_end = o.feature_weight_end >= 0 ? o.feature_weight_end : o.feature_weight;
+    const float fw = float((1 - at) * o.feature_weight + at * fw_end);
+    const RowMatrix f_s = featured ? RowMatrix(fw * unit_f_s) : RowMatrix(), f_t = featured ? RowMatrix(fw * unit_f_t) : RowMatrix();
     // C = Phi_T^T M_T Pi Phi_S (k x k), then Pi Phi_S ~ Phi_T C row by row; with the map the other
     // way too, C averaged with (Phi_S^T M_S Pi' Phi_T)^T.
     Eigen::MatrixXf C = phi_t.leftCols(k).transpose() * (mass_t.asDiagonal() * pulled_back(source, map, phi_s, k));
@@ -231,7 +246,7 @@ std::vector<SourcePoint> zoomout(const Mesh& source, const LaplaceBasis& source_
       const Eigen::BDCSVD<Eigen::MatrixXf> svd(C, Eigen::ComputeThinU | Eigen::ComputeThinV);
       C = svd.matrixU() * svd.matrixV().transpose();
     }
-    const RowMatrix queries = embedding(phi_t, k, C, start_points, w), database = embedding(phi_s, k, {}, source_points, w);
+    const RowMatrix queries = embedding(phi_t, k, C, start_points, w, f_t), database = embedding(phi_s, k, {}, source_points, w, f_s);
     const std::vector<int> nearest = nearest_rows(queries, database, t_windows, o.threads);
     if (i + 1 == sizes.size()) {
       parallel_for(nt, 256, [&](int t) { map[size_t(t)] = nearest_point_around(source, nearest[size_t(t)], queries.row(t), database); }, o.threads);
@@ -239,7 +254,8 @@ std::vector<SourcePoint> zoomout(const Mesh& source, const LaplaceBasis& source_
     }
     for (int t = 0; t < nt; ++t) map[size_t(t)] = vertex_point(source, nearest[size_t(t)]);
     if (o.bidirectional)
-      s2t = nearest_rows(embedding(phi_s, k, C.transpose(), source_points, w), embedding(phi_t, k, {}, start_points, w), s_windows, o.threads);
+      s2t = nearest_rows(embedding(phi_s, k, C.transpose(), source_points, w, f_s), embedding(phi_t, k, {}, start_points, w, f_t), s_windows,
+                         o.threads);
   }
   return map;
 }
@@ -248,7 +264,7 @@ std::vector<SourcePoint> refine_correspondence(const Mesh& source, const Mesh& t
                                                const ZoomOutOptions& options) {
   LaplaceBasis sb, tb;
   run_concurrently([&] { sb = mesh_laplace_basis(source, options.k_end); }, [&] { tb = mesh_laplace_basis(target, options.k_end); });
-  return zoomout(source, sb, target, tb, start, options);
+  return zoomout(source, sb, target, tb, start, options, {});
 }
 
 }  // namespace sdm

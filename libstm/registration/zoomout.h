@@ -43,7 +43,20 @@ struct ZoomOutOptions {
   // orthogonality term of Ren et al. 2021's discrete solver, here as a projection). FAUST_r 014 <->
   // 026: mean 4.00 -> 3.70 (DECISIONS 5, "Spectral refinement").
   bool orthogonal = true;
+  // The weight of the intrinsic features (ZoomOutFeatures, at unit area) in the same search: 0
+  // leaves them out (the default). With the distances to the skeletons' ends (end_distances) at 25:
+  // FAUST_r 026 -> 014 4.07 -> 3.49 and 014 -> 026 3.29 -> 3.05, but SHREC'19 01 -> 16 3.59 -> 4.00
+  // and 44 -> 16 2.46 -> 2.78 (docs/BENCHMARKS.md, "End distances in the spectral refinement").
+  double feature_weight = 0;
+  double feature_weight_end = -1;  // the weight at k_end (linear in k between; < 0: feature_weight throughout)
   int threads = 0;  // 0: one per hardware thread; the result does not depend on it
+};
+
+// Intrinsic features that the two meshes share, searched beside the spectral and the spatial
+// coordinates: per vertex of each, the same columns (say the geodesic distances, at unit area, to
+// matched places: end_distances). Empty: none.
+struct ZoomOutFeatures {
+  Eigen::MatrixXd source, target;  // source vertices x m, target vertices x m
 };
 
 /// The mesh's points and triangles as laplace_basis takes them.
@@ -51,11 +64,11 @@ LaplaceBasis mesh_laplace_basis(const Mesh& mesh, int k);
 
 /// Refines `start` (one source point per target vertex) by ZoomOut. `source_basis` and
 /// `target_basis` are the meshes' Laplace bases (at least k_end functions each, any units);
-/// Deterministic. Throws InputError when the sizes disagree, a basis has fewer than k_end functions
-/// or k_start < 1.
+/// `features` (with options.feature_weight > 0) join the search. Deterministic. Throws InputError
+/// when the sizes disagree, a basis has fewer than k_end functions or k_start < 1.
 std::vector<SourcePoint> zoomout(const Mesh& source, const LaplaceBasis& source_basis, const Mesh& target,
                                  const LaplaceBasis& target_basis, const std::vector<SourcePoint>& start,
-                                 const ZoomOutOptions& options = {});
+                                 const ZoomOutOptions& options = {}, const ZoomOutFeatures& features = {});
 
 /// zoomout with both meshes' bases computed here (k_end functions each, the two on two threads).
 std::vector<SourcePoint> refine_correspondence(const Mesh& source, const Mesh& target, const std::vector<SourcePoint>& start,
