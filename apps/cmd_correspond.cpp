@@ -1,5 +1,5 @@
 // `sdm correspond A B -o C.txt`: the dense correspondence of `sdm transfer` without the texture:
-// per vertex of B, the point of A it corresponds to (DESIGN 6.5). No GL context is created.
+// per vertex of B, the point of A it corresponds to (DESIGN 4.9). No GL context is created.
 #include "apps/cli_common.h"
 #include "apps/commands.h"
 #include "apps/options.h"

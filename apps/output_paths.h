@@ -1,7 +1,7 @@
 #pragma once
 // Checks every output a command names before it does any work, so that a bad companion output
 // (--png in a missing folder) does not fail after the main output was written, and an output that
-// would destroy something (the input itself, a device, a folder) is refused (DESIGN 6).
+// would destroy something (the input itself, a device, a folder) is refused (DECISIONS 1, "Hostile input").
 #include <CLI/CLI.hpp>
 #include <filesystem>
 #include <optional>

@@ -85,7 +85,7 @@ TEST_CASE("an atlas beyond --max-memory is refused up front, its size from --siz
   CHECK(ok.exit_code == 0);
 }
 
-TEST_CASE("--strict refuses the tolerated findings by their identifiers and passes the others", "[cli][options]") {
+TEST_CASE("The --strict option refuses the tolerated findings by their identifiers and passes the others", "[cli][options]") {
   test_util::TempDir dir;
   // A cube of quads (triangulated on read) and two tetrahedra apart (two parts): tolerated findings
   // --strict lets through; the same tetrahedron with a loose vertex: one it refuses.
