@@ -42,7 +42,7 @@ LayoutSource layout_defaults(int size, int margin, bool announce_stages) {
 }
 
 void check_layout_memory(const LayoutSource& source, double bytes_per_texel, const std::string& max_memory) {
-  const int size = source.layout_file.empty() ? source.options.size : sdm::read_layout_json(source.layout_file).size;
+  const int size = source.layout_file.empty() ? source.options.size : sdm::read_layout_json(source.layout_file, json_budget(max_memory, source.layout_file)).size;
   check_atlas_memory(size, bytes_per_texel, max_memory);
 }
 

@@ -209,7 +209,7 @@ TEST_CASE("An --stm beyond the memory budget and a layout beyond the JSON size l
                                      "render " + cap.mesh + " --skeleton " + big + " -o " + out + budget,
                                      "stm " + cap.mesh + " --skeleton " + big + " -o " + cap.dir / "o.json" + budget,
                                      "encode " + cap.mesh + " --layout " + big + " -o " + cap.dir / "o.exr" + budget,
-                                     "remap " + cap.mesh + " --layout " + big + " --checker -o " + out + budget,
+                                     "remap " + cap.mesh + " --layout " + big + " -o " + out + budget,
                                      "encode " + cap.mesh + " --skeleton " + big + " -o " + cap.dir / "o.exr" + budget}) {
     INFO(command);
     expect_refused(run_sdm_guarded(command, memory_cap()), "needs about");
