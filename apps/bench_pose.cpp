@@ -7,7 +7,7 @@
 #include "libstm/core/errors.h"
 #include "libstm/core/stopwatch.h"
 #include "libstm/geometry/differential_geometry.h"
-#include "libstm/layout/layout.h"
+#include "libstm/layout/compute_layout.h"
 #include "libstm/mesh/mesh.h"
 #include "libstm/mesh/mesh_geometry.h"
 #include "libstm/mesh/surface_distance.h"

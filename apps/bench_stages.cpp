@@ -5,7 +5,7 @@
 #include "libsdm/decode/decode_sdm.h"
 #include "libsdm/encode/encode_sdm.h"
 #include "libstm/core/stopwatch.h"
-#include "libstm/layout/layout.h"
+#include "libstm/layout/compute_layout.h"
 #include "libstm/mesh/load_mesh.h"
 #include "libstm/mesh/mesh.h"
 #include "libstm/mesh/primitives.h"

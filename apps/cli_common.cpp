@@ -4,6 +4,7 @@
 #include "apps/memory_budget.h"
 #include "libstm/core/errors.h"
 #include "libstm/core/stopwatch.h"
+#include "libstm/layout/layout_json.h"
 #include "libstm/mesh/fill_holes.h"
 #include "libstm/mesh/mesh_geometry.h"
 #include "libstm/mesh/write_positions.h"

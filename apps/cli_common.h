@@ -1,6 +1,6 @@
 #pragma once
 // What several subcommands share beyond commands.h: obtaining the layout of a mesh.
-#include "libstm/layout/layout.h"
+#include "libstm/layout/compute_layout.h"
 #include "libstm/mesh/load_mesh.h"
 #include "libstm/mesh/mesh.h"
 

@@ -3,6 +3,8 @@
 #include "apps/commands.h"
 #include "libstm/core/stopwatch.h"
 #include "libstm/layout/cloud_layout.h"
+#include "libstm/layout/layout_json.h"
+#include "libstm/layout/stm_coordinates.h"
 #include "libstm/mesh/point_cloud.h"
 #include "libstm/skeleton/point_skeleton.h"
 

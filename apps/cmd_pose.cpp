@@ -10,7 +10,7 @@
 #include "libstm/core/errors.h"
 #include "libstm/core/parallel.h"
 #include "libstm/core/stopwatch.h"
-#include "libstm/layout/layout.h"
+#include "libstm/layout/layout_json.h"
 #include "libstm/mesh/mesh.h"
 #include "libstm/mesh/mesh_geometry.h"
 

@@ -5,7 +5,7 @@
 #include "libstm/render/gl_context.h"
 #include "libstm/core/image.h"
 #include "libstm/core/stopwatch.h"
-#include "libstm/layout/layout.h"
+#include "libstm/layout/layout_json.h"
 #include "libstm/mesh/mesh.h"
 #include "libstm/render/render_atlas.h"
 

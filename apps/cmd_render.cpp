@@ -9,7 +9,7 @@
 #include "libstm/core/image.h"
 #include "libstm/mesh/mesh.h"
 #include "libstm/render/render_mesh.h"
-#include "libstm/layout/layout.h"
+#include "libstm/layout/layout_json.h"
 #include "libstm/render/render_skeleton.h"
 #include "libstm/render/render_stm.h"
 #include "libstm/mesh/validate_mesh.h"

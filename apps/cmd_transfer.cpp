@@ -9,6 +9,7 @@
 #include "libstm/core/parallel.h"
 #include "libstm/correspondence/correspondence_file.h"
 #include "libstm/correspondence/small_parts.h"
+#include "libstm/layout/layout_json.h"
 #include "libstm/registration/correspondence_jumps.h"
 #include "libstm/transfer/carry_attributes.h"
 #include "libstm/transfer/transfer_texture.h"

@@ -1,7 +1,7 @@
 #include "apps/options.h"
 
 #include "libstm/core/errors.h"
-#include "libstm/layout/layout.h"
+#include "libstm/layout/layout_json.h"
 #include "libstm/mesh/check_mesh_file.h"
 
 #include <filesystem>

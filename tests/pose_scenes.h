@@ -2,7 +2,7 @@
 // Shared by the posing and rigging tests: a model encoded on a skeleton the test gives (its ideal
 // one), and the node nearest a point.
 #include "libsdm/encode/encode_sdm.h"
-#include "libstm/layout/layout.h"
+#include "libstm/layout/compute_layout.h"
 #include "libstm/mesh/mesh.h"
 #include "libstm/skeleton/skeleton.h"
 

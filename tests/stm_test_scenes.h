@@ -2,7 +2,7 @@
 // Scenes shared by the atlas and STM rendering tests: a cylinder along +y with a hand-made
 // one-segment skeleton and a procedural texture that is continuous all the way around it.
 #include "libstm/core/image.h"
-#include "libstm/layout/layout.h"
+#include "libstm/layout/compute_layout.h"
 #include "libstm/mesh/mesh.h"
 #include "libstm/mesh/primitives.h"
 

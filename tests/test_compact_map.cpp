@@ -8,7 +8,7 @@
 #include "libstm/core/errors.h"
 #include "libstm/core/image.h"
 #include "libstm/geometry/triangle_bvh.h"
-#include "libstm/layout/layout.h"
+#include "libstm/layout/compute_layout.h"
 #include "libstm/mesh/mesh_geometry.h"
 #include "libstm/mesh/primitives.h"
 #include "libstm/mesh/surface_distance.h"

@@ -3,7 +3,7 @@
 // displacement is large against the decoded edges are untangled (untangle_decoded.h).
 #include "libsdm/decode/decode_sdm.h"
 #include "libsdm/encode/encode_sdm.h"
-#include "libstm/layout/layout.h"
+#include "libstm/layout/compute_layout.h"
 #include "libstm/mesh/mesh_geometry.h"
 #include "libstm/mesh/self_intersections.h"
 #include "libstm/mesh/surface_distance.h"

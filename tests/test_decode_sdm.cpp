@@ -5,7 +5,7 @@
 #include "libstm/mesh/surface_distance.h"
 #include "libstm/core/errors.h"
 #include "libstm/skeleton/extract_skeleton.h"
-#include "libstm/layout/layout.h"
+#include "libstm/layout/compute_layout.h"
 #include "libstm/mesh/validate_mesh.h"
 #include "libstm/mesh/primitives.h"
 #include "libstm/geometry/triangle_bvh.h"

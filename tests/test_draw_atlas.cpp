@@ -2,6 +2,7 @@
 #include "libstm/layout/draw_atlas.h"
 #include "libstm/core/image.h"
 #include "libstm/layout/layout.h"
+#include "libstm/layout/compute_layout.h"
 #include "tests/synthetic_shapes.h"
 #include "tests/test_util.h"
 

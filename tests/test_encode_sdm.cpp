@@ -7,7 +7,9 @@
 #include "libstm/skeleton/extract_skeleton.h"
 #include "libstm/mesh/surface_distance.h"
 #include "libstm/geometry/capsule_ray.h"
-#include "libstm/layout/layout.h"
+#include "libstm/layout/assign_layout_faces.h"
+#include "libstm/layout/atlas_triangles.h"
+#include "libstm/layout/compute_layout.h"
 #include "libstm/mesh/primitives.h"
 #include "libstm/layout/segments.h"
 

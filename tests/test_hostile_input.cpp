@@ -2,6 +2,7 @@
 // header) and outputs. Every case is refused by name with exit code 2 (1 for a failing disk),
 // within a small memory limit, and leaves no file behind. The inputs are made here, small.
 #include "libsdm/map/sdm_exr.h"
+#include "libstm/mesh/mesh.h"
 #include "tests/test_util.h"
 
 #include <catch2/catch.hpp>

@@ -7,7 +7,7 @@
 #include "libsdm/pose/pose_weights.h"
 #include "libsdm/pose/smooth_pose_weights.h"
 #include "libstm/core/errors.h"
-#include "libstm/layout/layout.h"
+#include "libstm/layout/compute_layout.h"
 #include "libstm/mesh/load_mesh.h"
 #include "libstm/mesh/mesh_geometry.h"
 #include "libstm/mesh/primitives.h"

@@ -1,6 +1,10 @@
 // Rendering with coordinates computed in the shaders (render_stm): the STM render of Spot matches
 // the render with its own uv, the seam at phi = 0 leaves no trace, and the shaders' coordinates
 // agree with the CPU capsule mapping.
+#include "libstm/layout/assign_layout_faces.h"
+#include "libstm/layout/compute_layout.h"
+#include "libstm/layout/layout_json.h"
+#include "libstm/layout/stm_coordinates.h"
 #include "libstm/skeleton/extract_skeleton.h"
 #include "libstm/render/gl_context.h"
 #include "libstm/render/render_atlas.h"

@@ -5,6 +5,8 @@
 #include "libsdm/decode/decode_sdm.h"
 #include "libsdm/encode/encode_sdm.h"
 #include "libsdm/map/sdm_exr.h"
+#include "libstm/layout/compute_layout.h"
+#include "libstm/layout/stm_coordinates.h"
 #include "libstm/transfer/transfer_texture.h"
 #include "libstm/registration/correspondence_jumps.h"
 #include "libstm/skeleton/extract_skeleton.h"

@@ -9,6 +9,7 @@
 #include "libstm/core/errors.h"
 #include "libstm/core/parallel.h"
 #include "libstm/layout/layout.h"
+#include "libstm/layout/layout_json.h"
 #include "libstm/mesh/add_faces.h"
 
 #include <algorithm>

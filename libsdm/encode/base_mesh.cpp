@@ -5,6 +5,7 @@
 #include "libstm/core/parallel.h"
 #include "libstm/core/stopwatch.h"
 #include "libstm/geometry/capsule_ray.h"
+#include "libstm/layout/assign_layout_faces.h"
 #include "libstm/layout/segments.h"
 #include "libstm/geometry/triangle_bvh.h"
 #include "libstm/geometry/working_origin.h"

@@ -11,6 +11,7 @@
 #include "libstm/core/progress.h"
 #include "libstm/geometry/triangle_bvh.h"
 #include "libstm/layout/layout.h"
+#include "libstm/mesh/mesh.h"
 #include "libsdm/map/base_mesh_record.h"
 
 #include <memory>

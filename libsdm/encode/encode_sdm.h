@@ -14,6 +14,7 @@
 #include "libsdm/map/sdm_exr.h"
 #include "libsdm/map/texels.h"
 #include "libstm/layout/layout.h"
+#include "libstm/mesh/mesh.h"
 
 #include <algorithm>
 #include <cmath>

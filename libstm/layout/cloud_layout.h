@@ -3,9 +3,9 @@
 // (point_skeleton.h, each point keeping its node) and the surface its points describe
 // (cloud_surface.h), its gaps closed by faired patches (fill_holes.h) so that the map and its decode
 // are closed; every vertex of that surface takes the node of its nearest point, and the layout is
-// computed for it as for a mesh (layout.h).
+// computed for it as for a mesh (compute_layout.h).
 #include "libstm/core/progress.h"
-#include "libstm/layout/layout.h"
+#include "libstm/layout/compute_layout.h"
 #include "libstm/mesh/cloud_surface.h"
 #include "libstm/mesh/point_cloud.h"
 #include "libstm/skeleton/point_skeleton.h"

@@ -1,6 +1,7 @@
 #include "libstm/layout/draw_atlas.h"
 
 #include "libstm/core/atomic_file.h"
+#include "libstm/layout/atlas_triangles.h"
 
 #include "libstm/core/image.h"
 

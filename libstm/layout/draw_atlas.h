@@ -5,6 +5,7 @@
 // runs on the GPU.
 #include "libstm/core/image.h"
 #include "libstm/layout/layout.h"
+#include "libstm/mesh/mesh.h"
 
 #include <cstdint>
 #include <string>

@@ -48,7 +48,7 @@ std::vector<int> assign_faces(const Mesh& mesh, const Skeleton& skeleton, std::v
                               bool second_pass = true, std::vector<std::array<double, 2>>* extensions_used = nullptr);
 
 // The same rule with the radii of the second pass given (one per skeleton edge, positive): a
-// layout's LayoutSegment::radius (assign_faces(Mesh, Layout) in layout.h), which compute_layout
+// layout's LayoutSegment::radius (assign_faces(Mesh, Layout) in assign_layout_faces.h), which compute_layout
 // takes from the first pass, so that any mesh is assigned as the layout's own shaders assign it.
 // second_pass false: the first pass alone (the rule of layouts written before the second pass).
 // `extensions` (one per edge, in radii at edges[e][0] and edges[e][1]; empty: none, the rule of

@@ -2,6 +2,7 @@
 
 #include "libstm/geometry/capsule_uv.h"
 #include "libstm/core/errors.h"
+#include "libstm/layout/assign_layout_faces.h"
 #include "libstm/layout/segments.h"
 
 #include "libstm/render/gl_objects.h"  // GL prototypes and owning handles

@@ -1,7 +1,8 @@
 #include "libstm/transfer/carry_attributes.h"
 
 #include "libstm/core/errors.h"
-#include "libstm/layout/layout.h"
+#include "libstm/layout/compute_layout.h"
+#include "libstm/layout/stm_coordinates.h"
 #include "libstm/render/render_atlas.h"
 
 #include <algorithm>

@@ -6,6 +6,9 @@
 #include "libstm/render/render_atlas.h"
 #include "libstm/layout/segment_frames.h"
 #include "libstm/layout/segments.h"
+#include "libstm/layout/compute_layout.h"
+#include "libstm/layout/l2_stretch.h"
+#include "libstm/layout/stm_coordinates.h"
 
 #include "libstm/core/parallel.h"
 

@@ -1,5 +1,6 @@
 // libFuzzer target: the layout JSON reader, then the STM coordinates of a capsule in it.
-#include "libstm/layout/layout.h"
+#include "libstm/layout/layout_json.h"
+#include "libstm/layout/stm_coordinates.h"
 #include "libstm/mesh/primitives.h"
 #include "tests/fuzz/fuzz_common.h"
 

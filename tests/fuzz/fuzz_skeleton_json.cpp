@@ -1,5 +1,5 @@
 // libFuzzer target: the skeleton JSON reader, then a layout of a capsule computed around it.
-#include "libstm/layout/layout.h"
+#include "libstm/layout/compute_layout.h"
 #include "libstm/mesh/primitives.h"
 #include "libstm/skeleton/skeleton.h"
 #include "tests/fuzz/fuzz_common.h"

@@ -4,7 +4,7 @@
 #include <libsdm/decode/decode_sdm.h>
 #include <libsdm/encode/encode_sdm.h>
 #include <libstm/core/version.h>
-#include <libstm/layout/layout.h>
+#include <libstm/layout/compute_layout.h>
 #include <libstm/mesh/primitives.h>
 #include <libstm/skeleton/extract_skeleton.h>
 
