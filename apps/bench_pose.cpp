@@ -98,7 +98,7 @@ PoseRow measure_pair(const std::string& source_path, const std::string& target_p
   const Skeleton& rest = layout.skeleton;
   const std::vector<Eigen::Vector3d> from = points_of(source), to = points_of(target);
   const std::vector<Similarity> motion = node_motions(rest, from, to);
-  Skeleton posed = rest;
+  PosedSkeleton posed = rest;
   posed.node_rotations.resize(rest.nodes.size());
   for (size_t n = 0; n < rest.nodes.size(); ++n) {
     posed.nodes[n] = motion[n](rest.nodes[n]);

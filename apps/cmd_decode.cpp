@@ -52,8 +52,8 @@ Command add_decode_command(CLI::App& parent) {
             d.level = o->lod;
             d.segment_level = parse_segment_levels(o->segment_lod);
             check_decode_memory(im, d, o->max_memory);
-            if (!o->skeleton.empty()) d.skeleton = sdm::read_skeleton_json(o->skeleton, json_budget(o->max_memory, o->skeleton));
-            std::optional<sdm::Skeleton> posed;
+            if (!o->skeleton.empty()) d.skeleton = sdm::read_posed_skeleton_json(o->skeleton, json_budget(o->max_memory, o->skeleton));
+            std::optional<sdm::PosedSkeleton> posed;
             if (o->rig) posed.swap(d.skeleton);  // decoded at rest, the pose goes into the joints
             const sdm::Layout layout = o->rig ? sdm::layout_from_json(im.layout) : sdm::Layout{};
             if (posed) sdm::pose_skeleton(layout.skeleton, *posed);  // the graph checked before the work

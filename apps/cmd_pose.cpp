@@ -33,7 +33,7 @@ std::vector<std::string> split(const std::string& s, char c) {
 
 // One --rotate NODE=AX,AY,AZ,DEG | NODE=x|y|z,DEG | NODE=twist,DEG applied to `posed`: the sub-tree
 // below NODE turned about NODE (twist: about the axis from NODE to its only child).
-void apply_rotate(const sdm::Skeleton& rest, sdm::Skeleton& posed, const std::string& item) {
+void apply_rotate(const sdm::Skeleton& rest, sdm::PosedSkeleton& posed, const std::string& item) {
   const std::string form = "--rotate '" + item + "' is not of the form NODE=AX,AY,AZ,DEG, NODE=x|y|z,DEG or NODE=twist,DEG";
   const IdValue iv = parse_id_value(item, form);
   const int node = iv.id;
@@ -65,7 +65,7 @@ void apply_rotate(const sdm::Skeleton& rest, sdm::Skeleton& posed, const std::st
 }
 
 // One --scale-radius SEG=F: the factor multiplies the segment's (repeated options compose).
-void apply_scale(sdm::Skeleton& posed, const std::string& item) {
+void apply_scale(sdm::PosedSkeleton& posed, const std::string& item) {
   const std::string form = "--scale-radius '" + item + "' is not of the form SEGMENT=FACTOR (e.g. 3=1.2)";
   const IdValue iv = parse_id_value(item, form);
   const int seg = iv.id;
@@ -127,9 +127,9 @@ Command add_pose_command(CLI::App& parent) {
             const sdm::SdmImage im = sdm::read_sdm_exr(o->map);
             const sdm::Layout layout = sdm::layout_from_json(im.layout);
             const sdm::Skeleton& rest = layout.skeleton;
-            sdm::Skeleton posed = rest;
+            sdm::PosedSkeleton posed = rest;
             if (!o->skeleton.empty()) {
-              posed = sdm::read_skeleton_json(o->skeleton, json_budget(o->max_memory, o->skeleton));
+              posed = sdm::read_posed_skeleton_json(o->skeleton, json_budget(o->max_memory, o->skeleton));
               posed.vertex_node = rest.vertex_node;
               sdm::pose_skeleton(rest, posed);  // the graph checked before the work
             }
@@ -156,7 +156,7 @@ Command add_pose_command(CLI::App& parent) {
             sdm::run_concurrently([&] { top = topology_of(mesh); }, [&] {
               if (!o->rig) sdm::write_mesh(mesh, o->out);
             });
-            if (!o->write_skeleton.empty()) sdm::write_skeleton_json(posed, o->write_skeleton);
+            if (!o->write_skeleton.empty()) sdm::write_posed_skeleton_json(posed, o->write_skeleton);
             const double diag = sdm::bounding_box_diagonal(mesh);
             const double s = clock.seconds();
             if (o->json) {

@@ -27,7 +27,7 @@ void check_rig_output(const std::string& out) {
     throw sdm::InputError("--rig writes a glTF skin: the output must be .glb or .gltf, not '" + out + "'");
 }
 
-void write_rigged(const sdm::Mesh& mesh, const sdm::Layout& layout, const sdm::DecodeTrace& trace, const sdm::Skeleton* posed,
+void write_rigged(const sdm::Mesh& mesh, const sdm::Layout& layout, const sdm::DecodeTrace& trace, const sdm::PosedSkeleton* posed,
                   const std::string& out) {
   std::vector<Eigen::Vector3d> points;
   points.reserve(mesh.n_vertices());

@@ -5,7 +5,7 @@
 #include "libsdm/map/sdm_exr.h"
 #include "libstm/layout/layout.h"
 #include "libstm/mesh/mesh.h"
-#include "libstm/skeleton/skeleton.h"
+#include "libstm/skeleton/posed_skeleton.h"
 
 #include <string>
 
@@ -34,7 +34,7 @@ void check_rig_output(const std::string& out);
 
 // Writes `mesh` (decoded at rest, `trace` its decode's) to `out` rigged by rig_skin: the bind pose
 // is the map's own skeleton; `posed`, when given, is the pose the file opens in.
-void write_rigged(const sdm::Mesh& mesh, const sdm::Layout& layout, const sdm::DecodeTrace& trace, const sdm::Skeleton* posed,
+void write_rigged(const sdm::Mesh& mesh, const sdm::Layout& layout, const sdm::DecodeTrace& trace, const sdm::PosedSkeleton* posed,
                   const std::string& out);
 
 }  // namespace sdm::cli

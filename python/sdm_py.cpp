@@ -179,7 +179,7 @@ py::dict map_skeleton(const std::string& path) {
 }
 
 // `posed` set from the dict of `pose` (nodes, optionally node_rotations and segment_radius_scale).
-void apply_pose_dict(const py::dict& d, sdm::Skeleton& posed) {
+void apply_pose_dict(const py::dict& d, sdm::PosedSkeleton& posed) {
   const RowMatrix3d nodes = d["nodes"].cast<RowMatrix3d>();
   if (size_t(nodes.rows()) != posed.nodes.size())
     throw sdm::InputError("skeleton['nodes'] has " + std::to_string(nodes.rows()) + " rows but the map's skeleton has " +
@@ -203,7 +203,7 @@ py::tuple pose(const std::string& path, int level, const std::optional<py::dict>
                const std::map<int, int>& segment_levels) {
   const sdm::SdmImage im = sdm::read_sdm_exr(path);
   const sdm::Skeleton rest = sdm::layout_from_json(im.layout).skeleton;
-  sdm::Skeleton posed = rest;
+  sdm::PosedSkeleton posed = rest;
   if (skeleton) apply_pose_dict(*skeleton, posed);
   for (const auto& [node, axis, degrees] : rotate) {
     if (!(axis.norm() > 0) || !axis.allFinite() || !std::isfinite(degrees))

@@ -137,7 +137,7 @@ TEST_CASE("A capsule bent 90 degrees at its middle node keeps its volume and its
   const double r = 1.0;  // the capsule's radius (both segments)
   for (double degrees : {90.0}) {
     const Eigen::Quaterniond q(Eigen::AngleAxisd(degrees * M_PI / 180, Eigen::Vector3d::UnitX()));
-    Skeleton posed = rest;
+    PosedSkeleton posed = rest;
     rotate_subtree(rest, posed, m, q);
     const SkeletonPose pose = pose_skeleton(rest, posed);
     std::vector<char> moved(rest.nodes.size(), 0);
@@ -198,7 +198,7 @@ TEST_CASE("A capsule twisted 180 degrees at its middle node keeps its cross-sect
   const std::vector<int> below = subtree_nodes(pose, m);
   REQUIRE(below.size() == 2);
   const Eigen::Vector3d axis = (rest.nodes[size_t(below[1])] - rest.nodes[size_t(m)]).normalized();
-  Skeleton posed = rest;
+  PosedSkeleton posed = rest;
   rotate_subtree(rest, posed, m, Eigen::Quaterniond(Eigen::AngleAxisd(M_PI, axis)));
   DecodeOptions d;
   d.skeleton = posed;
@@ -219,7 +219,7 @@ TEST_CASE("Smoothing the blend weights removes a jump, keeps a linear ramp and l
   const Encoded e = encode_capsule();
   const Skeleton& rest = e.layout.skeleton;
   const int m = nearest_node(rest, Eigen::Vector3d::Zero());
-  Skeleton posed = rest;
+  PosedSkeleton posed = rest;
   rotate_subtree(rest, posed, m, Eigen::Quaterniond(Eigen::AngleAxisd(M_PI, Eigen::Vector3d::UnitZ())));  // a half twist
   const SkeletonPose pose = pose_skeleton(rest, posed);
   const Mesh plain = decode_sdm(e.image);
@@ -370,7 +370,7 @@ TEST_CASE("FAUST 001 posed at the middle of an arm turns the forearm rigidly and
                                    {"bend 90", Eigen::Quaterniond(Eigen::AngleAxisd(M_PI / 2, bend_axis))},
                                    {"twist 90", Eigen::Quaterniond(Eigen::AngleAxisd(M_PI / 2, twist_axis))}};
   for (const Case& k : cases) {
-    Skeleton posed = rest;
+    PosedSkeleton posed = rest;
     rotate_subtree(rest, posed, m, k.q);
     DecodeOptions d;
     d.skeleton = posed;
@@ -469,7 +469,7 @@ TEST_CASE("Every shared model turned 45 degrees at its longest limb keeps its to
     for (const auto& seg : e.layout.segments)
       if (seg.a == m || seg.b == m) r = std::max(r, seg.radius);
     Eigen::Vector3d axis = along.unitOrthogonal();
-    Skeleton posed = rest;
+    PosedSkeleton posed = rest;
     rotate_subtree(rest, posed, m, Eigen::Quaterniond(Eigen::AngleAxisd(M_PI / 4, axis)));
     DecodeOptions d;
     d.level = 2;
@@ -507,7 +507,7 @@ TEST_CASE("sdm pose turns, twists and thickens from the command line and refuses
   const double moved = j.at("max_displacement").get<double>();
   CHECK(moved >= 0.98 * 3.5 * std::sqrt(2.0));
   CHECK(moved <= 3.5 * std::sqrt(2.0) + 2 * std::sin(M_PI / 8) + 0.01);
-  const Skeleton posed = read_skeleton_json(dir / "posed.json");
+  const PosedSkeleton posed = read_posed_skeleton_json(dir / "posed.json");
   REQUIRE(posed.node_rotations.size() == posed.nodes.size());
   // The posed skeleton decodes to the same surface through sdm decode --skeleton.
   res = test_util::run_sdm("decode " + (dir / "capsule.exr") + " --lod 2 --skeleton " + (dir / "posed.json") + " -o " + (dir / "again.obj"));

@@ -145,7 +145,7 @@ TEST_CASE("sdm decode --rig writes the decoded ypsilon with a skin on its skelet
   // The outer half of the left arm turned 60 degrees in the ypsilon's plane: linear blend skinning
   // of the file (the joints below the mid-left node turned about it) against sdm pose.
   const int mid = nearest_node(rest, kMidLeft);
-  Skeleton posed = rest;
+  PosedSkeleton posed = rest;
   const Eigen::Quaterniond q(Eigen::AngleAxisd(M_PI / 3, Eigen::Vector3d::UnitZ()));
   rotate_subtree(rest, posed, mid, q);
   const std::vector<int> below = subtree_nodes(pose_skeleton(rest, posed), mid);
@@ -216,9 +216,9 @@ TEST_CASE("A pose given in single precision (Blender, glTF) decodes as the exact
   const Encoded e = encode_ypsilon();
   const Skeleton& rest = e.layout.skeleton;
   const int mid = nearest_node(rest, kMidLeft);
-  Skeleton exact = rest;
+  PosedSkeleton exact = rest;
   rotate_subtree(rest, exact, mid, Eigen::Quaterniond(Eigen::AngleAxisd(M_PI / 3, Eigen::Vector3d::UnitZ())));
-  Skeleton rounded = exact;
+  PosedSkeleton rounded = exact;
   for (auto& p : rounded.nodes) p = p.cast<float>().cast<double>();
   for (auto& q : rounded.node_rotations)
     if (q) q = Eigen::Quaterniond(q->coeffs().cast<float>().cast<double>()).normalized();

@@ -6,7 +6,7 @@
 #include "libsdm/decode/untangle_decoded.h"
 #include "libsdm/map/sdm_exr.h"
 #include "libstm/mesh/mesh.h"
-#include "libstm/skeleton/skeleton.h"
+#include "libstm/skeleton/posed_skeleton.h"
 
 #include <map>
 #include <optional>
@@ -18,7 +18,7 @@ struct DecodeOptions {
   std::map<int, int> segment_level;    // per-segment overrides
   // A pose: the map's skeleton with moved nodes (same graph), optionally node_rotations and
   // segment_radius_scale. The surface is decoded at rest, then deformed (libsdm/pose/deform_decoded.h).
-  std::optional<Skeleton> skeleton;
+  std::optional<PosedSkeleton> skeleton;
 };
 
 // Where each output vertex comes from: the segment that placed it and its base face; and the base

@@ -94,7 +94,7 @@ void deform_points(const SkeletonPose& pose, const PoseWeights& weights, std::ve
   });
 }
 
-void pose_points(const Layout& layout, const Skeleton& posed, const std::vector<int>& point_segment, const Eigen::MatrixX3i& triangles,
+void pose_points(const Layout& layout, const PosedSkeleton& posed, const std::vector<int>& point_segment, const Eigen::MatrixX3i& triangles,
                  std::vector<Eigen::Vector3d>& points, double blend_radii) {
   const SkeletonPose pose = pose_skeleton(layout.skeleton, posed);
   if (pose.identity()) return;

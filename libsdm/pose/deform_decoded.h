@@ -21,7 +21,7 @@ void deform_points(const SkeletonPose& pose, const PoseWeights& weights, std::ve
 // over `triangles`, the surface of `points`, where motions differ: smooth_pose_weights.h), the
 // deformation.
 // Throws InputError when the graphs differ (pose_skeleton).
-void pose_points(const Layout& layout, const Skeleton& posed, const std::vector<int>& point_segment, const Eigen::MatrixX3i& triangles,
+void pose_points(const Layout& layout, const PosedSkeleton& posed, const std::vector<int>& point_segment, const Eigen::MatrixX3i& triangles,
                  std::vector<Eigen::Vector3d>& points, double blend_radii = kPoseBlendRadii);
 
 }  // namespace sdm

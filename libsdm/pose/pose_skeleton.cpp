@@ -158,7 +158,7 @@ int skeleton_root(const Skeleton& s, const std::vector<char>& taken) {
   return best;
 }
 
-SkeletonPose pose_skeleton(const Skeleton& rest, const Skeleton& posed) {
+SkeletonPose pose_skeleton(const Skeleton& rest, const PosedSkeleton& posed) {
   check_same_graph(rest, posed);
   const size_t n = rest.nodes.size();
   SkeletonPose pose;
@@ -224,7 +224,7 @@ namespace sdm {
 
 std::vector<int> subtree_nodes(const SkeletonPose& pose, int node) { return subtree_of(children_of(pose.node_parent), node); }
 
-void rotate_subtree(const Skeleton& rest, Skeleton& posed, int node, const Eigen::Quaterniond& q) {
+void rotate_subtree(const Skeleton& rest, PosedSkeleton& posed, int node, const Eigen::Quaterniond& q) {
   if (node < 0 || size_t(node) >= rest.nodes.size())
     throw InputError("node " + std::to_string(node) + " is out of range (the skeleton has " + std::to_string(rest.nodes.size()) + " nodes)");
   const SkeletonPose pose = pose_skeleton(rest, posed);

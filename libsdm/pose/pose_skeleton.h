@@ -7,6 +7,7 @@
 // positions are always honoured. A rigid motion of a sub-tree about one of its nodes gives every
 // bone in it exactly that motion.
 #include "libstm/layout/layout.h"
+#include "libstm/skeleton/posed_skeleton.h"
 #include "libstm/skeleton/skeleton.h"
 
 #include <Eigen/Geometry>
@@ -26,7 +27,7 @@ struct Bone {
   Eigen::Vector3d direction;             // unit rest direction p -> c
   double length = 0;                     // rest length |c - p|
   double stretch = 1;                    // posed length over rest length
-  double radius_scale = 1;               // Skeleton::segment_radius_scale
+  double radius_scale = 1;               // PosedSkeleton::segment_radius_scale
   RigidMotion motion;                    // applied after the stretch: B (x - p) + p'
   // The rest point x stretched along the bone: the part of x - p along the bone (clamped to the
   // bone) scaled by `stretch`.
@@ -54,7 +55,7 @@ std::vector<int> subtree_nodes(const SkeletonPose& pose, int node);
 // about node's posed position by q: their positions, and node_rotations (each node's rotation in
 // the current pose, given or derived, composed with q; all nodes get one). Repeated calls compose.
 // Throws InputError for a node out of range or a skeleton of another graph.
-void rotate_subtree(const Skeleton& rest, Skeleton& posed, int node, const Eigen::Quaterniond& q);
+void rotate_subtree(const Skeleton& rest, PosedSkeleton& posed, int node, const Eigen::Quaterniond& q);
 
 // The bones of `posed` (the rest skeleton's graph with moved nodes, and optionally node_rotations
 // and segment_radius_scale) against `rest`. A node's rotation without one given: at a node with two
@@ -62,7 +63,7 @@ void rotate_subtree(const Skeleton& rest, Skeleton& posed, int node, const Eigen
 // the posed directions matches each within 1e-3), that fit; else the rotation of the bone that
 // carries it (for a root: the identity), so that twist propagates down chains. Throws InputError
 // when the graphs differ (another count of nodes or edges, or an edge joining other nodes).
-SkeletonPose pose_skeleton(const Skeleton& rest, const Skeleton& posed);
+SkeletonPose pose_skeleton(const Skeleton& rest, const PosedSkeleton& posed);
 
 // The rotation taking unit vector `from` onto unit vector `to` about their common perpendicular
 // (the identity for equal vectors; a half turn about some perpendicular for opposite ones).

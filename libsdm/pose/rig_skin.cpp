@@ -7,9 +7,9 @@
 namespace sdm {
 
 GltfSkin rig_skin(const Layout& layout, const std::vector<Eigen::Vector3d>& points, const std::vector<int>& point_segment,
-                  const Eigen::MatrixX3i& triangles, const Skeleton* posed) {
+                  const Eigen::MatrixX3i& triangles, const PosedSkeleton* posed) {
   const Skeleton& rest = layout.skeleton;
-  const SkeletonPose pose = pose_skeleton(rest, posed ? *posed : rest);
+  const SkeletonPose pose = posed ? pose_skeleton(rest, *posed) : pose_skeleton(rest, rest);
   PoseWeights weights = pose_weights(layout, points, point_segment);
   smooth_rig_weights(weights, points, triangles, layout);
   const RigWeights rig = rig_weights(pose, weights);

@@ -24,6 +24,6 @@ namespace sdm {
 // Throws InputError when `posed` has another graph than the layout's skeleton, std::invalid_argument
 // when the sizes differ or a segment is out of range (pose_weights).
 GltfSkin rig_skin(const Layout& layout, const std::vector<Eigen::Vector3d>& points, const std::vector<int>& point_segment,
-                  const Eigen::MatrixX3i& triangles, const Skeleton* posed = nullptr);
+                  const Eigen::MatrixX3i& triangles, const PosedSkeleton* posed = nullptr);
 
 }  // namespace sdm

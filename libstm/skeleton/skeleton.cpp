@@ -90,43 +90,6 @@ int restrict_to_vertices(Skeleton& s, int vertices) {
   return removed;
 }
 
-namespace {
-
-// "node_rotations" and "segment_radius_scale" (skeleton.h), when present; the counts are checked by
-// the caller once the nodes and edges are known.
-void read_pose_fields(const nlohmann::json& j, Skeleton& s) {
-  if (j.contains("node_rotations")) {
-    const auto& r = j.at("node_rotations");
-    if (!r.is_array()) throw InputError("not a valid skeleton: \"node_rotations\" must be an array (one [x, y, z, w] or null per node)");
-    for (size_t i = 0; i < r.size(); ++i) {
-      if (r[i].is_null()) {
-        s.node_rotations.emplace_back();
-        continue;
-      }
-      if (!r[i].is_array() || r[i].size() != 4)
-        throw InputError("not a valid skeleton: node rotation " + std::to_string(i) + " is not a quaternion [x, y, z, w]");
-      const Eigen::Quaterniond q(r[i].at(3).get<double>(), r[i].at(0).get<double>(), r[i].at(1).get<double>(), r[i].at(2).get<double>());
-      if (!q.coeffs().allFinite() || std::abs(q.norm() - 1) > 1e-3)
-        throw InputError("not a valid skeleton: node rotation " + std::to_string(i) + " is not a unit quaternion (norm " +
-                         number(q.norm()) + ")");
-      s.node_rotations.push_back(q.normalized());
-    }
-  }
-  if (j.contains("segment_radius_scale")) {
-    const auto& f = j.at("segment_radius_scale");
-    if (!f.is_array()) throw InputError("not a valid skeleton: \"segment_radius_scale\" must be an array (one factor per edge)");
-    for (size_t i = 0; i < f.size(); ++i) {
-      const double x = f[i].get<double>();
-      if (!std::isfinite(x) || x <= 0 || x > 1e6)
-        throw InputError("not a valid skeleton: segment_radius_scale of edge " + std::to_string(i) + " is " + number(x) +
-                         " (a factor > 0 expected)");
-      s.segment_radius_scale.push_back(x);
-    }
-  }
-}
-
-}  // namespace
-
 nlohmann::json skeleton_to_json(const Skeleton& s) {
   nlohmann::json j;
   j["format"] = "sdm-skeleton";
@@ -136,12 +99,6 @@ nlohmann::json skeleton_to_json(const Skeleton& s) {
   j["edges"] = nlohmann::json::array();
   for (const auto& e : s.edges) j["edges"].push_back({e[0], e[1]});
   j["vertex_node"] = s.vertex_node;
-  if (!s.node_rotations.empty()) {
-    j["node_rotations"] = nlohmann::json::array();
-    for (const auto& q : s.node_rotations)
-      j["node_rotations"].push_back(q ? nlohmann::json{q->x(), q->y(), q->z(), q->w()} : nlohmann::json(nullptr));
-  }
-  if (!s.segment_radius_scale.empty()) j["segment_radius_scale"] = s.segment_radius_scale;
   return j;
 }
 
@@ -152,7 +109,6 @@ Skeleton skeleton_from_json(const nlohmann::json& j) {
     for (const auto& n : j.at("nodes")) s.nodes.emplace_back(n.at(0).get<double>(), n.at(1).get<double>(), n.at(2).get<double>());
     for (const auto& e : j.at("edges")) s.edges.push_back({json_int(e.at(0)), json_int(e.at(1))});
     s.vertex_node = json_ints(j.at("vertex_node"));
-    read_pose_fields(j, s);
   } catch (const nlohmann::json::exception& e) {
     throw InputError(std::string("not a valid skeleton: ") + e.what());
   }
@@ -166,12 +122,6 @@ Skeleton skeleton_from_json(const nlohmann::json& j) {
     if (s.vertex_node[i] < 0 || s.vertex_node[i] >= n)
       throw InputError("not a valid skeleton: vertex " + std::to_string(i) + " maps to node " +
                        std::to_string(s.vertex_node[i]) + " of " + std::to_string(n));
-  if (!s.node_rotations.empty() && s.node_rotations.size() != s.nodes.size())
-    throw InputError("not a valid skeleton: " + std::to_string(s.node_rotations.size()) + " node rotations for " +
-                     std::to_string(n) + " nodes (one [x, y, z, w] or null per node)");
-  if (!s.segment_radius_scale.empty() && s.segment_radius_scale.size() != s.edges.size())
-    throw InputError("not a valid skeleton: " + std::to_string(s.segment_radius_scale.size()) + " radius scales for " +
-                     std::to_string(s.edges.size()) + " edges (one factor per edge)");
   check_skeleton_geometry(s);
   return s;
 }

@@ -4,10 +4,8 @@
 #include "libstm/core/input_file.h"
 
 #include <Eigen/Dense>
-#include <Eigen/Geometry>
 #include <array>
 #include <nlohmann/json.hpp>
-#include <optional>
 #include <string>
 #include <vector>
 
@@ -17,11 +15,6 @@ struct Skeleton {
   std::vector<Eigen::Vector3d> nodes;
   std::vector<std::array<int, 2>> edges;
   std::vector<int> vertex_node;  // size = mesh vertices; every node owns at least one vertex
-  // A pose (libsdm/pose): per node, the rotation of its frame from the rest skeleton's (absent:
-  // derived from the moved nodes, pose_skeleton.h); empty when the file gives none.
-  std::vector<std::optional<Eigen::Quaterniond>> node_rotations;
-  // Per edge, a factor on the surface's distance from the edge's axis (1: as encoded); empty: all 1.
-  std::vector<double> segment_radius_scale;
 
   std::vector<std::vector<int>> adjacency() const;  // node -> neighbouring nodes
   std::vector<int> degrees() const;
@@ -32,13 +25,10 @@ struct Skeleton {
 };
 
 // JSON form: {"format": "sdm-skeleton", "version": 1, "nodes": [[x,y,z]...], "edges": [[a,b]...],
-// "vertex_node": [...]}. Doubles are written with round-trip precision. Optional pose fields:
-// "node_rotations": one per node, a unit quaternion [x, y, z, w] (glTF order) or null (derived);
-// "segment_radius_scale": one factor > 0 per edge. Written only when set.
+// "vertex_node": [...]}. Doubles are written with round-trip precision. A pose's fields
+// (posed_skeleton.h) are read by posed_skeleton_from_json; this reader skips them.
 nlohmann::json skeleton_to_json(const Skeleton& s);
-// Throws InputError naming the problem when the JSON is not a valid skeleton (the pose fields: a
-// count other than the nodes' or edges', a quaternion whose norm is not 1 within 1e-3 (it is
-// normalised), a scale that is not a finite number > 0).
+// Throws InputError naming the problem when the JSON is not a valid skeleton.
 Skeleton skeleton_from_json(const nlohmann::json& j);
 // Throws InputError when a node is not finite or lies beyond kMaxCoordinate (limits.h), or an edge
 // joins a node to itself or two coincident nodes (a zero-length segment has no axis). The readers
