@@ -25,7 +25,7 @@ int run_pipeline_bench(const BenchOptions& o) {
     size_t vertices = 0, faces = 0;
     for (int i = 0; i < o.repeat; ++i) {
       Stopwatch sw;
-      const Mesh mesh = load_mesh(path);
+      const Mesh mesh = load_mesh(path).mesh;
       load = std::min(load, sw.lap());
       const Skeleton sk = extract_skeleton(mesh);
       skeleton = std::min(skeleton, sw.lap());

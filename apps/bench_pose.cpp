@@ -8,6 +8,7 @@
 #include "libstm/core/stopwatch.h"
 #include "libstm/geometry/differential_geometry.h"
 #include "libstm/layout/compute_layout.h"
+#include "libstm/mesh/load_mesh.h"
 #include "libstm/mesh/mesh.h"
 #include "libstm/mesh/mesh_geometry.h"
 #include "libstm/mesh/surface_distance.h"
@@ -88,7 +89,7 @@ struct PoseRow {
 PoseRow measure_pair(const std::string& source_path, const std::string& target_path, int size) {
   PoseRow row;
   row.source = source_path, row.target = target_path;
-  const Mesh source = load_mesh(source_path), target = load_mesh(target_path);
+  const Mesh source = load_mesh(source_path).mesh, target = load_mesh(target_path).mesh;
   if (source.n_vertices() != target.n_vertices())
     throw InputError("bench --pose: " + source_path + " and " + target_path + " have different vertex counts (vertex i must correspond)");
   LayoutOptions lo;

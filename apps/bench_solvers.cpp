@@ -69,11 +69,11 @@ std::vector<SolverCase> solver_cases(const BenchOptions& o) {
   };
   for (const auto& p : kPaper) add(p.name, sdm::make_primitive(p.name));
   if (std::filesystem::exists(o.spot))
-    add("Spot", sdm::load_mesh(o.spot));
+    add("Spot", sdm::load_mesh(o.spot).mesh);
   else
     progress("bench: Spot skipped, " + o.spot + " not found (--spot PATH)");
   if (std::filesystem::exists(o.bunny)) {
-    auto proxy = contraction_proxy(sdm::load_mesh(o.bunny));
+    auto proxy = contraction_proxy(sdm::load_mesh(o.bunny).mesh);
     cases.push_back({"bunny00 remeshed", std::move(proxy.first), std::move(proxy.second)});
   } else {
     progress("bench: bunny00 skipped, " + o.bunny + " not found (--bunny PATH)");

@@ -182,7 +182,7 @@ int run_stages(const BenchOptions& o) {
   std::unique_ptr<Row> bunny;
   if (std::filesystem::exists(o.bunny)) {
     progress("bench: " + o.bunny);
-    bunny = std::make_unique<Row>(measure("bunny00", sdm::load_mesh(o.bunny), o.repeat, o.size, false, nullptr));
+    bunny = std::make_unique<Row>(measure("bunny00", sdm::load_mesh(o.bunny).mesh, o.repeat, o.size, false, nullptr));
   }
   if (o.json) {
     print_json(stages_json(rows, bunny.get(), gl.get()));

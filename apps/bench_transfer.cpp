@@ -50,7 +50,7 @@ std::string pair_name(const std::string& a_path, const std::string& b_path) {
 // Both extractions, then transfer_texture (recognition, registration, layout, atlas, coordinates)
 // with a 1024 atlas, as `sdm transfer` runs them; the fastest of `repeat` runs.
 TransferRow time_transfer(GlContext& gl, const std::string& a_path, const std::string& b_path, int repeat) {
-  const Mesh a = with_planar_uv(load_mesh(a_path)), b = load_mesh(b_path);
+  const Mesh a = with_planar_uv(load_mesh(a_path).mesh), b = load_mesh(b_path).mesh;
   const Image checker = checker_texture();
   TransferRow row;
   row.pair = pair_name(a_path, b_path);

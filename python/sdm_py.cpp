@@ -11,6 +11,7 @@
 #include "libstm/layout/compute_layout.h"
 #include "libstm/layout/layout_json.h"
 #include "libstm/layout/stm_coordinates.h"
+#include "libstm/mesh/load_mesh.h"
 #include "libstm/mesh/mesh.h"
 #include "libstm/render/gl_context.h"
 #include "libstm/skeleton/extract_skeleton.h"
@@ -308,7 +309,7 @@ PYBIND11_MODULE(sdm_py, m) {
   m.doc() = "sdm: skeleton texture maps and skeleton displacement maps on numpy arrays";
   m.attr("__version__") = SDM_VERSION;
   py::register_exception<sdm::InputError>(m, "InputError", PyExc_ValueError);
-  m.def("read_mesh", [](const std::string& path) { return mesh_arrays(sdm::load_mesh(path)); }, py::arg("path"),
+  m.def("read_mesh", [](const std::string& path) { return mesh_arrays(sdm::load_mesh(path).mesh); }, py::arg("path"),
         "Reads and validates a mesh file (.obj, .off, .ply, .stl): returns (V, F).");
   m.def("write_mesh", [](const std::string& path, const RowMatrix3d& V, const RowMatrix3i& F) {
           sdm::write_mesh(mesh_of(V, F, {}, "(V, F)"), path); }, py::arg("path"), py::arg("V"), py::arg("F"),

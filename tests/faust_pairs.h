@@ -4,6 +4,7 @@
 // correct skeleton match gives, the targets the tests build (turned and scaled, an arm bent at the
 // elbow), and the correspondence error against the ground truth.
 #include "libstm/core/image.h"
+#include "libstm/mesh/load_mesh.h"
 #include "libstm/mesh/mesh.h"
 #include "libstm/mesh/mesh_geometry.h"
 #include "libstm/registration/carry_skeleton.h"
@@ -93,7 +94,7 @@ inline Error correspondence_error(const sdm::Mesh& source, const std::vector<sdm
 // The human `name` with uv from a planar projection and a texture whose red grows with u, written
 // as `obj` (with its MTL) and `png`: a source as `sdm transfer` reads it. Returns the mesh written.
 inline sdm::Mesh write_textured(const std::string& name, const std::string& obj, const std::string& png) {
-  const sdm::Mesh a = sdm::with_planar_uv(sdm::load_mesh(humans_dir() + "/" + name));
+  const sdm::Mesh a = sdm::with_planar_uv(sdm::load_mesh(humans_dir() + "/" + name).mesh);
   sdm::Image tex(32, 32, 4, 255);
   for (int i = 0; i < 32 * 32; ++i) tex.pixels[4 * i] = uint8_t(8 * (i % 32));
   sdm::write_png(tex, png);

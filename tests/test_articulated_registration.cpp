@@ -3,6 +3,7 @@
 // correspondence given (faust::true_guess): the correspondence error of the deformed source.
 #include "faust_pairs.h"
 
+#include "libstm/mesh/load_mesh.h"
 #include "libstm/registration/articulated_registration.h"
 #include "libstm/registration/fit_skeleton.h"
 #include "libstm/core/errors.h"
@@ -36,8 +37,8 @@ TEST_CASE("measure articulated registration on FAUST", "[.][articulated_measure]
     WARN("no FAUST meshes at " << faust::humans_dir() << ": skipped");
     return;
   }
-  const sdm::Mesh m7 = sdm::load_mesh(faust::humans_dir() + "/tr_reg_007.off");
-  const sdm::Mesh m24 = sdm::load_mesh(faust::humans_dir() + "/tr_reg_024.off");
+  const sdm::Mesh m7 = sdm::load_mesh(faust::humans_dir() + "/tr_reg_007.off").mesh;
+  const sdm::Mesh m24 = sdm::load_mesh(faust::humans_dir() + "/tr_reg_024.off").mesh;
   for (int dir = 0; dir < 2; ++dir) {
     const sdm::Mesh& a = dir == 0 ? m7 : m24;
     const sdm::Mesh& b = dir == 0 ? m24 : m7;
@@ -90,8 +91,8 @@ TEST_CASE("FAUST 007 onto 024, turned and scaled, and with an arm bent: close co
     return;
   }
   std::string report;
-  const faust::Error e = worst_error(sdm::load_mesh(faust::humans_dir() + "/tr_reg_007.off"),
-                                     sdm::load_mesh(faust::humans_dir() + "/tr_reg_024.off"), report);
+  const faust::Error e = worst_error(sdm::load_mesh(faust::humans_dir() + "/tr_reg_007.off").mesh,
+                                     sdm::load_mesh(faust::humans_dir() + "/tr_reg_024.off").mesh, report);
   INFO(report);
   CHECK(e.mean < 2.1);
   CHECK(e.p90 < 4.3);
@@ -104,8 +105,8 @@ TEST_CASE("FAUST 024 onto 007, turned and scaled, and with an arm bent: close co
     return;
   }
   std::string report;
-  const faust::Error e = worst_error(sdm::load_mesh(faust::humans_dir() + "/tr_reg_024.off"),
-                                     sdm::load_mesh(faust::humans_dir() + "/tr_reg_007.off"), report);
+  const faust::Error e = worst_error(sdm::load_mesh(faust::humans_dir() + "/tr_reg_024.off").mesh,
+                                     sdm::load_mesh(faust::humans_dir() + "/tr_reg_007.off").mesh, report);
   INFO(report);
   CHECK(e.mean < 2.0);
   CHECK(e.p90 < 4.8);

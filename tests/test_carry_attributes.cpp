@@ -2,6 +2,7 @@
 // the source's position, carried onto a remesh of the source, decodes to the target vertex's own
 // position; texture sampling follows the renderer's conventions; PLY vertex colours round-trip
 // through write_colored_ply and load_mesh.
+#include "libstm/mesh/load_mesh.h"
 #include "libstm/transfer/carry_attributes.h"
 #include "libstm/geometry/triangle_bvh.h"
 #include "libstm/mesh/primitives.h"
@@ -126,7 +127,9 @@ TEST_CASE("PLY vertex colours round-trip through write_colored_ply and load_mesh
   CHECK(header.find("binary_little_endian") != std::string::npos);
   for (const char* p : {"property uchar red", "property uchar green", "property uchar blue"}) CHECK(header.find(p) != std::string::npos);
   std::vector<Eigen::Vector3f> back;
-  const sdm::Mesh r = sdm::load_mesh(dir / "donut.ply", nullptr, &back);
+  sdm::LoadedMesh r_read = sdm::load_mesh(dir / "donut.ply");
+  back = std::move(r_read.colors);
+  const sdm::Mesh r = std::move(r_read.mesh);
   REQUIRE(r.n_vertices() == m.n_vertices());
   REQUIRE(back.size() == colors.size());
   float worst = 0;
@@ -138,14 +141,16 @@ TEST_CASE("PLY vertex colours round-trip through write_colored_ply and load_mesh
                                          "element face 4\nproperty list uchar int vertex_indices\nend_header\n"
                                          "0 0 0 255 0 0 255\n1 0 0 0 255 0 255\n0 1 0 0 0 255 255\n0 0 1 51 102 153 255\n"
                                          "3 0 2 1\n3 0 1 3\n3 0 3 2\n3 1 2 3\n");
-  const sdm::Mesh tet = sdm::load_mesh(dir / "tet.ply", nullptr, &back);
+  sdm::LoadedMesh tet_read = sdm::load_mesh(dir / "tet.ply");
+  back = std::move(tet_read.colors);
+  const sdm::Mesh tet = std::move(tet_read.mesh);
   REQUIRE(back.size() == 4);
   CHECK((back[0] - Eigen::Vector3f(1, 0, 0)).norm() < 1e-6f);
   CHECK((back[3] - Eigen::Vector3f(0.2f, 0.4f, 0.6f)).norm() < 1e-6f);
   CHECK((sdm::point(tet, tet.vertex_handle(3)) - Eigen::Vector3d(0, 0, 1)).norm() < 1e-12);
   // Without colours, none are reported; a wrong extension or count is refused and writes nothing.
   sdm::write_mesh(m, dir / "plain.ply");
-  sdm::load_mesh(dir / "plain.ply", nullptr, &back);
+  back = sdm::load_mesh(dir / "plain.ply").colors;
   CHECK(back.empty());
   CHECK_THROWS_AS(sdm::write_colored_ply(m, colors, dir / "donut.obj"), sdm::InputError);
   colors.pop_back();

@@ -2,6 +2,7 @@
 // meshes and while a mesh is being collapsed (deleted elements, boundary vertices, valence-3
 // vertices), so the isotropic remesh that uses it collapses exactly the same edges.
 #include "libstm/mesh/collapse_ok.h"
+#include "libstm/mesh/load_mesh.h"
 #include "libstm/mesh/mesh.h"
 #include "libstm/mesh/primitives.h"
 #include "tests/test_util.h"
@@ -67,7 +68,7 @@ TEST_CASE("collapse_ok gives OpenMesh's answer on every halfedge", "[collapse_ok
   }
   for (const auto& shared : test_util::closed_shared_meshes()) {
     INFO(shared.name);
-    Mesh m = load_mesh(shared.path);
+    Mesh m = load_mesh(shared.path).mesh;
     m.request_vertex_status(), m.request_edge_status(), m.request_face_status();
     CHECK(disagreements(m) == 0);
     Mesh open = with_holes(m, 7);

@@ -1,5 +1,6 @@
 // common_branching: a short end branch found in one skeleton only is pruned (its vertices go to its
 // junction) and the branchings then match; a long limb is never pruned.
+#include "libstm/mesh/load_mesh.h"
 #include "libstm/skeleton/common_branching.h"
 #include "libstm/core/errors.h"
 #include "libstm/skeleton/match_skeletons.h"
@@ -237,7 +238,7 @@ TEST_CASE("a slide does not join a skeleton's core up", "[common_branching]") {
   for (int n = 0; n < 21; ++n) homer.vertex_node.insert(homer.vertex_node.end(), size_t(owned[n]), n);
   REQUIRE(homer.end_nodes() == 5);
   REQUIRE(sdm::core_share(sdm::reduce_skeleton(homer)) > 2 * sdm::kCoreShare);
-  const sdm::Mesh m024 = sdm::load_mesh(faust::humans_dir() + "/tr_reg_024.off");
+  const sdm::Mesh m024 = sdm::load_mesh(faust::humans_dir() + "/tr_reg_024.off").mesh;
   const sdm::Skeleton s024 = sdm::extract_skeleton(m024, sdm::transfer_skeleton_options());
   try {
     const sdm::CommonBranching c = sdm::common_branching(homer, s024);

@@ -9,6 +9,7 @@
 #include "libstm/core/image.h"
 #include "libstm/geometry/triangle_bvh.h"
 #include "libstm/layout/compute_layout.h"
+#include "libstm/mesh/load_mesh.h"
 #include "libstm/mesh/mesh_geometry.h"
 #include "libstm/mesh/primitives.h"
 #include "libstm/mesh/surface_distance.h"
@@ -168,7 +169,7 @@ TEST_CASE("Every precision of format 3 decodes within the float map's error; for
 
 TEST_CASE("Spot at level 3 within 0.02 % RMS in a map of at most 150 KB", "[compact]") {
   test_util::TempDir dir;
-  const Encoded e = encode(load_mesh(std::string(SDM_EXAMPLES) + "/spot/spot_triangulated.obj"), 512);
+  const Encoded e = encode(load_mesh(std::string(SDM_EXAMPLES) + "/spot/spot_triangulated.obj").mesh, 512);
   const std::string path = dir / "spot.exr";
   write_sdm_exr(e.image, path, SdmPrecision::parse("8"));
   const auto bytes = std::filesystem::file_size(path);
@@ -197,7 +198,7 @@ TEST_CASE("sdm roundtrip goes through the file, reports its bytes and where the 
   CHECK(worst["base_face"].get<int>() >= 0);
   // The reported point is where the Hausdorff distance is: that far from the input when the decoded
   // surface strays there, on the input otherwise.
-  const Mesh input = load_mesh(mesh);
+  const Mesh input = load_mesh(mesh).mesh;
   const auto p = worst["position"].get<std::vector<double>>();
   const double off = TriangleBvh(vertex_matrix(input), face_matrix(input)).closest_point(Eigen::Vector3d(p[0], p[1], p[2])).distance;
   const double diag = bounding_box_diagonal(input);

@@ -172,7 +172,7 @@ TEST_CASE("end distances in the refinement: variants on the benchmarks' pairs", 
     if (!std::ifstream(f[0]).good() || !std::ifstream(f[1]).good()) continue;
     const std::string stem_s = std::filesystem::path(f[0]).stem(), stem_t = std::filesystem::path(f[1]).stem();
     const std::string file = cache + "/" + stem_s + "__" + stem_t + ".start";
-    const sdm::Mesh a = sdm::load_mesh(f[0]), b = sdm::load_mesh(f[1]);
+    const sdm::Mesh a = sdm::load_mesh(f[0]).mesh, b = sdm::load_mesh(f[1]).mesh;
     if (!std::ifstream(file).good()) {
       const sdm::SkeletonOptions so = sdm::transfer_skeleton_options();
       sdm::CorrespondOptions co;

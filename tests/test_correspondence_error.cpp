@@ -6,6 +6,7 @@
 #include "test_util.h"
 
 #include "libstm/core/errors.h"
+#include "libstm/mesh/load_mesh.h"
 #include "libstm/mesh/mesh.h"
 #include "libstm/mesh/mesh_geometry.h"
 #include "libstm/registration/correspondence_error.h"
@@ -309,7 +310,7 @@ TEST_CASE("correspondence_error: points per edge on the FAUST pairs", "[.][corre
       for (int j = 0; j < 4; ++j) {
         const std::string file = cache + "/" + std::to_string(i) + "_" + std::to_string(j) + ".txt";
         if (i == j || !faust::have(names[i]) || !std::ifstream(file).good()) continue;
-        const sdm::Mesh a = sdm::load_mesh(faust::humans_dir() + "/" + names[i]);
+        const sdm::Mesh a = sdm::load_mesh(faust::humans_dir() + "/" + names[i]).mesh;
         const std::vector<sdm::SourcePoint> under = faust::read_correspondence(file);
         const auto start = std::chrono::steady_clock::now();
         const sdm::CorrespondenceError e = sdm::correspondence_error(a, under, identity(under.size()), 0, steiner);

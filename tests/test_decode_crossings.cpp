@@ -4,6 +4,7 @@
 #include "libsdm/decode/decode_sdm.h"
 #include "libsdm/encode/encode_sdm.h"
 #include "libstm/layout/compute_layout.h"
+#include "libstm/mesh/load_mesh.h"
 #include "libstm/mesh/mesh_geometry.h"
 #include "libstm/mesh/self_intersections.h"
 #include "libstm/mesh/surface_distance.h"
@@ -24,7 +25,7 @@ long crossing_pairs(const Mesh& m) { return long(crossing_face_pairs(vertex_matr
 // 3 crossed 224 and 1375 face pairs (CGAL's count; the same with crossing_face_pairs), at the base
 // edges between segments and where a segment's rays fan out under large displacements.
 TEST_CASE("Spot decoded at levels 2 and 3 crosses itself no more than its input", "[decode_crossings]") {
-  const Mesh spot = load_mesh(std::string(SDM_EXAMPLES) + "/spot/spot_triangulated.obj");
+  const Mesh spot = load_mesh(std::string(SDM_EXAMPLES) + "/spot/spot_triangulated.obj").mesh;
   const long input = crossing_pairs(spot);
   CHECK(input == 0);
   LayoutOptions lo;

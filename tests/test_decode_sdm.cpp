@@ -1,6 +1,7 @@
 // SDM decoding: closed output at any mix of levels, and a surface that follows a moved skeleton.
 #include "libsdm/decode/decode_sdm.h"
 #include "libsdm/encode/encode_sdm.h"
+#include "libstm/mesh/load_mesh.h"
 #include "libstm/mesh/mesh_geometry.h"
 #include "libstm/mesh/surface_distance.h"
 #include "libstm/core/errors.h"
@@ -119,7 +120,7 @@ TEST_CASE("Acceptance round trip of the crossed cylinders at 1024 and level 3", 
 }
 
 TEST_CASE("Acceptance round trip of Spot at 1024 and level 3", "[decode_sdm]") {
-  const Mesh spot = load_mesh(std::string(SDM_EXAMPLES) + "/spot/spot_triangulated.obj");
+  const Mesh spot = load_mesh(std::string(SDM_EXAMPLES) + "/spot/spot_triangulated.obj").mesh;
   SdmImage image;
   acceptance_round_trip("spot", spot, 0.005, 0.03, &image);
   // Extracted skeleton, mixed levels: one segment at level 1 and the rest at 4 is still one
@@ -145,7 +146,7 @@ TEST_CASE("Acceptance round trip of real bodies at 1024 and level 3", "[decode_s
       WARN("no " << name << " at " << faust::humans_dir() << ": skipped");
       continue;
     }
-    acceptance_round_trip(name, load_mesh(faust::humans_dir() + "/" + name), 0.0005, 0.01);
+    acceptance_round_trip(name, load_mesh(faust::humans_dir() + "/" + name).mesh, 0.0005, 0.01);
   }
 }
 
@@ -165,7 +166,7 @@ TEST_CASE("The round trips of CAD parts meet the bounds of 0.05 % and 1 %", "[de
       WARN("no " << path << ": skipped");
       continue;
     }
-    acceptance_round_trip(name, load_mesh(path), 0.0005, 0.01);
+    acceptance_round_trip(name, load_mesh(path).mesh, 0.0005, 0.01);
   }
 }
 

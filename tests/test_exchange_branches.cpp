@@ -1,6 +1,7 @@
 // exchanged_branches: a pair of limbs split between two close junctions, the other way round in
 // another skeleton, can only be matched crossed; the exchanged variant lets the matcher pair them
 // the right way, and nothing else about the skeleton changes.
+#include "libstm/mesh/load_mesh.h"
 #include "libstm/skeleton/exchange_branches.h"
 #include "libstm/skeleton/match_skeletons.h"
 
@@ -142,7 +143,7 @@ TEST_CASE("exchanged_branches on the shared meshes' transfer skeletons, measured
   const std::string shark = std::string(SDM_TEST_DATA) + "/../../../shared/models/cgal/mech-holes-shark.off";
   if (std::ifstream(shark).good()) meshes.push_back({"cgal/mech-holes-shark.off", shark, -1});
   for (const auto& m : meshes) {
-    const sdm::Skeleton s = sdm::extract_skeleton(sdm::load_mesh(m.path), sdm::transfer_skeleton_options());
+    const sdm::Skeleton s = sdm::extract_skeleton(sdm::load_mesh(m.path).mesh, sdm::transfer_skeleton_options());
     const std::vector<sdm::Skeleton> v = sdm::exchanged_branches(s);
     if (const char* dump = std::getenv("SDM_TEST_DUMP")) sdm::write_skeleton_json(s, std::string(dump) + "/" + std::filesystem::path(m.path).stem().string() + ".json");
     std::fprintf(stderr, "%-32s %3zu nodes, %2d ends, %2d junctions: %zu variants\n", m.name.c_str(), s.nodes.size(), s.end_nodes(),

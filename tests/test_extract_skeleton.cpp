@@ -1,3 +1,4 @@
+#include "libstm/mesh/load_mesh.h"
 #include "libstm/skeleton/contract_mesh.h"
 #include "libstm/skeleton/extract_skeleton.h"
 #include "libstm/layout/segments.h"
@@ -285,7 +286,7 @@ TEST_CASE("real meshes: cycles equal genus and every sample inside and no branch
       {"double-torus-example.off", 2}, {"rotor.off", 1}, {"anchor_dense.off", 4}, {"blobby.off", 0}, {"retinal.off", 0}};
   for (const auto& [name, genus] : cases) {
     INFO(name);
-    const sdm::Mesh m = sdm::load_mesh(std::string(SDM_TEST_DATA) + "/" + name);
+    const sdm::Mesh m = sdm::load_mesh(std::string(SDM_TEST_DATA) + "/" + name).mesh;
     const sdm::Skeleton s = sdm::extract_skeleton(m);
     CHECK(s.cycles() == genus);
     CHECK(s.components() == 1);
@@ -314,7 +315,7 @@ TEST_CASE("The contraction converges on every closed mesh of ../shared/models", 
   if (meshes.empty()) WARN("no meshes in ../shared/models: skipped");
   for (const auto& sm : meshes) {
     INFO(sm.name);
-    const sdm::Mesh m = sdm::load_mesh(sm.path);
+    const sdm::Mesh m = sdm::load_mesh(sm.path).mesh;
     sdm::SkeletonStats st;
     const sdm::Skeleton s = sdm::extract_skeleton(m, {}, nullptr, &st);
     REQUIRE(st.area_ratio >= 0);  // the contraction ran (whichever candidate was kept)
@@ -346,7 +347,7 @@ TEST_CASE("the paper five shapes: cycles equal genus and ypsilon and crossed-cyl
 }
 
 TEST_CASE("Spot: an end at every hoof and at least one per leg horn and ear and all inside", "[skeleton]") {
-  const sdm::Mesh m = sdm::load_mesh(std::string(SDM_EXAMPLES) + "/spot/spot_triangulated.obj");
+  const sdm::Mesh m = sdm::load_mesh(std::string(SDM_EXAMPLES) + "/spot/spot_triangulated.obj").mesh;
   const sdm::Skeleton s = sdm::extract_skeleton(m);
   const double diag = sdm::bounding_box_diagonal(m);
   CHECK(s.cycles() == 0);
@@ -385,7 +386,7 @@ TEST_CASE("Spot: an end at every hoof and at least one per leg horn and ear and 
 }
 
 TEST_CASE("same input gives the same skeleton; a rotated input the rotated one", "[skeleton]") {
-  const sdm::Mesh m = sdm::load_mesh(std::string(SDM_TEST_DATA) + "/double-torus-example.off");
+  const sdm::Mesh m = sdm::load_mesh(std::string(SDM_TEST_DATA) + "/double-torus-example.off").mesh;
   const auto a = sdm::skeleton_to_json(sdm::extract_skeleton(m)).dump();
   const auto b = sdm::skeleton_to_json(sdm::extract_skeleton(m)).dump();
   CHECK(a == b);

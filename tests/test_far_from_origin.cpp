@@ -3,6 +3,7 @@
 // moved +1e3, +1e4 and +1e6 in x keeps its skeleton's branching, its skeleton lands where the
 // origin's lands moved by the same offset, and its round trip's RMS stays within 1.2 times the
 // origin's (the decoded mesh is compared with the moved input, so it is in the input's frame).
+#include "libstm/mesh/load_mesh.h"
 #include "libstm/mesh/mesh.h"
 #include "libstm/skeleton/skeleton.h"
 #include "tests/test_util.h"
@@ -50,7 +51,7 @@ FarRun run_at(const sdm::Mesh& spot, double offset, const test_util::TempDir& di
 }  // namespace
 
 TEST_CASE("Spot far from the origin keeps its skeleton and its round trip's error", "[far_from_origin][skeleton][roundtrip]") {
-  const sdm::Mesh spot = on_grid(sdm::load_mesh(std::string(SDM_EXAMPLES) + "/spot/spot_triangulated.obj"));
+  const sdm::Mesh spot = on_grid(sdm::load_mesh(std::string(SDM_EXAMPLES) + "/spot/spot_triangulated.obj").mesh);
   const double diag = sdm::bounding_box_diagonal(spot);
   test_util::TempDir dir;
   const FarRun origin = run_at(spot, 0, dir);

@@ -12,6 +12,7 @@
 #include "libstm/layout/compute_layout.h"
 #include "libstm/layout/layout_json.h"
 #include "libstm/layout/stm_coordinates.h"
+#include "libstm/mesh/load_mesh.h"
 #include "libstm/mesh/mesh.h"
 #include "libstm/mesh/obj_material.h"
 #include "libstm/mesh/primitives.h"

@@ -5,6 +5,7 @@
 #include "libstm/core/errors.h"
 #include "libstm/core/image.h"
 #include "libstm/mesh/gltf_io.h"
+#include "libstm/mesh/load_mesh.h"
 #include "libstm/mesh/mesh.h"
 #include "libstm/mesh/validate_mesh.h"
 #include "tests/glb_check.h"
@@ -74,13 +75,15 @@ std::string split_cube_glb(size_t count_override = 0, const std::function<void(n
 
 TEST_CASE("Spot written as .glb reads back with the same points, faces, uv and texture", "[gltf]") {
   test_util::TempDir dir;
-  const sdm::Mesh spot = sdm::load_mesh(kSpot);
+  const sdm::Mesh spot = sdm::load_mesh(kSpot).mesh;
   REQUIRE(spot.has_halfedge_texcoords2D());
   const std::string glb = dir / "spot.glb";
   sdm::write_gltf(spot, glb, kSpotTexture);
   check_glb_structure(glb);
   sdm::Image embedded;
-  const sdm::Mesh back = sdm::load_mesh(glb, nullptr, nullptr, &embedded);
+  sdm::LoadedMesh back_read = sdm::load_mesh(glb);
+  embedded = std::move(back_read.texture_image);
+  const sdm::Mesh back = std::move(back_read.mesh);
   REQUIRE(back.n_vertices() == spot.n_vertices());
   REQUIRE(back.n_faces() == spot.n_faces());
   REQUIRE(back.has_halfedge_texcoords2D());
@@ -182,8 +185,10 @@ TEST_CASE("sdm transfer -o OUT.glb writes the target with its uv and the atlas e
   const nlohmann::json j = check_glb_structure(dir / "out.glb");
   CHECK(j.at("images").size() == 1);
   sdm::Image embedded;
-  const sdm::Mesh back = sdm::load_mesh(dir / "out.glb", nullptr, nullptr, &embedded);
-  const sdm::Mesh spot = sdm::load_mesh(kSpot);
+  sdm::LoadedMesh back_read = sdm::load_mesh(dir / "out.glb");
+  embedded = std::move(back_read.texture_image);
+  const sdm::Mesh back = std::move(back_read.mesh);
+  const sdm::Mesh spot = sdm::load_mesh(kSpot).mesh;
   CHECK(back.n_vertices() == spot.n_vertices());
   CHECK(back.has_halfedge_texcoords2D());
   const sdm::Image atlas = sdm::read_png(dir / "out_atlas.png");
@@ -204,15 +209,15 @@ TEST_CASE("sdm convert writes .gltf with embedded buffers that reads back as the
   REQUIRE(r.exit_code == 0);
   const nlohmann::json j = nlohmann::json::parse(read_bytes(dir / "spot.gltf"));
   CHECK(j.at("buffers")[0].at("uri").get<std::string>().rfind("data:application/octet-stream;base64,", 0) == 0);
-  const sdm::Mesh back = sdm::load_mesh(dir / "spot.gltf");
-  const sdm::Mesh spot = sdm::load_mesh(kSpot);
+  const sdm::Mesh back = sdm::load_mesh(dir / "spot.gltf").mesh;
+  const sdm::Mesh spot = sdm::load_mesh(kSpot).mesh;
   CHECK(back.n_vertices() == spot.n_vertices());
   CHECK(back.n_faces() == spot.n_faces());
 }
 
 TEST_CASE("sdm render draws a .glb with its embedded texture as the OBJ with its PNG", "[gltf][render]") {
   test_util::TempDir dir;
-  sdm::write_gltf(sdm::load_mesh(kSpot), dir / "spot.glb", kSpotTexture);
+  sdm::write_gltf(sdm::load_mesh(kSpot).mesh, dir / "spot.glb", kSpotTexture);
   const auto a = test_util::run_sdm("render " + dir / "spot.glb" + " --unlit --width 256 --height 256 -o " + dir / "glb.png");
   const auto b = test_util::run_sdm("render " + kSpot + " --texture " + kSpotTexture + " --unlit --width 256 --height 256 -o " + dir / "obj.png");
   INFO(a.output << b.output);

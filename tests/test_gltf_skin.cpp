@@ -5,6 +5,7 @@
 // forest of joints, more than 256 joints, uv seams (Spot), bad skins and malformed files.
 #include "libstm/core/errors.h"
 #include "libstm/mesh/gltf_skin.h"
+#include "libstm/mesh/load_mesh.h"
 #include "libstm/mesh/mesh.h"
 #include "libstm/mesh/primitives.h"
 #include "tests/glb_check.h"
@@ -396,7 +397,7 @@ TEST_CASE("More than 256 joints are written as unsigned shorts and read back", "
 
 TEST_CASE("Spot rigged with its texture: vertices split at uv seams carry their vertex's weights", "[gltf][gltf_skin]") {
   test_util::TempDir dir;
-  Rig r{sdm::load_mesh(kSpot), {}};
+  Rig r{sdm::load_mesh(kSpot).mesh, {}};
   REQUIRE(r.mesh.has_halfedge_texcoords2D());
   double lo = INFINITY, hi = -INFINITY;
   for (auto v : r.mesh.vertices()) lo = std::min(lo, r.mesh.point(v)[2]), hi = std::max(hi, r.mesh.point(v)[2]);

@@ -1,4 +1,5 @@
 // Isotropic remeshing of real meshes through `sdm remesh`: new triangles, same surface and genus.
+#include "libstm/mesh/load_mesh.h"
 #include "libstm/mesh/surface_distance.h"
 #include "libstm/mesh/isotropic_remesh.h"
 #include "libstm/mesh/mesh.h"
@@ -26,7 +27,7 @@ TEST_CASE("sdm remesh keeps the surface and the genus with a new tessellation", 
   auto r = test_util::run_sdm("remesh " + in + " -o " + (dir / "out.ply") + " --factor " + c.factor);
   INFO(r.output);
   REQUIRE(r.exit_code == 0);
-  const Mesh a = load_mesh(in), b = load_mesh(dir / "out.ply");
+  const Mesh a = load_mesh(in).mesh, b = load_mesh(dir / "out.ply").mesh;
   CHECK(b.n_vertices() != a.n_vertices());
   const MeshReport rep = validate_mesh(mesh_to_soup(b));
   CHECK(rep.usable());

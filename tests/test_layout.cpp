@@ -1,5 +1,6 @@
 #include "libstm/core/atomic_file.h"
 #include "libstm/core/errors.h"
+#include "libstm/mesh/load_mesh.h"
 #include "libstm/skeleton/extract_skeleton.h"
 #include "libstm/mesh/primitives.h"
 #include "libstm/layout/assign_layout_faces.h"
@@ -269,7 +270,7 @@ TEST_CASE("layout: sdm stm writes the layout, the uv mesh and the atlas picture"
     CHECK(j["rectangles"][s]["extend"][0].get<double>() == L.segments[s].extend_a);
     CHECK(j["rectangles"][s]["extend"][1].get<double>() == L.segments[s].extend_b);
   }
-  const auto uv = sdm::load_mesh((dir / "torus_uv.obj").string());
+  const auto uv = sdm::load_mesh((dir / "torus_uv.obj").string()).mesh;
   CHECK(uv.n_faces() == s.mesh.n_faces());
   CHECK(fs::file_size(dir / "atlas.png") > 100);
   // Without --skeleton the command extracts one: the torus keeps its cycle.
@@ -340,7 +341,7 @@ TEST_CASE("layout: the paper's shapes and Spot with extracted skeletons cover th
   const std::vector<std::pair<std::string, double>> shapes = {
       {"ypsilon", 0.837}, {"bottle", 0.894}, {"donut", 0.997}, {"triple-torus", 0.91}, {"crossed-cylinders", 0.743}, {"spot", 0.0}};
   for (const auto& [name, paper] : shapes) {
-    const sdm::Mesh mesh = name == "spot" ? sdm::load_mesh(std::string(SDM_EXAMPLES) + "/spot/spot_triangulated.obj")
+    const sdm::Mesh mesh = name == "spot" ? sdm::load_mesh(std::string(SDM_EXAMPLES) + "/spot/spot_triangulated.obj").mesh
                                           : sdm::make_primitive(name);
     const sdm::Skeleton sk = sdm::extract_skeleton(mesh);
     sdm::LayoutOptions o;  // 1024^2, margin 4
@@ -422,7 +423,7 @@ TEST_CASE("layout stretch of every closed mesh of ../shared/models is bounded", 
   int extended = 0;
   for (const auto& sm : meshes) {
     const std::string& name = sm.name;
-    const sdm::Mesh m = sdm::load_mesh(sm.path);
+    const sdm::Mesh m = sdm::load_mesh(sm.path).mesh;
     const sdm::Layout L = sdm::compute_layout(m, sdm::extract_skeleton(m));
     const sdm::StmCoordinates c = sdm::stm_coordinates(m, L);
     const auto [l2, p99] = stretch_and_p99(c.mesh);

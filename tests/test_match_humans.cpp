@@ -4,6 +4,7 @@
 // when the matched target key lies within 8 % of the target's diagonal of where the source key's
 // own vertices (vertex_node) are on the target (same indices): measured 1.2-6.3 %, and 35-47 %
 // before branch significance and chain lengths were used (a raised arm matched to a head).
+#include "libstm/mesh/load_mesh.h"
 #include "libstm/mesh/mesh.h"
 #include "libstm/skeleton/common_branching.h"
 #include "libstm/skeleton/extract_skeleton.h"
@@ -62,7 +63,7 @@ double worst_key_error(const sdm::Skeleton& sa, const sdm::Skeleton& sb, const s
 
 TEST_CASE("FAUST 007 and 024: every junction and end lands on its part, both ways", "[match_humans]") {
   if (!have("tr_reg_007.off") || !have("tr_reg_024.off")) return;
-  const sdm::Mesh a = sdm::load_mesh(humans() + "tr_reg_007.off"), b = sdm::load_mesh(humans() + "tr_reg_024.off");
+  const sdm::Mesh a = sdm::load_mesh(humans() + "tr_reg_007.off").mesh, b = sdm::load_mesh(humans() + "tr_reg_024.off").mesh;
   const sdm::Skeleton sa = sdm::extract_skeleton(a, sdm::transfer_skeleton_options());
   const sdm::Skeleton sb = sdm::extract_skeleton(b, sdm::transfer_skeleton_options());
   // 024 has a finger more and 007 its shoulder split in two junctions: both go, nothing else.
@@ -83,7 +84,7 @@ TEST_CASE("FAUST 007 and 024: every junction and end lands on its part, both way
 // invariant (024 turned and scaled gives a skeleton with one arm hanging from the pelvis).
 TEST_CASE("FAUST 007 and 024 turned around and scaled by 1.7: the keys still land on their parts", "[match_humans]") {
   if (!have("tr_reg_007.off") || !have("tr_reg_024.off")) return;
-  const sdm::Mesh a = sdm::load_mesh(humans() + "tr_reg_007.off"), b = sdm::load_mesh(humans() + "tr_reg_024.off");
+  const sdm::Mesh a = sdm::load_mesh(humans() + "tr_reg_007.off").mesh, b = sdm::load_mesh(humans() + "tr_reg_024.off").mesh;
   const sdm::Mesh ta = turned(a), tb = turned(b);
   const sdm::SkeletonOptions so = sdm::transfer_skeleton_options();
   const sdm::Skeleton sa = sdm::extract_skeleton(a, so), sb = sdm::extract_skeleton(b, so);
@@ -96,7 +97,7 @@ TEST_CASE("FAUST 007 and 024 turned around and scaled by 1.7: the keys still lan
 
 TEST_CASE("gorilla and man: head, hands and feet match head, hands and feet", "[match_humans]") {
   if (!have("8_gorilla_01.off") || !have("8_man_02.off")) return;
-  const sdm::Mesh g = sdm::load_mesh(humans() + "8_gorilla_01.off"), h = sdm::load_mesh(humans() + "8_man_02.off");
+  const sdm::Mesh g = sdm::load_mesh(humans() + "8_gorilla_01.off").mesh, h = sdm::load_mesh(humans() + "8_man_02.off").mesh;
   const sdm::SkeletonOptions so = sdm::transfer_skeleton_options();
   const sdm::Skeleton sg = sdm::extract_skeleton(g, so), sh = sdm::extract_skeleton(h, so);
   // Roles from the graph and lengths alone: an end hanging from the degree-3 junction is a foot;

@@ -1,5 +1,6 @@
 // Mesh I/O: round trips keep positions and uv; formats are chosen by extension.
 #include "libstm/core/errors.h"
+#include "libstm/mesh/load_mesh.h"
 #include "libstm/mesh/mesh.h"
 #include "libstm/mesh/validate_mesh.h"
 #include "tests/test_util.h"
@@ -40,7 +41,9 @@ TEST_CASE("OBJ round trip keeps double positions and per-corner uv and the textu
   test_util::write_file(dir / "tex.png", "not read here");
   write_mesh(m, dir / "octa.obj", dir / "tex.png");
   std::string texture;
-  Mesh r = load_mesh(dir / "octa.obj", &texture);
+  LoadedMesh r_read = load_mesh(dir / "octa.obj");
+  texture = std::move(r_read.texture);
+  Mesh r = std::move(r_read.mesh);
   REQUIRE(r.n_vertices() == m.n_vertices());
   REQUIRE(r.n_faces() == m.n_faces());
   for (auto v : m.vertices()) CHECK(((point(m, v) - point(r, r.vertex_handle(v.idx()))).norm() == 0.0));
@@ -64,7 +67,7 @@ TEST_CASE("PLY and OFF and STL round trips keep the surface", "[mesh]") {
   for (const char* ext : {"ply", "off", "stl"}) {
     const std::string path = dir / (std::string("octa.") + ext);
     write_mesh(m, path);
-    Mesh r = load_mesh(path);
+    Mesh r = load_mesh(path).mesh;
     INFO(ext);
     REQUIRE(r.n_vertices() == 6);
     REQUIRE(r.n_faces() == 8);
@@ -89,7 +92,9 @@ TEST_CASE("Writing to a missing folder or an unknown format fails cleanly", "[me
 
 TEST_CASE("Spot reads with its uv and texture from the MTL", "[mesh]") {
   std::string texture;
-  Mesh spot = load_mesh(std::string(SDM_EXAMPLES) + "/spot/spot_triangulated.obj", &texture);
+  LoadedMesh spot_read = load_mesh(std::string(SDM_EXAMPLES) + "/spot/spot_triangulated.obj");
+  texture = std::move(spot_read.texture);
+  Mesh spot = std::move(spot_read.mesh);
   CHECK(spot.n_vertices() == 2930);
   CHECK(spot.n_faces() == 5856);
   CHECK(spot.has_halfedge_texcoords2D());

@@ -8,6 +8,7 @@
 
 #include "libstm/mesh/fill_holes.h"
 #include "libstm/mesh/inside_mesh.h"
+#include "libstm/mesh/load_mesh.h"
 #include "libstm/mesh/mesh_geometry.h"
 #include "libstm/mesh/primitives.h"
 #include "libstm/mesh/validate_mesh.h"
@@ -126,7 +127,7 @@ TEST_CASE("sdm roundtrip keeps an open mesh's holes; --fill-holes closes them", 
   INFO(dec.output);
   REQUIRE(dec.exit_code == 0);
   CHECK(json_of(dec).at("boundary_loops") == 3);
-  const sdm::MeshReport back = sdm::validate_mesh(sdm::mesh_to_soup(sdm::load_mesh(dir / "back.ply")));
+  const sdm::MeshReport back = sdm::validate_mesh(sdm::mesh_to_soup(sdm::load_mesh(dir / "back.ply").mesh));
   CHECK(back.boundary_loops == 3);
   CHECK(back.usable());
 }
@@ -193,7 +194,7 @@ TEST_CASE("sdm transfer onto FAUST bodies with holes", "[open_mesh]") {
   const sdm::Mesh a = faust::write_textured("tr_reg_007.off", dir / "a.obj", dir / "a.png");
   const std::vector<int> at{1933, 3353, 5876};
   for (const char* name : {"tr_reg_007.off", "tr_reg_024.off"}) {
-    const sdm::Mesh full = sdm::load_mesh(faust::humans_dir() + "/" + name);
+    const sdm::Mesh full = sdm::load_mesh(faust::humans_dir() + "/" + name).mesh;
     std::vector<int> kept;
     std::vector<Eigen::Vector3d> centres;
     for (int v : at) centres.push_back(sdm::point(full, full.vertex_handle(v)));
@@ -232,7 +233,7 @@ TEST_CASE("bunny00 with five holes round-trips within the real meshes' bounds wi
     return;
   }
   test_util::TempDir dir;
-  const sdm::Mesh full = sdm::load_mesh(path);
+  const sdm::Mesh full = sdm::load_mesh(path).mesh;
   std::vector<Eigen::Vector3d> centres;
   for (int v : {8805, 37023, 5053, 7739, 16900}) centres.push_back(sdm::point(full, full.vertex_handle(v)));
   const sdm::Mesh open = cut_holes(full, centres, 0.03 * sdm::bounding_box_diagonal(full));

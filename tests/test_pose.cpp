@@ -295,7 +295,7 @@ namespace {
 // FAUST 001 (../shared/models/humans) encoded as `sdm encode` does at 1024.
 Encoded encode_faust_001() {
   Encoded e;
-  e.mesh = load_mesh(faust::humans_dir() + "/tr_reg_001.off");
+  e.mesh = load_mesh(faust::humans_dir() + "/tr_reg_001.off").mesh;
   LayoutOptions lo;
   lo.size = 1024;
   e.layout = compute_layout(e.mesh, extract_skeleton(e.mesh), lo);
@@ -512,7 +512,7 @@ TEST_CASE("sdm pose turns, twists and thickens from the command line and refuses
   // The posed skeleton decodes to the same surface through sdm decode --skeleton.
   res = test_util::run_sdm("decode " + (dir / "capsule.exr") + " --lod 2 --skeleton " + (dir / "posed.json") + " -o " + (dir / "again.obj"));
   REQUIRE(res.exit_code == 0);
-  const Mesh a = load_mesh(dir / "bent.obj"), b = load_mesh(dir / "again.obj");
+  const Mesh a = load_mesh(dir / "bent.obj").mesh, b = load_mesh(dir / "again.obj").mesh;
   REQUIRE(a.n_vertices() == b.n_vertices());
   double apart = 0;
   for (auto v : a.vertices()) apart = std::max(apart, (point(a, v) - point(b, v)).norm());
@@ -520,7 +520,7 @@ TEST_CASE("sdm pose turns, twists and thickens from the command line and refuses
   // Twice the radius of both segments: the volume of a capsule of radius 2 and length 5.
   res = test_util::run_sdm(base + "-o " + (dir / "fat.obj") + " --scale-radius 0=2 --scale-radius 1=2");
   REQUIRE(res.exit_code == 0);
-  CHECK(volume(load_mesh(dir / "fat.obj")) == Approx(M_PI * 4 * 5 + 4.0 / 3 * M_PI * 8).epsilon(0.03));
+  CHECK(volume(load_mesh(dir / "fat.obj").mesh) == Approx(M_PI * 4 * 5 + 4.0 / 3 * M_PI * 8).epsilon(0.03));
   for (const std::string bad : {"--rotate 999=x,10", "--rotate 1=w,10", "--scale-radius 0=-1", "--scale-radius 9=2"}) {
     res = test_util::run_sdm(base + "-o " + (dir / "bad.obj") + " " + bad);
     INFO(bad << ": " << res.output);

@@ -1,5 +1,6 @@
 #include "libstm/core/errors.h"
 #include "libstm/mesh/isotropic_remesh.h"
+#include "libstm/mesh/load_mesh.h"
 #include "libstm/mesh/mesh.h"
 #include "libstm/mesh/primitives.h"
 #include "libstm/mesh/validate_mesh.h"
@@ -157,7 +158,7 @@ TEST_CASE("sdm primitive writes a mesh that loads back with the same counts", "[
   std::ifstream in(json);
   nlohmann::json j = nlohmann::json::parse(in);
   sdm::Mesh expected = sdm::make_primitive("bottle");
-  sdm::Mesh loaded = sdm::load_mesh(out);
+  sdm::Mesh loaded = sdm::load_mesh(out).mesh;
   CHECK(loaded.n_vertices() == expected.n_vertices());
   CHECK(loaded.n_faces() == expected.n_faces());
   CHECK(j["vertices"].get<long>() == static_cast<long>(expected.n_vertices()));

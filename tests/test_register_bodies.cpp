@@ -9,6 +9,7 @@
 
 #include "libstm/core/errors.h"
 #include "libstm/core/image.h"
+#include "libstm/mesh/load_mesh.h"
 #include "libstm/mesh/mesh_geometry.h"
 #include "libstm/mesh/primitives.h"
 #include "libstm/skeleton/extract_skeleton.h"
@@ -66,8 +67,8 @@ TEST_CASE("register_bodies: FAUST 007 onto 024 from the extracted skeletons", "[
     WARN("no FAUST meshes at " << faust::humans_dir() << ": skipped");
     return;
   }
-  const sdm::Mesh a = sdm::load_mesh(faust::humans_dir() + "/tr_reg_007.off");
-  const sdm::Mesh b = sdm::load_mesh(faust::humans_dir() + "/tr_reg_024.off");
+  const sdm::Mesh a = sdm::load_mesh(faust::humans_dir() + "/tr_reg_007.off").mesh;
+  const sdm::Mesh b = sdm::load_mesh(faust::humans_dir() + "/tr_reg_024.off").mesh;
   const sdm::Skeleton sa = sdm::extract_skeleton(a, sdm::transfer_skeleton_options());
   const Measured plain = measure("007 -> 024", a, sa, b);
   std::fprintf(stderr, "%s\n", plain.text.c_str());
@@ -96,8 +97,8 @@ TEST_CASE("register_bodies: FAUST 024 onto 007 from the extracted skeletons", "[
     WARN("no FAUST meshes at " << faust::humans_dir() << ": skipped");
     return;
   }
-  const sdm::Mesh a = sdm::load_mesh(faust::humans_dir() + "/tr_reg_024.off");
-  const sdm::Mesh b = sdm::load_mesh(faust::humans_dir() + "/tr_reg_007.off");
+  const sdm::Mesh a = sdm::load_mesh(faust::humans_dir() + "/tr_reg_024.off").mesh;
+  const sdm::Mesh b = sdm::load_mesh(faust::humans_dir() + "/tr_reg_007.off").mesh;
   const sdm::Skeleton sa = sdm::extract_skeleton(a, sdm::transfer_skeleton_options());
   const Measured plain = measure("024 -> 007", a, sa, b);
   std::fprintf(stderr, "%s\n", plain.text.c_str());
@@ -172,8 +173,8 @@ TEST_CASE("sdm transfer --correspondence between two FAUST bodies", "[register_b
 TEST_CASE("register_bodies: candidate matches against the FAUST ground truth", "[.][candidates_measure]") {
   if (!faust::have("tr_reg_007.off") || !faust::have("tr_reg_024.off")) return;
   for (int dir = 0; dir < (std::getenv("DIR0") ? 1 : 2); ++dir) {
-    const sdm::Mesh a = sdm::load_mesh(faust::humans_dir() + (dir ? "/tr_reg_024.off" : "/tr_reg_007.off"));
-    const sdm::Mesh b0 = sdm::load_mesh(faust::humans_dir() + (dir ? "/tr_reg_007.off" : "/tr_reg_024.off"));
+    const sdm::Mesh a = sdm::load_mesh(faust::humans_dir() + (dir ? "/tr_reg_024.off" : "/tr_reg_007.off")).mesh;
+    const sdm::Mesh b0 = sdm::load_mesh(faust::humans_dir() + (dir ? "/tr_reg_007.off" : "/tr_reg_024.off")).mesh;
     const sdm::Skeleton sa = sdm::extract_skeleton(a, sdm::transfer_skeleton_options());
     for (int turned = std::getenv("TURNED") ? 1 : 0; turned < 2; ++turned) {
       const sdm::Mesh b = turned ? faust::turned_scaled(b0, 1.7) : b0;
@@ -220,8 +221,8 @@ TEST_CASE("register_bodies: candidate matches against the FAUST ground truth", "
 // [faust_measure]; DECISIONS 5 and BENCHMARKS quote it).
 TEST_CASE("register_bodies: FAUST pairs measured", "[.][faust_measure]") {
   if (!faust::have("tr_reg_007.off") || !faust::have("tr_reg_024.off")) return;
-  const sdm::Mesh m007 = sdm::load_mesh(faust::humans_dir() + "/tr_reg_007.off");
-  const sdm::Mesh m024 = sdm::load_mesh(faust::humans_dir() + "/tr_reg_024.off");
+  const sdm::Mesh m007 = sdm::load_mesh(faust::humans_dir() + "/tr_reg_007.off").mesh;
+  const sdm::Mesh m024 = sdm::load_mesh(faust::humans_dir() + "/tr_reg_024.off").mesh;
   for (int dir = 0; dir < 2; ++dir) {
     const sdm::Mesh& a = dir ? m024 : m007;
     const sdm::Mesh& b = dir ? m007 : m024;
@@ -250,8 +251,8 @@ TEST_CASE("fit_skeleton from the true node rotations: the bound a better start r
     WARN("no FAUST meshes at " << faust::humans_dir() << ": skipped");
     return;
   }
-  const sdm::Mesh a = sdm::load_mesh(faust::humans_dir() + "/tr_reg_007.off");
-  const sdm::Mesh b = sdm::load_mesh(faust::humans_dir() + "/tr_reg_024.off");
+  const sdm::Mesh a = sdm::load_mesh(faust::humans_dir() + "/tr_reg_007.off").mesh;
+  const sdm::Mesh b = sdm::load_mesh(faust::humans_dir() + "/tr_reg_024.off").mesh;
   const sdm::Skeleton sa = sdm::extract_skeleton(a, sdm::transfer_skeleton_options());
   const sdm::Skeleton sb = sdm::extract_skeleton(b, sdm::transfer_skeleton_options());
   const sdm::BodyRegistration r = sdm::register_bodies(a, sa, b, sb, {});
@@ -307,7 +308,7 @@ std::vector<int> ends_nearest(const sdm::Mesh& mesh, const sdm::Skeleton& s, con
 // head, the middle fingertips, the big toes).
 TEST_CASE("register_bodies: crossed hands lay the limbs' attachments further apart", "[register_bodies]") {
   if (!faust::have("tr_reg_007.off") || !faust::have("tr_reg_024.off")) return;
-  const sdm::Mesh a = sdm::load_mesh(faust::humans_dir() + "/tr_reg_007.off"), b = sdm::load_mesh(faust::humans_dir() + "/tr_reg_024.off");
+  const sdm::Mesh a = sdm::load_mesh(faust::humans_dir() + "/tr_reg_007.off").mesh, b = sdm::load_mesh(faust::humans_dir() + "/tr_reg_024.off").mesh;
   const sdm::Skeleton sa = sdm::extract_skeleton(a, sdm::transfer_skeleton_options()), sb = sdm::extract_skeleton(b, sdm::transfer_skeleton_options());
   const std::vector<int> landmarks = {411, 2445, 5905, 3216, 6617};  // head, left hand, right hand, left foot, right foot
   const std::vector<int> ea = ends_nearest(a, sa, landmarks), eb = ends_nearest(b, sb, landmarks);
@@ -337,7 +338,7 @@ TEST_CASE("register_bodies: a mirrored match's ends bend the other way", "[regis
                         {"8_gorilla_01.off", "8_man_02.off", {889, 3401, 2374, 4976, 4179}, {2982, 962, 228, 4617, 513}}};
   for (const Pair& p : pairs) {
     if (!faust::have(p.a) || !faust::have(p.b)) continue;
-    const sdm::Mesh a = sdm::load_mesh(faust::humans_dir() + "/" + p.a), b = sdm::load_mesh(faust::humans_dir() + "/" + p.b);
+    const sdm::Mesh a = sdm::load_mesh(faust::humans_dir() + "/" + p.a).mesh, b = sdm::load_mesh(faust::humans_dir() + "/" + p.b).mesh;
     const sdm::Skeleton sa = sdm::extract_skeleton(a, sdm::transfer_skeleton_options()), sb = sdm::extract_skeleton(b, sdm::transfer_skeleton_options());
     const std::vector<int> ea = ends_nearest(a, sa, p.la), eb = ends_nearest(b, sb, p.lb);
     std::vector<std::pair<int, int>> straight, mirrored;

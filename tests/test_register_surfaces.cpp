@@ -1,6 +1,7 @@
 // Similarity registration (register_surfaces): a moved, turned, scaled and retessellated copy of a
 // model is brought back onto it, with the transform recovered and the surfaces within a fraction of
 // an edge; two different shapes stay far apart.
+#include "libstm/mesh/load_mesh.h"
 #include "libstm/mesh/primitives.h"
 #include "libstm/registration/register_surfaces.h"
 
@@ -37,7 +38,9 @@ TEST_CASE("fit_similarity recovers an exact similarity", "[register_surfaces]") 
 
 TEST_CASE("a moved, turned, scaled and retessellated copy registers back onto its source", "[register_surfaces]") {
   std::string tex;
-  const sdm::Mesh spot = sdm::load_mesh(std::string(SDM_EXAMPLES) + "/spot/spot_triangulated.obj", &tex);
+  sdm::LoadedMesh spot_read = sdm::load_mesh(std::string(SDM_EXAMPLES) + "/spot/spot_triangulated.obj");
+  tex = std::move(spot_read.texture);
+  const sdm::Mesh spot = std::move(spot_read.mesh);
   // A small turn (found from no rotation) and a large one (from the principal axes).
   const double degrees = GENERATE(15.0, 130.0);
   sdm::Similarity T;

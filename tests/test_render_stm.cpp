@@ -5,6 +5,7 @@
 #include "libstm/layout/compute_layout.h"
 #include "libstm/layout/layout_json.h"
 #include "libstm/layout/stm_coordinates.h"
+#include "libstm/mesh/load_mesh.h"
 #include "libstm/skeleton/extract_skeleton.h"
 #include "libstm/render/gl_context.h"
 #include "libstm/render/render_atlas.h"
@@ -37,7 +38,9 @@ const SpotScene& spot(sdm::GlContext& gl) {
   if (!sc) {
     sc = std::make_unique<SpotScene>();
     std::string tex;
-    sc->mesh = sdm::load_mesh(std::string(SDM_EXAMPLES) + "/spot/spot_triangulated.obj", &tex);
+    sdm::LoadedMesh mesh_read = sdm::load_mesh(std::string(SDM_EXAMPLES) + "/spot/spot_triangulated.obj");
+    tex = std::move(mesh_read.texture);
+    sc->mesh = std::move(mesh_read.mesh);
     REQUIRE(!tex.empty());
     sc->texture = sdm::read_png(tex);
     const sdm::Skeleton sk = sdm::extract_skeleton(sc->mesh);  // the skeleton a user gets

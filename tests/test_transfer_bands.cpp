@@ -19,6 +19,7 @@
 #include "test_util.h"
 #include "faust_pairs.h"
 
+#include "libstm/mesh/load_mesh.h"
 #include "libstm/mesh/mesh.h"
 #include "libstm/mesh/mesh_geometry.h"
 
@@ -66,7 +67,7 @@ struct Bands {
 Bands transfer_bands(const Body& src, const Body& tgt, const std::string& target_file = "", uint32_t source_seed = 0) {
   Bands r;
   test_util::TempDir dir;
-  sdm::Mesh a = sdm::load_mesh(faust::humans_dir() + "/" + src.file);
+  sdm::Mesh a = sdm::load_mesh(faust::humans_dir() + "/" + src.file).mesh;
   if (source_seed) {
     const double diag = sdm::bounding_box_diagonal(a);
     uint32_t x = source_seed;
@@ -95,8 +96,10 @@ Bands transfer_bands(const Body& src, const Body& tgt, const std::string& target
   r.exit_code = res.exit_code, r.output = res.output;
   if (res.exit_code != 0) return r;
   std::vector<Eigen::Vector3f> got;
-  const sdm::Mesh b = sdm::load_mesh(dir / "t.ply", nullptr, &got);
-  const sdm::Mesh b0 = sdm::load_mesh(faust::humans_dir() + "/" + tgt.file);
+  sdm::LoadedMesh b_read = sdm::load_mesh(dir / "t.ply");
+  got = std::move(b_read.colors);
+  const sdm::Mesh b = std::move(b_read.mesh);
+  const sdm::Mesh b0 = sdm::load_mesh(faust::humans_dir() + "/" + tgt.file).mesh;
   REQUIRE(got.size() == b0.n_vertices());
   const std::vector<double> area = sdm::vertex_areas(b0);
   for (int k = 0; k < 5; ++k) {
@@ -176,7 +179,7 @@ Parts transfer_parts(const Body& src, const Body& tgt) {
                                       (dir / "b.obj") + " --size 256 --correspondence " + (dir / "c.txt"));
   r.exit_code = res.exit_code, r.output = res.output;
   if (res.exit_code != 0) return r;
-  const sdm::Mesh b = sdm::load_mesh(faust::humans_dir() + "/" + tgt.file);
+  const sdm::Mesh b = sdm::load_mesh(faust::humans_dir() + "/" + tgt.file).mesh;
   std::vector<Eigen::Vector3d> under;  // per target vertex, its source point
   for (const sdm::SourcePoint& q : faust::read_correspondence(dir / "c.txt")) {
     REQUIRE((q.face >= 0 && q.face < int(a.n_faces())));
@@ -393,7 +396,7 @@ std::string check_variant(const Body& src, const Body& tgt, int k) {
     return "";
   }
   test_util::TempDir dir;
-  const Bands r = transfer_bands(src, tgt, write_variant(sdm::load_mesh(faust::humans_dir() + "/" + tgt.file), k, dir));
+  const Bands r = transfer_bands(src, tgt, write_variant(sdm::load_mesh(faust::humans_dir() + "/" + tgt.file).mesh, k, dir));
   INFO(r.output);
   REQUIRE(r.exit_code == 0);
   std::fprintf(stderr, "%s -> %s (variant %d):\n%s", src.file, tgt.file, k, describe(r).c_str());
@@ -430,7 +433,7 @@ TEST_CASE("sdm transfer: a tie between left and right is refused, not guessed", 
   if (!faust::have(kBodies[0].file) || !faust::have(kBodies[2].file)) return;
   test_util::TempDir dir;
   check_right_or_refused(
-      transfer_bands(kBodies[0], kBodies[2], write_variant(sdm::load_mesh(faust::humans_dir() + "/" + kBodies[2].file), 6, dir), 101),
+      transfer_bands(kBodies[0], kBodies[2], write_variant(sdm::load_mesh(faust::humans_dir() + "/" + kBodies[2].file).mesh, 6, dir), 101),
       "cannot be told apart", "--match");
 }
 
@@ -447,7 +450,7 @@ TEST_CASE("band transfer with the target written otherwise or moved, measured", 
   int passed = 0, runs = 0;
   for (auto [s, t] : pairs) {
     if (!faust::have(kBodies[s].file) || !faust::have(kBodies[t].file)) continue;
-    const sdm::Mesh b = sdm::load_mesh(faust::humans_dir() + "/" + kBodies[t].file);
+    const sdm::Mesh b = sdm::load_mesh(faust::humans_dir() + "/" + kBodies[t].file).mesh;
     for (int k = from; k < (jitters ? 5 + jitters : 5); ++k) {
       test_util::TempDir dir;
       const char* seed = std::getenv("SDM_BANDS_SOURCE_JITTER");  // the source moved too

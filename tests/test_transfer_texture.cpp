@@ -281,7 +281,7 @@ TEST_CASE("transfer onto a turned, scaled and retessellated ypsilon carries the 
 // than bent (0.4 %); it is still the same shape and takes the source's skeleton carried over.
 TEST_CASE("transfer onto the remesh of a coarse genus-2 mesh carries the skeleton", "[transfer_texture]") {
   sdm::GlContext gl;
-  const sdm::Mesh a = sdm::load_mesh(std::string(SDM_TEST_DATA) + "/double-torus-example.off");
+  const sdm::Mesh a = sdm::load_mesh(std::string(SDM_TEST_DATA) + "/double-torus-example.off").mesh;
   const sdm::Mesh b = remeshed_like_cli(a, 1.0);
   REQUIRE(b.n_vertices() != a.n_vertices());
   sdm::TextureTransfer r;
@@ -341,7 +341,9 @@ TEST_CASE("transfer onto a new tessellation of the donut lines up the rings", "[
 TEST_CASE("transfer onto a new tessellation of Spot with hand-made skeletons reproduces its texture", "[transfer_texture]") {
   sdm::GlContext gl;
   std::string tex_path;
-  const sdm::Mesh a = sdm::load_mesh(std::string(SDM_EXAMPLES) + "/spot/spot_triangulated.obj", &tex_path);
+  sdm::LoadedMesh a_read = sdm::load_mesh(std::string(SDM_EXAMPLES) + "/spot/spot_triangulated.obj");
+  tex_path = std::move(a_read.texture);
+  const sdm::Mesh a = std::move(a_read.mesh);
   REQUIRE(!tex_path.empty());
   const sdm::Image tex = sdm::read_png(tex_path);
   const sdm::Skeleton sa = spot_skeleton(a);
@@ -367,7 +369,9 @@ TEST_CASE("transfer onto a new tessellation of Spot with hand-made skeletons rep
 TEST_CASE("transfer onto a new tessellation of Spot with extracted skeletons reproduces its texture", "[transfer_texture]") {
   sdm::GlContext gl;
   std::string tex_path;
-  const sdm::Mesh a = sdm::load_mesh(std::string(SDM_EXAMPLES) + "/spot/spot_triangulated.obj", &tex_path);
+  sdm::LoadedMesh a_read = sdm::load_mesh(std::string(SDM_EXAMPLES) + "/spot/spot_triangulated.obj");
+  tex_path = std::move(a_read.texture);
+  const sdm::Mesh a = std::move(a_read.mesh);
   REQUIRE(!tex_path.empty());
   const sdm::Image tex = sdm::read_png(tex_path);
   const sdm::Mesh b = remeshed_like_cli(a, 1.2);
@@ -410,7 +414,9 @@ void check_onto_own_remesh(const sdm::Mesh& a, const sdm::Image& tex, const std:
 // What `sdm remesh` and `sdm transfer` do by default (the remesh's own edge length, a 1024 atlas).
 TEST_CASE("Spot onto its own isotropic remesh with the command's defaults: no speck, 31 dB or more", "[transfer_texture]") {
   std::string tex_path;
-  const sdm::Mesh a = sdm::load_mesh(std::string(SDM_EXAMPLES) + "/spot/spot_triangulated.obj", &tex_path);
+  sdm::LoadedMesh a_read = sdm::load_mesh(std::string(SDM_EXAMPLES) + "/spot/spot_triangulated.obj");
+  tex_path = std::move(a_read.texture);
+  const sdm::Mesh a = std::move(a_read.mesh);
   check_onto_own_remesh(a, sdm::read_png(tex_path), "spot");
 }
 
@@ -594,7 +600,9 @@ TEST_CASE("sdm transfer writes the target with uv and its atlas and preview", "[
   CHECK(std::filesystem::exists(dir / "out_preview.png"));
   CHECK(std::filesystem::exists(dir / "out.mtl"));
   std::string atlas_path;
-  const sdm::Mesh out = sdm::load_mesh(dir / "out.obj", &atlas_path);
+  sdm::LoadedMesh out_read = sdm::load_mesh(dir / "out.obj");
+  atlas_path = std::move(out_read.texture);
+  const sdm::Mesh out = std::move(out_read.mesh);
   REQUIRE(out.has_halfedge_texcoords2D());
   REQUIRE(std::filesystem::equivalent(atlas_path, dir / "out_atlas.png"));
   const sdm::Image atlas = sdm::read_png(atlas_path);
@@ -653,7 +661,9 @@ TEST_CASE("sdm transfer --vertex-colors writes the target's vertices coloured fr
   CHECK(j.at("vertex_colors_from") == "texture");
   CHECK(ply_has_uchar_colors(dir / "colors.ply"));
   std::vector<Eigen::Vector3f> colors;
-  const sdm::Mesh out = sdm::load_mesh(dir / "colors.ply", nullptr, &colors);
+  sdm::LoadedMesh out_read = sdm::load_mesh(dir / "colors.ply");
+  colors = std::move(out_read.colors);
+  const sdm::Mesh out = std::move(out_read.mesh);
   REQUIRE(out.n_vertices() == b.n_vertices());
   REQUIRE(colors.size() == b.n_vertices());
   double worst = 0, sum = 0;
@@ -730,7 +740,9 @@ TEST_CASE("sdm transfer from a source with PLY vertex colours gives the target's
   CHECK(res.output.find("from the source's vertex colours") != std::string::npos);
   CHECK(std::filesystem::exists(dir / "out_atlas.png"));
   std::vector<Eigen::Vector3f> colors;
-  const sdm::Mesh out = sdm::load_mesh(dir / "colors.ply", nullptr, &colors);
+  sdm::LoadedMesh out_read = sdm::load_mesh(dir / "colors.ply");
+  colors = std::move(out_read.colors);
+  const sdm::Mesh out = std::move(out_read.mesh);
   REQUIRE(colors.size() == b.n_vertices());
   const double steps = 0.5 / 255 * (hi - lo).norm(), diag = (hi - lo).norm();
   double worst = 0, sum = 0;
@@ -834,7 +846,7 @@ TEST_CASE("an SDM decodes around a target skeleton with the same branching and o
                                 (dir / "out.obj"));
   INFO(res.output);
   REQUIRE(res.exit_code == 0);
-  CHECK(sdm::load_mesh(dir / "out.obj").n_vertices() == plain.n_vertices());
+  CHECK(sdm::load_mesh(dir / "out.obj").mesh.n_vertices() == plain.n_vertices());
   target.nodes.push_back(Eigen::Vector3d(5, 5, 5));
   target.edges.push_back({n, int(target.nodes.size()) - 1});  // a middle node becomes a junction
   sdm::write_skeleton_json(target, dir / "other.json");

@@ -1,5 +1,6 @@
 // Validation: every class of broken input is built here, reported with its count, refused with
 // exit code 2 when the pipeline cannot take it, and nothing is written.
+#include "libstm/mesh/load_mesh.h"
 #include "libstm/mesh/mesh.h"
 #include "libstm/mesh/validate_mesh.h"
 #include "tests/test_util.h"
@@ -175,7 +176,7 @@ TEST_CASE("Several parts are allowed and reported with their genus", "[validate]
 TEST_CASE("Inside-out input is flipped to point outwards", "[validate]") {
   test_util::TempDir dir;
   test_util::write_file(dir / "inv.off", off(4, 4, kTetraPoints, "3 0 1 2\n3 0 3 1\n3 0 2 3\n3 1 3 2\n"));
-  Mesh m = load_mesh(dir / "inv.off");
+  Mesh m = load_mesh(dir / "inv.off").mesh;
   double volume = 0;
   for (auto f : m.faces()) {
     Eigen::Vector3d p[3];

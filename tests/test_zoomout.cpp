@@ -8,6 +8,7 @@
 #include "libstm/core/stopwatch.h"
 #include "libstm/geometry/laplace_basis.h"
 #include "libstm/geometry/triangle_bvh.h"
+#include "libstm/mesh/load_mesh.h"
 #include "libstm/mesh/mesh_geometry.h"
 #include "libstm/mesh/primitives.h"
 #include "libstm/registration/correspondence_error.h"
@@ -158,7 +159,7 @@ TEST_CASE("sdm transfer between FAUST bodies, refined: the geodesic error per pa
     const sdm::Mesh a = faust::write_textured(p.source, dir / "a.obj", dir / "a.png");
     std::string target = faust::humans_dir() + "/" + p.target;
     if (p.turned_scaled) {
-      sdm::write_mesh(faust::turned_scaled(sdm::load_mesh(target), 1.7), dir / "t.obj");
+      sdm::write_mesh(faust::turned_scaled(sdm::load_mesh(target).mesh, 1.7), dir / "t.obj");
       target = dir / "t.obj";
     }
     const auto res = test_util::run_sdm("transfer --json --source " + (dir / "a.obj") + " --target " + target + " -o " + (dir / "b.obj") +
@@ -188,7 +189,7 @@ TEST_CASE("sdm transfer between FAUST_r bodies (own triangulations), refined: th
     return;
   }
   test_util::TempDir tmp;
-  const sdm::Mesh a = sdm::with_planar_uv(sdm::load_mesh(dir + "/tr_reg_014.off"));
+  const sdm::Mesh a = sdm::with_planar_uv(sdm::load_mesh(dir + "/tr_reg_014.off").mesh);
   sdm::write_png(sdm::Image(32, 32, 4, 255), tmp / "a.png");
   sdm::write_mesh(a, tmp / "a.obj", tmp / "a.png");
   const auto res = test_util::run_sdm("transfer --json --source " + (tmp / "a.obj") + " --target " + dir + "/tr_reg_026.off -o " + (tmp / "b.obj") +
@@ -245,7 +246,7 @@ TEST_CASE("zoomout: variants on the FAUST pairs", "[.][zoomout_measure]") {
     }
   }
   for (const char* n : names) {
-    meshes.push_back(sdm::load_mesh(faust::humans_dir() + "/" + n));
+    meshes.push_back(sdm::load_mesh(faust::humans_dir() + "/" + n).mesh);
     sdm::Stopwatch sw;
     bases.push_back(sdm::mesh_laplace_basis(meshes.back(), k_max));
     std::fprintf(stderr, "basis of %s: %d functions, %.2f s\n", n, k_max, sw.lap());
@@ -350,7 +351,7 @@ TEST_CASE("zoomout: variants on the remeshed benchmarks", "[.][refine_measure]")
   auto mesh = [&](const std::string& path) -> const std::pair<sdm::Mesh, sdm::LaplaceBasis>& {
     auto it = meshes.find(path);
     if (it != meshes.end()) return it->second;
-    sdm::Mesh m = sdm::load_mesh(path);
+    sdm::Mesh m = sdm::load_mesh(path).mesh;
     sdm::LaplaceBasis b = sdm::mesh_laplace_basis(m, k_max);
     return meshes.emplace(path, std::make_pair(std::move(m), std::move(b))).first->second;
   };
@@ -364,7 +365,7 @@ TEST_CASE("zoomout: variants on the remeshed benchmarks", "[.][refine_measure]")
       test_util::TempDir dir;
       sdm::Image tex(32, 32, 4, 255);
       sdm::write_png(tex, dir / "a.png");
-      sdm::write_mesh(sdm::with_planar_uv(sdm::load_mesh(p.source)), dir / "a.obj", dir / "a.png");
+      sdm::write_mesh(sdm::with_planar_uv(sdm::load_mesh(p.source).mesh), dir / "a.obj", dir / "a.png");
       const auto res = test_util::run_sdm("transfer --no-refine --force --source " + (dir / "a.obj") + " --target " + p.target + " -o " + (dir / "b.obj") +
                                           " --size 256 --correspondence " + file);
       INFO(res.output);

@@ -158,18 +158,6 @@ LoadedMesh load_mesh(const std::string& path, const LoadOptions& options) {
   return out;
 }
 
-Mesh load_mesh(const std::string& path, std::string* texture, std::vector<Eigen::Vector3f>* colors, Image* texture_image,
-               double min_part, std::vector<std::string>* dropped) {
-  LoadOptions options;
-  options.min_part = min_part;
-  LoadedMesh m = load_mesh(path, options);
-  if (texture) *texture = std::move(m.texture);
-  if (colors) *colors = std::move(m.colors);
-  if (texture_image) *texture_image = std::move(m.texture_image);
-  if (dropped) *dropped = std::move(m.report.dropped);
-  return std::move(m.mesh);
-}
-
 std::vector<std::string> repair_lines(const RepairReport& report) {
   std::vector<std::string> lines;
   for (const auto& s : report.steps)

@@ -56,8 +56,13 @@ struct LoadedMesh {
   LoadReport report;
 };
 
-/// Reads `path` (read_mesh_soup), prepares it (prepare_soup) and builds the mesh.
-LoadedMesh load_mesh(const std::string& path, const LoadOptions& options);
+/// Reads `path` (read_mesh_soup), prepares it (prepare_soup: repaired when options.repair, its
+/// specks under options.min_part dropped) and builds the mesh; `colors` in the built mesh's vertex
+/// order.
+/// \throw InputError when the file is missing, empty, unreadable or of an unknown format, or with
+/// the validation's refusal when the mesh cannot go through the pipeline even repaired (NaN, empty,
+/// flat).
+LoadedMesh load_mesh(const std::string& path, const LoadOptions& options = {});
 
 /// One line per repair step for stderr ("repaired: 12 coincident vertices welded (exact), e.g. ...").
 std::vector<std::string> repair_lines(const RepairReport& report);

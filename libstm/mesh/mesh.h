@@ -55,17 +55,6 @@ Mesh build_mesh(const MeshSoup& soup, const EdgeTable* table = nullptr);
 // The triangle list of a built mesh, e.g. to validate a mesh the pipeline produced.
 MeshSoup mesh_to_soup(const Mesh& mesh);
 
-// Reads, repairs what is safe to repair, validates and builds (load_mesh.h has the options and the
-// report; this is it with repair on and nothing reported but the dropped parts). Throws InputError
-// with the validation report when the mesh cannot go through the pipeline even repaired (NaN,
-// empty, flat). `texture` receives the material's texture path when there is one; `colors`, when
-// given, the colours of the built mesh's vertices (in its vertex order, RGB in [0, 1]), or nothing
-// when the file has no vertex colours; `texture_image`, the texture a glTF file embeds (empty
-// otherwise). With `min_part` > 0, the parts smaller than that fraction of the diagonal are dropped
-// before the mesh is validated (drop_small_parts.h), and `dropped` receives a line for each.
-Mesh load_mesh(const std::string& path, std::string* texture = nullptr, std::vector<Eigen::Vector3f>* colors = nullptr,
-               Image* texture_image = nullptr, double min_part = 0, std::vector<std::string>* dropped = nullptr);
-
 // Validates and builds a mesh from arrays (V: n x 3 positions, F: m x 3 vertex indices, uv: empty or
 // 3m x 2, per corner in F's order), as load_mesh does for a file: vertex i of the result is V's row
 // i, face f is F's row f (its corners turned, or flipped when its part was inside out). `what`

@@ -1,5 +1,6 @@
 // libFuzzer target: one mesh reader (SDM_FUZZ_EXTENSION: ".obj", ".off", ".ply", ".stl", ".glb" or ".gltf"), then
 // the validation and the halfedge mesh every command builds from what it read.
+#include "libstm/mesh/load_mesh.h"
 #include "libstm/mesh/mesh.h"
 #include "tests/fuzz/fuzz_common.h"
 
