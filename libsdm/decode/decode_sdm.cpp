@@ -6,6 +6,7 @@
 #include "libsdm/pose/deform_decoded.h"
 #include "libsdm/map/texel_targets.h"
 #include "libstm/geometry/capsule_ray.h"
+#include "libstm/geometry/vertex_normals.h"
 #include "libstm/core/errors.h"
 #include "libstm/core/parallel.h"
 #include "libstm/layout/layout.h"
@@ -192,11 +193,8 @@ std::vector<Eigen::Vector3d> flat_points_of(const std::vector<PointRay>& at) {
 // corner, so that a normal interpolated over a face is continuous across its edges and corners.
 std::vector<Eigen::Vector3d> base_vertex_normals(const BaseMesh& base, const std::vector<std::array<Eigen::Vector3d, 3>>& corner) {
   const int nv = base.triangles.rows() ? base.triangles.maxCoeff() + 1 : 0;
-  std::vector<Eigen::Vector3d> normal(size_t(nv), Eigen::Vector3d::Zero());
-  for (int f = 0; f < base.triangles.rows(); ++f) {
-    const Eigen::Vector3d n = (corner[f][1] - corner[f][0]).cross(corner[f][2] - corner[f][0]);
-    for (int c = 0; c < 3; ++c) normal[size_t(base.triangles(f, c))] += n;
-  }
+  std::vector<Eigen::Vector3d> normal =
+      vertex_area_vectors(base.triangles, size_t(nv), [&](int f, int k) -> const Eigen::Vector3d& { return corner[size_t(f)][size_t(k)]; });
   for (Eigen::Vector3d& n : normal) n.normalize();
   return normal;
 }

@@ -2,8 +2,10 @@
 
 #include "libstm/core/errors.h"
 #include "libstm/geometry/triangle_bvh.h"
+#include "libstm/geometry/vertex_normals.h"
 #include "libstm/mesh/mesh_geometry.h"
 #include "libstm/registration/closest_pairs.h"
+#include "libstm/registration/skin_along_edges.h"
 #include "libstm/registration/fit_skeleton.h"
 
 #include <Eigen/Geometry>
@@ -13,11 +15,7 @@ namespace sdm {
 
 namespace {
 
-// A surface point's blend of node motions: the two ends of the skeleton edge it lies along.
-struct Skin {
-  int node[2] = {0, 0};
-  double w[2] = {1, 0};
-};
+using Skin = EdgeSkin;  // skin_along_edges.h
 
 // The problem in the target's frame: the source and its nodes under the similarity of the nodes
 // onto their guesses.
@@ -50,35 +48,11 @@ struct Pair {
   double weight = 0, distance = 0, area = 0;  // weight: area, or 0 for a pair left out
 };
 
+// Unit area-weighted vertex normals (vertex_normals.h); +z for a vertex without area.
 std::vector<Eigen::Vector3d> vertex_normals_of(const Eigen::MatrixX3i& F, const std::vector<Eigen::Vector3d>& V) {
-  std::vector<Eigen::Vector3d> n(V.size(), Eigen::Vector3d::Zero());
-  for (int f = 0; f < F.rows(); ++f) {
-    const Eigen::Vector3d a = (V[F(f, 1)] - V[F(f, 0)]).cross(V[F(f, 2)] - V[F(f, 0)]);  // area-weighted
-    for (int c = 0; c < 3; ++c) n[F(f, c)] += a;
-  }
+  std::vector<Eigen::Vector3d> n = vertex_area_vectors(F, V);
   for (auto& v : n) v = v.norm() > 0 ? Eigen::Vector3d(v.normalized()) : Eigen::Vector3d::UnitZ();
   return n;
-}
-
-// Every source vertex blended between its node and the neighbour whose edge passes nearest to it.
-std::vector<Skin> skin_along_edges(const Skeleton& skeleton, const Problem& pr) {
-  std::vector<Skin> skin(pr.ns);
-  for (int v = 0; v < pr.ns; ++v) {
-    const int n = skeleton.vertex_node[v];
-    Skin& s = skin[v];
-    s.node[0] = s.node[1] = n;
-    double best = INFINITY;
-    for (int m : pr.adj[n]) {
-      double t = 0;
-      const double d = distance_to_segment(pr.x[v], pr.g[n], pr.g[m], &t);
-      if (d < best) {
-        best = d;
-        t = std::clamp(t, 0.0, 1.0);
-        s.node[1] = m, s.w[0] = 1 - t, s.w[1] = t;
-      }
-    }
-  }
-  return skin;
 }
 
 Problem set_up(const Mesh& source, const Skeleton& skeleton, const Mesh& target, const std::vector<Eigen::Vector3d>& guess,
@@ -106,7 +80,7 @@ Problem set_up(const Mesh& source, const Skeleton& skeleton, const Mesh& target,
   pr.area_s = vertex_areas(source, start.scale * start.scale), pr.area_t = vertex_areas(target, 1.0);
   pr.diag = std::max(bounding_box_diagonal(target), 1e-300);
   pr.adj = skeleton.adjacency();
-  pr.skin = skin_along_edges(skeleton, pr);
+  pr.skin = skin_along_edges(skeleton, pr.x, pr.g, pr.adj);
   return pr;
 }
 

@@ -2,6 +2,7 @@
 
 #include "libstm/registration/carry_skeleton.h"
 #include "libstm/registration/closest_pairs.h"
+#include "libstm/registration/skin_along_edges.h"
 #include "libstm/core/errors.h"
 #include "libstm/layout/segments.h"
 #include "libstm/geometry/triangle_bvh.h"
@@ -13,11 +14,7 @@ namespace sdm {
 
 namespace {
 
-// A surface point's blend of node maps: the two ends of the skeleton edge it lies along.
-struct Skin {
-  int node[2] = {0, 0};
-  double w[2] = {1, 0};
-};
+using Skin = EdgeSkin;  // skin_along_edges.h
 
 // The problem in the target's frame: the source and its skeleton where the start places them.
 struct Frame {
@@ -51,28 +48,6 @@ struct Pair {
   double weight = 0, distance = 0;
 };
 
-// Every source vertex blended between its node and the neighbour whose edge passes nearest to it
-// (weights by the clamped position along that edge); a node without neighbours keeps it alone.
-std::vector<Skin> skin_along_edges(const Skeleton& skeleton, const Frame& fr) {
-  std::vector<Skin> skin(fr.ns);
-  for (int v = 0; v < fr.ns; ++v) {
-    const int n = skeleton.vertex_node[v];
-    Skin& s = skin[v];
-    s.node[0] = s.node[1] = n;
-    double best = INFINITY;
-    for (int m : fr.adj[n]) {
-      double t = 0;
-      const double d = distance_to_segment(fr.v0[v], fr.g[n], fr.g[m], &t);
-      if (d < best) {
-        best = d;
-        t = std::clamp(t, 0.0, 1.0);
-        s.node[1] = m, s.w[0] = 1 - t, s.w[1] = t;
-      }
-    }
-  }
-  return skin;
-}
-
 // Fills fr.size2 and fr.mean_size2 (area-weighted over each node's vertices; at least 1e-12 diag^2).
 void node_sizes(const Skeleton& skeleton, Frame& fr) {
   std::vector<double> size2(fr.N, 0.0), own(fr.N, 0.0);
@@ -101,7 +76,7 @@ Frame place_in_target(const Mesh& source, const Skeleton& skeleton, const Mesh& 
   fr.area_s = vertex_areas(source, start.scale * start.scale), fr.area_t = vertex_areas(target, 1.0);
   fr.diag = std::max(bounding_box_diagonal(target), 1e-300);
   fr.adj = skeleton.adjacency();
-  fr.skin = skin_along_edges(skeleton, fr);
+  fr.skin = skin_along_edges(skeleton, fr.v0, fr.g, fr.adj);
   node_sizes(skeleton, fr);
   return fr;
 }

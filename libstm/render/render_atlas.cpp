@@ -6,6 +6,7 @@
 #include "libstm/layout/segments.h"
 
 #include "libstm/render/gl_objects.h"  // GL prototypes and owning handles
+#include "libstm/render/gl_state.h"
 
 #include <algorithm>
 #include <array>
@@ -133,14 +134,8 @@ AtlasPass draw_atlas_pass(GlContext& gl, const Layout& L, const std::vector<floa
   }
   const GLuint prog = gl.program("atlas.vert.glsl", "atlas.frag.glsl");
   fb.bind();
-  glDisable(GL_BLEND);
-  glDisable(GL_CULL_FACE);
-  glDisable(GL_SCISSOR_TEST);
+  set_opaque_depth_state();
   glDisable(GL_MULTISAMPLE);
-  glEnable(GL_DEPTH_TEST);
-  glDepthFunc(GL_LESS);
-  glDepthMask(GL_TRUE);
-  glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
   const float zero[4] = {0, 0, 0, 0};
   fb.clear(zero, zero);
   glUseProgram(prog);

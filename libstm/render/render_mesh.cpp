@@ -4,6 +4,7 @@
 #include "libstm/geometry/differential_geometry.h"
 
 #include "libstm/render/gl_objects.h"  // GL prototypes and owning handles
+#include "libstm/render/gl_state.h"
 
 #include <Eigen/Eigenvalues>
 #include <algorithm>
@@ -209,13 +210,7 @@ Image render_mesh(GlContext& gl, const Mesh& mesh, const RenderOptions& opt, std
 
   fb.bind();
   const float transparent[4] = {0, 0, 0, 0};
-  glDisable(GL_BLEND);
-  glDisable(GL_CULL_FACE);
-  glDisable(GL_SCISSOR_TEST);
-  glEnable(GL_DEPTH_TEST);
-  glDepthFunc(GL_LESS);
-  glDepthMask(GL_TRUE);
-  glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+  set_opaque_depth_state();
   if (fb.samples() > 1) glEnable(GL_MULTISAMPLE);
   fb.clear(transparent);
 

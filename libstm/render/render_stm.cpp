@@ -4,6 +4,7 @@
 #include "libstm/layout/segments.h"
 
 #include "libstm/render/gl_objects.h"  // GL prototypes and owning handles
+#include "libstm/render/gl_state.h"
 
 #include <algorithm>
 #include <cmath>
@@ -166,13 +167,7 @@ void set_stm_uniforms(GLuint prog, const Camera& cam, const Layout& L, const Ren
 // shaded colour, 1: coordinates, 2: positions; see StmRenderProbe).
 void draw_stm_pass(Framebuffer& fb, GLuint prog, GLuint vao, size_t index_count, int output) {
   fb.bind();
-  glDisable(GL_BLEND);
-  glDisable(GL_CULL_FACE);
-  glDisable(GL_SCISSOR_TEST);
-  glEnable(GL_DEPTH_TEST);
-  glDepthFunc(GL_LESS);
-  glDepthMask(GL_TRUE);
-  glColorMask(GL_TRUE, GL_TRUE, GL_TRUE, GL_TRUE);
+  set_opaque_depth_state();
   if (fb.samples() > 1) glEnable(GL_MULTISAMPLE); else glDisable(GL_MULTISAMPLE);
   const float transparent[4] = {0, 0, 0, 0};
   fb.clear(transparent, transparent);

@@ -2,6 +2,7 @@
 
 #include "libstm/geometry/differential_geometry.h"
 #include "libstm/geometry/triangle_bvh.h"
+#include "libstm/geometry/vertex_normals.h"
 #include "libstm/mesh/add_faces.h"
 #include "libstm/mesh/isotropic_remesh.h"
 #include "libstm/mesh/mesh.h"
@@ -14,16 +15,16 @@ namespace sdm {
 
 namespace {
 
-// Unit face normals into fn; returns the unit vertex normals (sum of the adjacent faces' area
-// vectors, normalised).
+// Unit face normals into fn; returns the unit vertex normals (the area-weighted sums of
+// vertex_normals.h, normalised).
 Eigen::MatrixX3d normals(const Eigen::MatrixX3d& P, const Eigen::MatrixX3i& T, Eigen::MatrixX3d& fn) {
-  Eigen::MatrixX3d vn = Eigen::MatrixX3d::Zero(P.rows(), 3);
   fn.resize(T.rows(), 3);
-  for (int f = 0; f < T.rows(); ++f) {
-    const Eigen::Vector3d n = (P.row(T(f, 1)) - P.row(T(f, 0))).cross(P.row(T(f, 2)) - P.row(T(f, 0)));
-    fn.row(f) = n.normalized();
-    for (int k = 0; k < 3; ++k) vn.row(T(f, k)) += n;
-  }
+  for (int f = 0; f < T.rows(); ++f)
+    fn.row(f) = (P.row(T(f, 1)) - P.row(T(f, 0))).cross(P.row(T(f, 2)) - P.row(T(f, 0))).normalized();
+  const std::vector<Eigen::Vector3d> sum =
+      vertex_area_vectors(T, size_t(P.rows()), [&](int f, int k) { return Eigen::Vector3d(P.row(T(f, k))); });
+  Eigen::MatrixX3d vn(P.rows(), 3);
+  for (size_t v = 0; v < sum.size(); ++v) vn.row(Eigen::Index(v)) = sum[v].transpose();
   vn.rowwise().normalize();
   return vn;
 }
