@@ -1,10 +1,10 @@
 #pragma once
-// A skeleton displacement map of a point cloud (DESIGN 6.1, "Point clouds"): the map of the cloud's
-// closed surface (cloud_layout.h: the IMLS zero set traced near the points, its gaps filled by
-// faired patches), encoded as a mesh is (encode_sdm.h). Each texel's D is then the crossing of its
-// capsule ray with the zero set where the points reach, and with a patch where the scan has a gap;
-// the share of texels whose surface point lies within the support of the points says how much of
-// the map the scan measured.
+/// A skeleton displacement map of a point cloud (DESIGN 6.1, "Point clouds"): the map of the cloud's
+/// closed surface (cloud_layout.h: the IMLS zero set traced near the points, its gaps filled by
+/// faired patches), encoded as a mesh is (encode_sdm.h). Each texel's D is then the crossing of its
+/// capsule ray with the zero set where the points reach, and with a patch where the scan has a gap;
+/// the share of texels whose surface point lies within the support of the points says how much of
+/// the map the scan measured.
 #include "libsdm/encode/encode_sdm.h"
 #include "libstm/layout/cloud_layout.h"
 

@@ -1,6 +1,6 @@
 #pragma once
-// Where a map's texels are and how a point reads them: shared by the encoder, the decoder and the
-// tests so that they agree on texel centres, periodicity around the axis and left-out texels.
+/// Where a map's texels are and how a point reads them: shared by the encoder, the decoder and the
+/// tests so that they agree on texel centres, periodicity around the axis and left-out texels.
 #include "libsdm/map/sdm_exr.h"
 #include "libstm/layout/layout.h"
 
@@ -10,19 +10,19 @@
 
 namespace sdm {
 
-// The (u, v) of the centre of a segment's texel (ix, iy are atlas texel indices inside the
-// rectangle), and the D lookup used by the decoder: bilinear between texel centres, periodic
-// around the axis, clamped along it, NaN texels (left out of a compact map) skipped; NaN when the
-// four texels are all left out. Shared so encoder, decoder and tests agree on texel centres.
+/// The (u, v) of the centre of a segment's texel (ix, iy are atlas texel indices inside the
+/// rectangle), and the D lookup used by the decoder: bilinear between texel centres, periodic
+/// around the axis, clamped along it, NaN texels (left out of a compact map) skipped; NaN when the
+/// four texels are all left out. Shared so encoder, decoder and tests agree on texel centres.
 Eigen::Vector2d texel_local_uv(const LayoutSegment& seg, int ix, int iy);
-// Atlas texel (ix, iy) (origin lower left) -> index into the image's channels (rows top to bottom).
+/// Atlas texel (ix, iy) (origin lower left) -> index into the image's channels (rows top to bottom).
 inline size_t texel_index(const SdmImage& im, int ix, int iy) {
   return size_t(im.height - 1 - iy) * size_t(im.width) + size_t(ix);
 }
 double sample_displacement(const SdmImage& image, const LayoutSegment& seg, double u, double v);
 
-// The same lookup over any texel source: texel(ix, iy) gives the value of atlas texel (ix, iy)
-// (origin lower left), NaN for a texel left out.
+/// The same lookup over any texel source: texel(ix, iy) gives the value of atlas texel (ix, iy)
+/// (origin lower left), NaN for a texel left out.
 template <class Texel>
 double sample_texels(const LayoutSegment& seg, double u, double v, const Texel& texel) {
   // Continuous texel coordinates in the rectangle: centres at i + 0.5.

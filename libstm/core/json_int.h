@@ -1,7 +1,7 @@
 #pragma once
-// Integers read from companion files (skeleton, layout, SDM header). nlohmann's get<int>() converts
-// a JSON float such as 3e12 with a cast that is undefined beyond int's range (found by fuzzing the
-// skeleton and layout readers); these accept whole numbers within int only and refuse the rest.
+/// Integers read from companion files (skeleton, layout, SDM header). nlohmann's get<int>() converts
+/// a JSON float such as 3e12 with a cast that is undefined beyond int's range (found by fuzzing the
+/// skeleton and layout readers); these accept whole numbers within int only and refuse the rest.
 #include "libstm/core/errors.h"
 
 #include <nlohmann/json.hpp>
@@ -13,8 +13,8 @@
 
 namespace sdm {
 
-// `v` as an int; throws InputError naming the value unless it is a whole number in int's range
-// (an integer, or a float with no fraction such as 3.0).
+/// `v` as an int; throws InputError naming the value unless it is a whole number in int's range
+/// (an integer, or a float with no fraction such as 3.0).
 inline int json_int(const nlohmann::json& v) {
   if (v.is_number_integer()) {
     const auto i = v.get<nlohmann::json::number_integer_t>();
@@ -30,7 +30,7 @@ inline int json_int(const nlohmann::json& v) {
                    v.dump().substr(0, 40));
 }
 
-// An array of such integers.
+/// An array of such integers.
 inline std::vector<int> json_ints(const nlohmann::json& v) {
   if (!v.is_array()) throw InputError("expected an array of whole numbers, found " + v.dump().substr(0, 40));
   std::vector<int> out;

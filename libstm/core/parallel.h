@@ -1,9 +1,9 @@
 #pragma once
-// The little thread scheduling the pipeline does, in one place: a callable run on a second thread
-// beside the caller's work (run_concurrently, BackgroundTask), a loop whose chunks several threads
-// share (SharedLoop), and a progress callback that two threads may call (serialised). Results never
-// depend on the scheduling: the callers give each thread its own outputs, and a shared loop's
-// iterations are independent.
+/// The little thread scheduling the pipeline does, in one place: a callable run on a second thread
+/// beside the caller's work (run_concurrently, BackgroundTask), a loop whose chunks several threads
+/// share (SharedLoop), and a progress callback that two threads may call (serialised). Results never
+/// depend on the scheduling: the callers give each thread its own outputs, and a shared loop's
+/// iterations are independent.
 #include "libstm/core/progress.h"
 #include "libstm/core/stopwatch.h"
 
@@ -47,12 +47,13 @@ class BackgroundTask {
   }
 
  private:
-  std::exception_ptr failure_;  // declared before thread_: set by the thread, which starts last
+  std::exception_ptr failure_;  ///< declared before thread_: set by the thread, which starts last
   std::thread thread_;
 };
 
 /// Runs `background` on a second thread and `here` on the calling one, and returns when both have
-/// returned. Throws what `here` threw, else what `background` threw.
+/// returned.
+/// \throw what `here` threw, else what `background` threw.
 template <class Background, class Here>
 void run_concurrently(Background&& background, Here&& here) {
   BackgroundTask task(std::forward<Background>(background));

@@ -1,6 +1,6 @@
 #pragma once
-// How a long stage reports what it is doing: one line at a time, to a callback the caller chooses
-// (the command line prints them on stderr; tests and library users may pass nothing).
+/// How a long stage reports what it is doing: one line at a time, to a callback the caller chooses
+/// (the command line prints them on stderr; tests and library users may pass nothing).
 #include <functional>
 #include <string>
 

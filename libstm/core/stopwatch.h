@@ -1,5 +1,5 @@
 #pragma once
-// Wall-clock timing for the per-stage figures that commands report and `sdm bench` tabulates.
+/// Wall-clock timing for the per-stage figures that commands report and `sdm bench` tabulates.
 #include <chrono>
 
 namespace sdm {

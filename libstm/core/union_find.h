@@ -1,5 +1,5 @@
 #pragma once
-// Disjoint sets with path halving: connected parts of meshes and graphs.
+/// Disjoint sets with path halving: connected parts of meshes and graphs.
 #include <numeric>
 #include <vector>
 

@@ -1,8 +1,8 @@
 #pragma once
-// The bodies of factor_front, forward_front and backward_front (dense_front.h), compiled once per
-// instruction set: the including file names the namespace (SDM_DENSE_KERNEL_NS) and, for the AVX2
-// copy, renames Eigen's namespace before including this, so that no Eigen function compiled for
-// AVX2 can stand in for the baseline's at link time.
+/// The bodies of factor_front, forward_front and backward_front (dense_front.h), compiled once per
+/// instruction set: the including file names the namespace (SDM_DENSE_KERNEL_NS) and, for the AVX2
+/// copy, renames Eigen's namespace before including this, so that no Eigen function compiled for
+/// AVX2 can stand in for the baseline's at link time.
 #include <Eigen/Dense>
 
 #include <algorithm>
@@ -10,11 +10,11 @@
 
 namespace sdm::SDM_DENSE_KERNEL_NS {
 
-// Right-looking, four columns at a time: each panel of four is factorised (left-looking inside it),
-// then the columns right of it lose the panel's contribution in one pass (four multiply-adds per
-// element loaded), the last m - k columns thus becoming the update. On the fronts of the CGAL
-// meshes' contractions up to 96 rows this is 1.15-2 times faster than Eigen's blocked LLT, solve
-// and rank update (which pack their operands for each block of 8 columns); beyond, slower.
+/// Right-looking, four columns at a time: each panel of four is factorised (left-looking inside it),
+/// then the columns right of it lose the panel's contribution in one pass (four multiply-adds per
+/// element loaded), the last m - k columns thus becoming the update. On the fronts of the CGAL
+/// meshes' contractions up to 96 rows this is 1.15-2 times faster than Eigen's blocked LLT, solve
+/// and rank update (which pack their operands for each block of 8 columns); beyond, slower.
 bool factor_front_panels(double* A, int m, int k, double* update) {
   constexpr int W = 4;
   for (int p = 0; p < k; p += W) {
@@ -72,9 +72,9 @@ bool factor_front(double* front_data, int m, int k, double* update_data) {
   return true;
 }
 
-// Level-1 loops over L's columns (each read once, the three right-hand sides together): Eigen's
-// blocked triangular solve and product pack their operands first, which cost more than the
-// arithmetic on supernodes of a few columns and three right-hand sides.
+/// Level-1 loops over L's columns (each read once, the three right-hand sides together): Eigen's
+/// blocked triangular solve and product pack their operands first, which cost more than the
+/// arithmetic on supernodes of a few columns and three right-hand sides.
 void forward_front(const double* L, int m, int k, double* ys, long ldy, double* gathered) {
   using Vec = Eigen::Map<Eigen::VectorXd>;
   using ConstVec = Eigen::Map<const Eigen::VectorXd>;

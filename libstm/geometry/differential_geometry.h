@@ -1,8 +1,8 @@
 #pragma once
-// Small geometric helpers shared by every layer (pmp-library keeps the same kind of functions in
-// one differential_geometry.h): areas, barycentric coordinates, closest points on segments, the
-// rotation nearest to a matrix, similarity fits, and weighted statistics. Each is defined once,
-// here, so that two stages never disagree on a formula.
+/// Small geometric helpers shared by every layer (pmp-library keeps the same kind of functions in
+/// one differential_geometry.h): areas, barycentric coordinates, closest points on segments, the
+/// rotation nearest to a matrix, similarity fits, and weighted statistics. Each is defined once,
+/// here, so that two stages never disagree on a formula.
 #include <Eigen/Dense>
 #include <vector>
 

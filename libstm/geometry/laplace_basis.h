@@ -1,10 +1,10 @@
 #pragma once
-// The Laplace-Beltrami eigenbasis of a triangle mesh: the cotangent stiffness matrix (Pinkall and
-// Polthier 1993; Meyer et al. 2003) and the lumped (barycentric) mass, and the eigenpairs of
-// L phi = lambda M phi with the smallest eigenvalues, found by shift-invert Lanczos (Spectra's
-// SymEigsShiftSolver on M^-1/2 L M^-1/2, each step one solve with a sparse LDLT of L - sigma M).
-// The basis of functional maps and of their spectral refinement (libstm/registration/zoomout.h;
-// DECISIONS 5, "Spectral refinement").
+/// The Laplace-Beltrami eigenbasis of a triangle mesh: the cotangent stiffness matrix (Pinkall and
+/// Polthier 1993; Meyer et al. 2003) and the lumped (barycentric) mass, and the eigenpairs of
+/// L phi = lambda M phi with the smallest eigenvalues, found by shift-invert Lanczos (Spectra's
+/// SymEigsShiftSolver on M^-1/2 L M^-1/2, each step one solve with a sparse LDLT of L - sigma M).
+/// The basis of functional maps and of their spectral refinement (libstm/registration/zoomout.h;
+/// DECISIONS 5, "Spectral refinement").
 #include <Eigen/Dense>
 #include <Eigen/Sparse>
 #include <array>
@@ -16,14 +16,14 @@ namespace sdm {
 /// The cotangent stiffness L (symmetric, positive semi-definite, rows summing to 0: L_ij =
 /// -(cot alpha_ij + cot beta_ij) / 2 over the two angles opposite edge ij) and the lumped mass
 /// (a third of the area of each face at each of its corners). Degenerate faces add nothing.
-/// Throws InputError when a corner index lies outside `points`.
+/// \throw InputError when a corner index lies outside `points`.
 void cotangent_laplacian(const std::vector<Eigen::Vector3d>& points, const std::vector<std::array<int, 3>>& triangles,
                          Eigen::SparseMatrix<double>& stiffness, Eigen::VectorXd& mass);
 
 struct LaplaceBasis {
-  Eigen::VectorXd values;   // the k smallest eigenvalues, ascending (the first about 0 on a closed mesh)
-  Eigen::MatrixXd vectors;  // n x k, column i the eigenfunction of values[i], M-orthonormal
-  Eigen::VectorXd mass;     // the lumped mass per vertex (sums to the area)
+  Eigen::VectorXd values;   ///< the k smallest eigenvalues, ascending (the first about 0 on a closed mesh)
+  Eigen::MatrixXd vectors;  ///< n x k, column i the eigenfunction of values[i], M-orthonormal
+  Eigen::VectorXd mass;     ///< the lumped mass per vertex (sums to the area)
 };
 
 /// The `k` Laplace-Beltrami eigenpairs of the mesh with the smallest eigenvalues, in the mesh's own

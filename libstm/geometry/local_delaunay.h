@@ -1,8 +1,8 @@
 #pragma once
-// The one-ring of every point of a cloud from a local Delaunay triangulation (Cao, Tagliasacchi et
-// al. 2010, section 4.1): the point's k nearest neighbours projected onto its tangent plane (their
-// principal axes), and the neighbours whose Voronoi half-planes bound the point's cell there.
-// Consecutive ones form the point's triangles, on which cotangent weights and ring areas are taken.
+/// The one-ring of every point of a cloud from a local Delaunay triangulation (Cao, Tagliasacchi et
+/// al. 2010, section 4.1): the point's k nearest neighbours projected onto its tangent plane (their
+/// principal axes), and the neighbours whose Voronoi half-planes bound the point's cell there.
+/// Consecutive ones form the point's triangles, on which cotangent weights and ring areas are taken.
 #include <Eigen/Dense>
 
 #include <array>

@@ -1,7 +1,7 @@
 #pragma once
-// A k-d tree over a fixed set of 3-D points: the k nearest neighbours of a query and the points
-// within a radius, exact (the point-cloud stages: normals, the contraction's neighbourhood graph,
-// the nodes' sampling).
+/// A k-d tree over a fixed set of 3-D points: the k nearest neighbours of a query and the points
+/// within a radius, exact (the point-cloud stages: normals, the contraction's neighbourhood graph,
+/// the nodes' sampling).
 #include <Eigen/Dense>
 
 #include <vector>
@@ -21,8 +21,8 @@ class PointKdTree {
 
  private:
   struct Node {
-    int begin = 0, end = 0;   // range of order_
-    int axis = -1;            // -1: a leaf
+    int begin = 0, end = 0;   ///< range of order_
+    int axis = -1;            ///< -1: a leaf
     double split = 0;
     int left = -1, right = -1;
   };

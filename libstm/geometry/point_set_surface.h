@@ -1,10 +1,10 @@
 #pragma once
-// The surface a point cloud with normals describes: the zero set of an implicit moving-least-squares
-// function (IMLS; Shen, O'Brien and Shewchuk 2004, Kolluri 2008), f(x) = sum_i w_i(x) n_i . (x - p_i)
-// / sum_i w_i(x), with Gaussian weights w_i(x) = exp(-|x - p_i|^2 / h^2) over the k nearest points
-// and h proportional to their local spacing, so denser and sparser parts of a scan keep their own
-// detail and noise along the normals averages out over the kernel. f is defined only within the
-// support of the points: near a point (a few local spacings); a gap in a scan has no surface.
+/// The surface a point cloud with normals describes: the zero set of an implicit moving-least-squares
+/// function (IMLS; Shen, O'Brien and Shewchuk 2004, Kolluri 2008), f(x) = sum_i w_i(x) n_i . (x - p_i)
+/// / sum_i w_i(x), with Gaussian weights w_i(x) = exp(-|x - p_i|^2 / h^2) over the k nearest points
+/// and h proportional to their local spacing, so denser and sparser parts of a scan keep their own
+/// detail and noise along the normals averages out over the kernel. f is defined only within the
+/// support of the points: near a point (a few local spacings); a gap in a scan has no surface.
 #include <Eigen/Dense>
 
 #include <memory>

@@ -1,9 +1,9 @@
 #pragma once
-// The skeleton texture map of a point cloud (DESIGN 6.1, "Point clouds"): the cloud's own skeleton
-// (point_skeleton.h, each point keeping its node) and the surface its points describe
-// (cloud_surface.h), its gaps closed by faired patches (fill_holes.h) so that the map and its decode
-// are closed; every vertex of that surface takes the node of its nearest point, and the layout is
-// computed for it as for a mesh (compute_layout.h).
+/// The skeleton texture map of a point cloud (DESIGN 6.1, "Point clouds"): the cloud's own skeleton
+/// (point_skeleton.h, each point keeping its node) and the surface its points describe
+/// (cloud_surface.h), its gaps closed by faired patches (fill_holes.h) so that the map and its decode
+/// are closed; every vertex of that surface takes the node of its nearest point, and the layout is
+/// computed for it as for a mesh (compute_layout.h).
 #include "libstm/core/progress.h"
 #include "libstm/layout/compute_layout.h"
 #include "libstm/mesh/cloud_surface.h"
@@ -33,7 +33,8 @@ struct CloudLayout {
   double normals_seconds = 0, surface_seconds = 0, skeleton_seconds = 0, layout_seconds = 0;
 };
 
-/// The layout of `cloud` (prepared: prepare_cloud). Throws InputError when no surface or no skeleton
+/// The layout of `cloud` (prepared: prepare_cloud).
+/// \throw InputError when no surface or no skeleton
 /// comes from the points, or the layout refuses them.
 CloudLayout cloud_layout(const PointCloud& cloud, const CloudLayoutOptions& options = {});
 

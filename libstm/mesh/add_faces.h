@@ -1,18 +1,18 @@
 #pragma once
-// Adding many triangles to an OpenMesh mesh at once, with the connectivity OpenMesh's add_face
-// would build adding them one by one in the same order, element for element: the same edge and
-// halfedge numbering, the same next/prev links (boundaries included) and the same outgoing
-// halfedge at every vertex, which decides where each one-ring circulation starts. The rest of the
-// pipeline inherits that order (sums over one-rings, collapse orders, layouts), so a faster build
-// that ordered things otherwise would move measured results; this one does not.
-//
-// add_face spends its time finding each side's halfedge by circulating about the vertex
-// (find_halfedge) and in per-call bookkeeping. Here each side's opposite comes from an edge table
-// (a counting sort, edge_table.h), add_face's linking rules (the cases of a new or an existing side
-// before and after each corner, the relinking of a patch, the adjustment of a vertex's outgoing
-// halfedge to a boundary one) run on flat arrays, and OpenMesh's arrays are filled once at the end.
-// tests/test_mesh.cpp compares every array with add_face's on every shared mesh, open and closed,
-// and on shuffled face orders that make add_face relink patches.
+/// Adding many triangles to an OpenMesh mesh at once, with the connectivity OpenMesh's add_face
+/// would build adding them one by one in the same order, element for element: the same edge and
+/// halfedge numbering, the same next/prev links (boundaries included) and the same outgoing
+/// halfedge at every vertex, which decides where each one-ring circulation starts. The rest of the
+/// pipeline inherits that order (sums over one-rings, collapse orders, layouts), so a faster build
+/// that ordered things otherwise would move measured results; this one does not.
+///
+/// add_face spends its time finding each side's halfedge by circulating about the vertex
+/// (find_halfedge) and in per-call bookkeeping. Here each side's opposite comes from an edge table
+/// (a counting sort, edge_table.h), add_face's linking rules (the cases of a new or an existing side
+/// before and after each corner, the relinking of a patch, the adjustment of a vertex's outgoing
+/// halfedge to a boundary one) run on flat arrays, and OpenMesh's arrays are filled once at the end.
+/// tests/test_mesh.cpp compares every array with add_face's on every shared mesh, open and closed,
+/// and on shuffled face orders that make add_face relink patches.
 #include "libstm/mesh/edge_table.h"
 #include "libstm/mesh/mesh.h"
 

@@ -1,11 +1,11 @@
 #pragma once
-// A triangle mesh of the surface a point cloud describes (DESIGN 6.1, "Point clouds"): the zero set
-// of the cloud's IMLS function (point_set_surface.h) traced through the cells of a grid near the
-// points by marching tetrahedra (each cube cut into the six tetrahedra around its main diagonal,
-// the same cut in every cube, so the triangles of neighbouring cubes share their edges' vertices),
-// every vertex then projected onto the zero set. Only tetrahedra whose corners all lie within the
-// support of the points are traced, so a gap in the scan stays a hole; faces away from the points
-// (IMLS's sheets in concave folds) and separate parts far smaller than the whole are dropped.
+/// A triangle mesh of the surface a point cloud describes (DESIGN 6.1, "Point clouds"): the zero set
+/// of the cloud's IMLS function (point_set_surface.h) traced through the cells of a grid near the
+/// points by marching tetrahedra (each cube cut into the six tetrahedra around its main diagonal,
+/// the same cut in every cube, so the triangles of neighbouring cubes share their edges' vertices),
+/// every vertex then projected onto the zero set. Only tetrahedra whose corners all lie within the
+/// support of the points are traced, so a gap in the scan stays a hole; faces away from the points
+/// (IMLS's sheets in concave folds) and separate parts far smaller than the whole are dropped.
 #include "libstm/geometry/point_set_surface.h"
 #include "libstm/mesh/mesh.h"
 
@@ -38,7 +38,8 @@ struct CloudSurfaceStats {
 };
 
 /// The mesh of the zero set of `points` with `normals` (unit, oriented outward); open where the scan
-/// has gaps, manifold, oriented outward. Throws InputError when no surface comes out (normals all
+/// has gaps, manifold, oriented outward.
+/// \throw InputError when no surface comes out (normals all
 /// pointing one way, a cloud too sparse for its grid).
 Mesh cloud_surface(const std::vector<Eigen::Vector3d>& points, const std::vector<Eigen::Vector3d>& normals,
                    const CloudSurfaceOptions& options = {}, CloudSurfaceStats* stats = nullptr);

@@ -1,9 +1,9 @@
 #pragma once
-// Whether collapsing a halfedge keeps a triangle mesh a 2-manifold: the link condition (Dey et al.
-// 1999, as OpenMesh's TriConnectivity::is_collapse_ok states it), answered from the halfedge arrays
-// without tagging or allocating. OpenMesh 9's own check builds a vector and looks a property up by
-// name on every call: half of the isotropic remesh's collapse pass, which runs hundreds of thousands
-// of times when a large mesh is remeshed (DECISIONS 6, "The remesh's link condition").
+/// Whether collapsing a halfedge keeps a triangle mesh a 2-manifold: the link condition (Dey et al.
+/// 1999, as OpenMesh's TriConnectivity::is_collapse_ok states it), answered from the halfedge arrays
+/// without tagging or allocating. OpenMesh 9's own check builds a vector and looks a property up by
+/// name on every call: half of the isotropic remesh's collapse pass, which runs hundreds of thousands
+/// of times when a large mesh is remeshed (DECISIONS 6, "The remesh's link condition").
 #include "libstm/mesh/mesh.h"
 
 namespace sdm {

@@ -1,9 +1,9 @@
 #pragma once
-// The half-edges of a triangle soup grouped by undirected edge, in the order (smaller vertex,
-// larger vertex): a counting sort on the smaller vertex, then each vertex's few entries sorted.
-// Linear in the faces and one allocation per array; validation (validate_mesh) reads edge use,
-// boundary loops and parts from it, and build_mesh links the halfedge structure from it. The hash
-// maps of vectors it replaced spent 5 of 13 s validating a 523k-vertex mesh in allocation.
+/// The half-edges of a triangle soup grouped by undirected edge, in the order (smaller vertex,
+/// larger vertex): a counting sort on the smaller vertex, then each vertex's few entries sorted.
+/// Linear in the faces and one allocation per array; validation (validate_mesh) reads edge use,
+/// boundary loops and parts from it, and build_mesh links the halfedge structure from it. The hash
+/// maps of vectors it replaced spent most of validation's time in allocation.
 #include "libstm/mesh/mesh.h"
 
 #include <array>
@@ -12,10 +12,10 @@
 namespace sdm {
 
 struct EdgeTable {
-  std::vector<int> lo, hi;      // per entry: the edge's vertices, lo < hi
-  std::vector<int> halfedge;    // per entry: 3 f + c, the face's side from corner c to corner c + 1
-  std::vector<char> forward;    // per entry: the face runs lo -> hi
-  std::vector<size_t> group;    // entries of edge e: [group[e], group[e + 1])
+  std::vector<int> lo, hi;      ///< per entry: the edge's vertices, lo < hi
+  std::vector<int> halfedge;    ///< per entry: 3 f + c, the face's side from corner c to corner c + 1
+  std::vector<char> forward;    ///< per entry: the face runs lo -> hi
+  std::vector<size_t> group;    ///< entries of edge e: [group[e], group[e + 1])
   size_t edges() const { return group.empty() ? 0 : group.size() - 1; }
   size_t uses(size_t e) const { return group[e + 1] - group[e]; }
   int face(size_t entry) const { return halfedge[entry] / 3; }

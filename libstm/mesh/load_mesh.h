@@ -1,8 +1,8 @@
 #pragma once
-// The one road from a file to the pipeline, every command's (DECISIONS 1, "Mesh repair"): read the soup,
-// drop specks (--min-part), validate; when validation finds what repair mends (welds, duplicated
-// or collapsed faces, non-manifold edges and vertices, inconsistent orientation), repair and
-// validate again; orient every part outward; build the halfedge mesh.
+/// The one road from a file to the pipeline, every command's (DECISIONS 1, "Mesh repair"): read the soup,
+/// drop specks (--min-part), validate; when validation finds what repair mends (welds, duplicated
+/// or collapsed faces, non-manifold edges and vertices, inconsistent orientation), repair and
+/// validate again; orient every part outward; build the halfedge mesh.
 #include "libstm/mesh/edge_table.h"
 #include "libstm/mesh/mesh.h"
 #include "libstm/mesh/repair_soup.h"
@@ -43,7 +43,7 @@ RepairHints repair_hints(const TopologyScan& scan);
 LoadReport repair_and_validate(MeshSoup& soup, const LoadOptions& options, EdgeTable* table = nullptr);
 
 /// Runs the road above on `soup` (modified in place: repaired and oriented) and returns its report.
-/// Throws InputError with the validation's refusal, naming `what`, when the result is still
+/// \throw InputError with the validation's refusal, naming `what`, when the result is still
 /// unusable. `table`, when given, receives the final soup's edge table (or an empty one).
 LoadReport prepare_soup(MeshSoup& soup, const std::string& what, const LoadOptions& options, EdgeTable* table = nullptr);
 

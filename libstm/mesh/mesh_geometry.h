@@ -1,5 +1,5 @@
 #pragma once
-// Geometric measures of a Mesh (the mesh-free formulas are in geometry/differential_geometry.h).
+/// Geometric measures of a Mesh (the mesh-free formulas are in geometry/differential_geometry.h).
 #include "libstm/geometry/differential_geometry.h"
 #include "libstm/mesh/mesh.h"
 

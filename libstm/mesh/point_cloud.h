@@ -1,8 +1,8 @@
 #pragma once
-// Scans without faces (DECISIONS 1, "Point clouds"): positions with optional normals and colours,
-// read from .xyz, PCL's .pcd, and PLY or OFF files with vertices and no faces; checked like a mesh
-// (coordinates finite and within range, counts within the file, duplicates merged and counted)
-// and refused when no skeleton can come from them (too few points, all on a plane or a line).
+/// Scans without faces (DECISIONS 1, "Point clouds"): positions with optional normals and colours,
+/// read from .xyz, PCL's .pcd, and PLY or OFF files with vertices and no faces; checked like a mesh
+/// (coordinates finite and within range, counts within the file, duplicates merged and counted)
+/// and refused when no skeleton can come from them (too few points, all on a plane or a line).
 #include <Eigen/Dense>
 #include <nlohmann/json.hpp>
 
@@ -44,7 +44,8 @@ bool is_point_cloud_file(const std::string& path);
 
 /// Reads a point cloud: .xyz (`x y z` or `x y z nx ny nz` per line, `#` comments), PLY (ASCII or
 /// binary; x, y, z with nx, ny, nz and red, green, blue when present; a face element must be
-/// empty), OFF with zero faces, PCD (ascii or binary; binary_compressed refused). Throws InputError
+/// empty), OFF with zero faces, PCD (ascii or binary; binary_compressed refused).
+/// \throw InputError
 /// naming the file, the line or point and the fix for a missing, empty or malformed file, a count
 /// the file does not hold, and a NaN, infinite or out-of-range coordinate. Nothing is allocated
 /// beyond what the file's size can hold.

@@ -1,6 +1,6 @@
 #pragma once
-// How far points lie from a surface: one-sided distances from every point to the nearest point of a
-// mesh's triangles (exact closest points), e.g. a scan's points to the surface decoded from its map.
+/// How far points lie from a surface: one-sided distances from every point to the nearest point of a
+/// mesh's triangles (exact closest points), e.g. a scan's points to the surface decoded from its map.
 #include "libstm/mesh/mesh.h"
 
 #include <vector>

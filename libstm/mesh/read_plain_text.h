@@ -1,12 +1,12 @@
 #pragma once
-// Fast readers for the plain majority of text meshes (OpenMesh's OBJ reader, then the
-// double-precision rescan of the coordinates, took 2.3 s for a 523k-vertex OBJ). They parse with
-// std::from_chars over the whole file in memory and take only what the pipeline reads from such
-// files: positions and polygons. Anything else (OBJ uv, materials, vertex colours, a fourth
-// coordinate, lines or points; OFF variants with colours or normals, comments inside the counts;
-// indices out of range; NaN or infinite coordinates; a count the file does not hold) makes them
-// return false, and the caller reads the file through OpenMesh as before, with its checks and
-// messages unchanged.
+/// Fast readers for the plain majority of text meshes (in place of OpenMesh's OBJ reader and a
+/// double-precision rescan of the coordinates; docs/BENCHMARKS.md). They parse with
+/// std::from_chars over the whole file in memory and take only what the pipeline reads from such
+/// files: positions and polygons. Anything else (OBJ uv, materials, vertex colours, a fourth
+/// coordinate, lines or points; OFF variants with colours or normals, comments inside the counts;
+/// indices out of range; NaN or infinite coordinates; a count the file does not hold) makes them
+/// return false, and the caller reads the file through OpenMesh as before, with its checks and
+/// messages unchanged.
 #include <Eigen/Dense>
 
 #include <string>

@@ -1,21 +1,21 @@
 #pragma once
-// Repair of a triangle soup before validation: the defects every mesh tool mends without asking
-// (DECISIONS 1, "Mesh repair"). Each step is a topological decision made on the soup, never a move
-// of a point, so the repaired surface is the input surface:
-//  1. coincident vertices welded: exactly equal coordinates first (a soup OBJ, an exporter's split
-//     normals), then boundary vertices within a tolerance relative to the model's diagonal (a
-//     crack left by rounding);
-//  2. faces that lost a corner to the weld (a repeated vertex) and duplicated faces (the same three
-//     vertices, either orientation) dropped, the first of each duplicate kept;
-//  3. every edge's faces glued in pairs: two faces always; more than two paired around the edge by
-//     angle, each back-facing face with the next front-facing one (the pairs that enclose a
-//     volume between them), the faces left over peeled off into a sheet of their own;
-//  4. every part oriented consistently (a breadth-first walk over the glued pairs, the majority's
-//     direction kept; an edge that cannot be made consistent, in a one-sided part, is cut);
-//  5. every vertex split into one copy per fan of faces glued around it (non-manifold vertices,
-//     and the ends of the edges cut in 3 and 4);
-//  6. points no face uses dropped.
-// Outward orientation (the sign of each part's volume) stays validation's (orient_outward).
+/// Repair of a triangle soup before validation: the defects every mesh tool mends without asking
+/// (DECISIONS 1, "Mesh repair"). Each step is a topological decision made on the soup, never a move
+/// of a point, so the repaired surface is the input surface:
+///  1. coincident vertices welded: exactly equal coordinates first (a soup OBJ, an exporter's split
+///     normals), then boundary vertices within a tolerance relative to the model's diagonal (a
+///     crack left by rounding);
+///  2. faces that lost a corner to the weld (a repeated vertex) and duplicated faces (the same three
+///     vertices, either orientation) dropped, the first of each duplicate kept;
+///  3. every edge's faces glued in pairs: two faces always; more than two paired around the edge by
+///     angle, each back-facing face with the next front-facing one (the pairs that enclose a
+///     volume between them), the faces left over peeled off into a sheet of their own;
+///  4. every part oriented consistently (a breadth-first walk over the glued pairs, the majority's
+///     direction kept; an edge that cannot be made consistent, in a one-sided part, is cut);
+///  5. every vertex split into one copy per fan of faces glued around it (non-manifold vertices,
+///     and the ends of the edges cut in 3 and 4);
+///  6. points no face uses dropped.
+/// Outward orientation (the sign of each part's volume) stays validation's (orient_outward).
 #include "libstm/mesh/edge_table.h"
 #include "libstm/mesh/mesh.h"
 

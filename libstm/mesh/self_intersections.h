@@ -1,12 +1,12 @@
 #pragma once
-// Self-intersections of a triangle mesh: a Spot whose head is pushed through its body
-// encoded silently to 1.2 % RMS, because a displacement map holds one surface per ray and the two
-// sheets inside each other cannot both be carried. The encoder names such input instead.
-//
-// Pairs of faces that share no vertex are tested (faces with a common corner or edge meet there by
-// construction): candidate pairs from a bounding-volume hierarchy of the faces' boxes, then the
-// edges of each triangle against the other (segment-triangle tests, Moller & Trumbore 1997).
-// Coplanar overlaps are not reported.
+/// Self-intersections of a triangle mesh: a model with one part pushed through another encodes
+/// silently to a poor map, because a displacement map holds one surface per ray and the two
+/// sheets inside each other cannot both be carried. The encoder names such input instead.
+///
+/// Pairs of faces that share no vertex are tested (faces with a common corner or edge meet there by
+/// construction): candidate pairs from a bounding-volume hierarchy of the faces' boxes, then the
+/// edges of each triangle against the other (segment-triangle tests, Moller & Trumbore 1997).
+/// Coplanar overlaps are not reported.
 #include <Eigen/Dense>
 
 #include <array>
@@ -15,9 +15,9 @@
 namespace sdm {
 
 struct SelfIntersections {
-  long pairs = 0;                                   // intersecting face pairs (up to max_pairs)
-  Eigen::Vector3d example = Eigen::Vector3d::Zero();  // a point where two faces cross
-  int face_a = -1, face_b = -1;                     // the two faces of that example
+  long pairs = 0;                                   ///< intersecting face pairs (up to max_pairs)
+  Eigen::Vector3d example = Eigen::Vector3d::Zero();  ///< a point where two faces cross
+  int face_a = -1, face_b = -1;                     ///< the two faces of that example
 };
 
 /// V, F: a triangle mesh. Counts the pairs of faces without a common vertex that cross, stopping

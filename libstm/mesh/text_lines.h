@@ -1,6 +1,6 @@
 #pragma once
-// The lines of a text held in memory, as std::getline gives them from a stream (the '\n' dropped,
-// a last line without one kept), without copying the text into a stream first.
+/// The lines of a text held in memory, as std::getline gives them from a stream (the '\n' dropped,
+/// a last line without one kept), without copying the text into a stream first.
 #include <cstring>
 #include <string>
 

@@ -1,6 +1,6 @@
 #pragma once
-// The pairing step of a non-rigid ICP (Amberg et al. 2007), shared by the articulated registration
-// and fit_skeleton: closest points both ways between a moving surface and a fixed target.
+/// The pairing step of a non-rigid ICP (Amberg et al. 2007), shared by the articulated registration
+/// and fit_skeleton: closest points both ways between a moving surface and a fixed target.
 #include "libstm/core/parallel.h"
 #include "libstm/geometry/triangle_bvh.h"
 

@@ -1,10 +1,10 @@
 #pragma once
-// How far a point correspondence is from a known one: the measure of the shape-correspondence
-// literature (Kim, Lipman and Funkhouser 2011, "Blended intrinsic maps"; the tables of BCICP,
-// ZoomOut, Smooth Shells, Deep Shells, ULRSSM on FAUST), for correspondences such as the texture
-// transfer's (TextureTransfer::correspondence: per target vertex a source face and barycentric
-// coordinates) between meshes whose true correspondence is known (FAUST registrations share one
-// connectivity: target vertex i truly shows source vertex i).
+/// How far a point correspondence is from a known one: the measure of the shape-correspondence
+/// literature (Kim, Lipman and Funkhouser 2011, "Blended intrinsic maps"; the tables of BCICP,
+/// ZoomOut, Smooth Shells, Deep Shells, ULRSSM), for correspondences such as the texture
+/// transfer's (TextureTransfer::correspondence: per target vertex a source face and barycentric
+/// coordinates) between meshes whose true correspondence is known (registrations that share one
+/// connectivity: target vertex i truly shows source vertex i).
 #include "libstm/mesh/mesh.h"
 #include "libstm/registration/carry_skeleton.h"
 
@@ -13,14 +13,14 @@
 namespace sdm {
 
 struct CorrespondenceError {
-  // Per target vertex (per entry of the correspondence, in order): the geodesic distance on the
-  // source between the assigned source point and the true one, divided by the square root of the
-  // source's surface area, times 100 (the literature's unit).
+  /// Per target vertex (per entry of the correspondence, in order): the geodesic distance on the
+  /// source between the assigned source point and the true one, divided by the square root of the
+  /// source's surface area, times 100 (the literature's unit).
   std::vector<double> geodesic;
-  // Per target vertex: the straight distance between the same two points, in % of the source's
-  // bounding-box diagonal.
+  /// Per target vertex: the straight distance between the same two points, in % of the source's
+  /// bounding-box diagonal.
   std::vector<double> euclidean;
-  // Their means and 90th percentiles (weighted_quantile with unit weights); 0 when empty.
+  /// Their means and 90th percentiles (weighted_quantile with unit weights); 0 when empty.
   double geodesic_mean = 0, geodesic_p90 = 0, euclidean_mean = 0, euclidean_p90 = 0;
 };
 
@@ -31,13 +31,12 @@ struct CorrespondenceError {
 /// segments across it), the last leg straight across the point's face (A* towards the point,
 /// stopped once no unsettled node can shorten it). Every such path lies on the surface, so it is an upper bound of
 /// the exact geodesic that tightens as `steiner` grows: exact along a straight line of edges and
-/// wherever the geodesic passes through the edge points. On the 12 ordered FAUST pairs (their
-/// registered correspondences) the mean with the default 5 points is 0.4 % over that with 12 and
-/// about 0.8 % over the limit they tend to (docs/BENCHMARKS.md, "Correspondence error on FAUST").
-/// `steiner` = 0 is the path along the edges alone, 10 % over on FAUST, more on a regular grid
-/// (cut along one diagonal: 8 % for a knight's move beside the cuts, 41 % straight across them). A point on a face of the true vertex
+/// wherever the geodesic passes through the edge points; the default 5 points come within about
+/// 1 % of the limit (docs/BENCHMARKS.md, correspondence error). `steiner` = 0 is the
+/// path along the edges alone, which overestimates, most on a regular grid. A point on a face of the true vertex
 /// is at the straight distance. Every target vertex is measured (no sampling), on `threads` threads
-/// (0: one per hardware thread; the result does not depend on them). Throws InputError when the
+/// (0: one per hardware thread; the result does not depend on them).
+/// \throw InputError when the
 /// counts differ, a face or vertex index lies outside the source, the source has no area or
 /// `steiner` < 0; INFINITY for a point the true vertex cannot reach (another connected part).
 CorrespondenceError correspondence_error(const Mesh& source, const std::vector<SourcePoint>& assigned, const std::vector<int>& truth,

@@ -1,7 +1,7 @@
 #pragma once
-// Where a correspondence tears: target vertices whose source point jumps away from their
-// neighbours' (a speck of wrong colour in a transferred texture, a patch of the target that shows
-// another part of the source). Needs no known answer, so every transfer reports it.
+/// Where a correspondence tears: target vertices whose source point jumps away from their
+/// neighbours' (a speck of wrong colour in a transferred texture, a patch of the target that shows
+/// another part of the source). Needs no known answer, so every transfer reports it.
 #include "libstm/mesh/mesh.h"
 #include "libstm/registration/carry_skeleton.h"
 

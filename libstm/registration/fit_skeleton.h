@@ -1,12 +1,12 @@
 #pragma once
-// A skeleton fitted onto a deformed copy of its model: the source's surface is bent onto the
-// target by the skeleton itself, used as the deformation graph of an embedded deformation (Sumner
-// et al. 2007) fitted by non-rigid iterative closest points (Amberg et al. 2007: stiffness lowered
-// step by step). Every node carries an affine map near a rotation times a scale; a surface point
-// follows the two nodes of the skeleton edge it lies along, blended linearly, so a limb bends at
-// its nodes and may thicken. The fitted nodes are the target's skeleton, with the source's
-// branching by construction; texture transfer uses them when the target is a reposed or reshaped
-// source, where an extracted skeleton can differ in branches and in where the nodes fall.
+/// A skeleton fitted onto a deformed copy of its model: the source's surface is bent onto the
+/// target by the skeleton itself, used as the deformation graph of an embedded deformation (Sumner
+/// et al. 2007) fitted by non-rigid iterative closest points (Amberg et al. 2007: stiffness lowered
+/// step by step). Every node carries an affine map near a rotation times a scale; a surface point
+/// follows the two nodes of the skeleton edge it lies along, blended linearly, so a limb bends at
+/// its nodes and may thicken. The fitted nodes are the target's skeleton, with the source's
+/// branching by construction; texture transfer uses them when the target is a reposed or reshaped
+/// source, where an extracted skeleton can differ in branches and in where the nodes fall.
 #include "libstm/mesh/mesh.h"
 #include "libstm/registration/register_surfaces.h"
 #include "libstm/skeleton/skeleton.h"
@@ -18,39 +18,39 @@
 namespace sdm {
 
 struct FitSkeletonOptions {
-  // Weight of the neighbours' agreement (Sumner's E_reg) against the mean squared distance of the
-  // surfaces: stiffness_start, halved stage by stage down to the first value at or below
-  // stiffness_end (1 -> 0.01: eight stages, the last at 1/128). A stage ends early when a step
-  // moves no node's translation by 1e-7 of the diagonal.
+  /// Weight of the neighbours' agreement (Sumner's E_reg) against the mean squared distance of the
+  /// surfaces: stiffness_start, halved stage by stage down to the first value at or below
+  /// stiffness_end (1 -> 0.01: eight stages, the last at 1/128). A stage ends early when a step
+  /// moves no node's translation by 1e-7 of the diagonal.
   double stiffness_start = 1.0, stiffness_end = 0.01;
   int iterations_per_stiffness = 6;
-  // Weight of |A - s R|^2 per node (R the rotation nearest to A, s its mean singular value clamped
-  // to [0.2, 5]): keeps the maps near rotations times a scale.
+  /// Weight of |A - s R|^2 per node (R the rotation nearest to A, s its mean singular value clamped
+  /// to [0.2, 5]): keeps the maps near rotations times a scale.
   double rigidity = 0.1;
-  bool articulated_start = true;  // without node_guess: every node's neighbourhood first registered on its own
-  // The fitting steps pair every stride-th vertex of either surface (the final measures pair all).
+  bool articulated_start = true;  ///< without node_guess: every node's neighbourhood first registered on its own
+  /// The fitting steps pair every stride-th vertex of either surface (the final measures pair all).
   int stride = 1;
-  double outlier = 0.1;    // closest-point pairs further apart than this fraction of the diagonal are left out
-  // With node_guess: per node, the rotation its first map takes (source frame -> target frame, as
-  // SkeletonFit::node_rotation) instead of the smallest rotation of its edges onto the guess's.
-  // Ignored unless it has one rotation per node.
+  double outlier = 0.1;    ///< closest-point pairs further apart than this fraction of the diagonal are left out
+  /// With node_guess: per node, the rotation its first map takes (source frame -> target frame, as
+  /// SkeletonFit::node_rotation) instead of the smallest rotation of its edges onto the guess's.
+  /// Ignored unless it has one rotation per node.
   std::vector<Eigen::Matrix3d> start_rotations;
 };
 
 struct SkeletonFit {
-  Skeleton skeleton;                  // the source's graph in the target; vertex_node for the target's vertices
-  std::vector<Eigen::Matrix3d> node_rotation;  // per node, the rotation of its fitted map (start included)
-  std::vector<Eigen::Vector3d> bent;  // the source's vertices bent onto the target
-  // Distances between the bent source and the target, as register_surfaces reports them.
+  Skeleton skeleton;                  ///< the source's graph in the target; vertex_node for the target's vertices
+  std::vector<Eigen::Matrix3d> node_rotation;  ///< per node, the rotation of its fitted map (start included)
+  std::vector<Eigen::Vector3d> bent;  ///< the source's vertices bent onto the target
+  /// Distances between the bent source and the target, as register_surfaces reports them.
   double rms = INFINITY, p99 = INFINITY;
-  // Area of the bent source over the target's: near 1 when the source covers the target once;
-  // limbs squeezed together onto one of the target (another branching) raise it.
+  /// Area of the bent source over the target's: near 1 when the source covers the target once;
+  /// limbs squeezed together onto one of the target (another branching) raise it.
   double area_ratio = 0;
-  // The smallest ratio, over pairs of end nodes, of their distance after the fit to their distance
-  // before (the start's scale included): a pose moves ends apart or together by some, but limbs
-  // squeezed onto one limb of the target (another branching) bring their ends together.
+  /// The smallest ratio, over pairs of end nodes, of their distance after the fit to their distance
+  /// before (the start's scale included): a pose moves ends apart or together by some, but limbs
+  /// squeezed onto one limb of the target (another branching) bring their ends together.
   double end_spread = 1;
-  int iterations = 0;  // non-rigid steps completed, over every stage
+  int iterations = 0;  ///< non-rigid steps completed, over every stage
 };
 
 /// `skeleton` belongs to `source` (vertex_node has its vertex count). `start` registers source onto

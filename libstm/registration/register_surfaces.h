@@ -1,10 +1,10 @@
 #pragma once
-// Similarity registration of one closed surface onto another: iterative closest points (Besl and
-// McKay 1992) in both directions, each step solved in closed form for rotation, uniform scale and
-// translation (Umeyama 1991). Texture transfer uses it to recognise a target that is the source's
-// shape tessellated anew (moved or scaled, perhaps): its skeleton is then the source's, carried
-// over (carry_skeleton), instead of one extracted again, because extraction depends on the
-// tessellation (DECISIONS 5, transfer).
+/// Similarity registration of one closed surface onto another: iterative closest points (Besl and
+/// McKay 1992) in both directions, each step solved in closed form for rotation, uniform scale and
+/// translation (Umeyama 1991). Texture transfer uses it to recognise a target that is the source's
+/// shape tessellated anew (moved or scaled, perhaps): its skeleton is then the source's, carried
+/// over (carry_skeleton), instead of one extracted again, because extraction depends on the
+/// tessellation (DECISIONS 5, transfer).
 #include "libstm/geometry/differential_geometry.h"
 #include "libstm/mesh/mesh.h"
 #include "libstm/mesh/mesh_geometry.h"
@@ -16,11 +16,11 @@
 namespace sdm {
 
 struct Registration {
-  Similarity transform;   // source -> target
-  // Distances between the registered source and the target, sampled at both meshes' vertices in both
-  // directions and weighted by vertex area, as fractions of the target's bounding-box diagonal.
+  Similarity transform;   ///< source -> target
+  /// Distances between the registered source and the target, sampled at both meshes' vertices in both
+  /// directions and weighted by vertex area, as fractions of the target's bounding-box diagonal.
   double rms = INFINITY;
-  double p99 = INFINITY;  // the area-weighted 99th percentile: a few misplaced tips do not count
+  double p99 = INFINITY;  ///< the area-weighted 99th percentile: a few misplaced tips do not count
   double max = INFINITY;
   int iterations = 0;
 };

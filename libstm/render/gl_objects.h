@@ -1,8 +1,8 @@
 #pragma once
-// Owning handles for the GL objects a render pass creates (buffers, vertex arrays, textures). GL
-// names are plain integers; a handle deletes its object when it goes out of scope, on every exit
-// path, exceptions included. Like every GL object they belong to the context that was current
-// when they were made: keep it alive and current until the handles are gone (gl_context.h).
+/// Owning handles for the GL objects a render pass creates (buffers, vertex arrays, textures). GL
+/// names are plain integers; a handle deletes its object when it goes out of scope, on every exit
+/// path, exceptions included. Like every GL object they belong to the context that was current
+/// when they were made: keep it alive and current until the handles are gone (gl_context.h).
 #ifndef GL_GLEXT_PROTOTYPES
 #define GL_GLEXT_PROTOTYPES 1
 #endif

@@ -1,9 +1,9 @@
 #pragma once
-// Choice between the two skeleton candidates of a part: Au et al.'s Laplacian contraction, which
-// keeps the cycles of CAD parts but can pull short limbs into the body, and the medial poles
-// (medial_poles.h), which keep every limb but make sheets of thin walls. A candidate is measured by
-// its cycles against the part's genus, its edges outside the volume, and its tube error (how far
-// the surface is from tubes around the skeleton with the medial radius).
+/// Choice between the two skeleton candidates of a part: Au et al.'s Laplacian contraction, which
+/// keeps the cycles of CAD parts but can pull short limbs into the body, and the medial poles
+/// (medial_poles.h), which keep every limb but make sheets of thin walls. A candidate is measured by
+/// its cycles against the part's genus, its edges outside the volume, and its tube error (how far
+/// the surface is from tubes around the skeleton with the medial radius).
 #include "libstm/mesh/inside_mesh.h"
 #include "libstm/skeleton/skeleton_graph.h"
 #include "libstm/skeleton/skeleton_options.h"
@@ -16,9 +16,9 @@ namespace sdm {
 /// A refined graph and what the choice compares.
 struct SkeletonCandidate {
   SkeletonGraph graph;
-  int cycles = 0;             // independent cycles (the graph of one part: edges - nodes + 1)
-  int outside = 0;            // edges not inside the volume
-  double error = INFINITY;    // tube error / the part's diagonal; infinity when not measured
+  int cycles = 0;             ///< independent cycles (the graph of one part: edges - nodes + 1)
+  int outside = 0;            ///< edges not inside the volume
+  double error = INFINITY;    ///< tube error / the part's diagonal; infinity when not measured
 };
 
 /// How far the skeleton is from explaining the surface (V, F; `poles` row i: the medial pole of

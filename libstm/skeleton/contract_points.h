@@ -1,9 +1,9 @@
 #pragma once
-// Laplacian contraction of a point cloud (Cao, Tagliasacchi et al. 2010, "Point cloud skeletons via
-// Laplacian-based contraction", section 4): the mesh contraction of contract_mesh.h on the local
-// Delaunay one-rings of the points (local_delaunay.h) instead of faces. Each iteration takes the
-// cotangent weights of the rings' triangles at the current positions (clamped, with a uniform part
-// as proxy_contraction adds) and the attraction W_H,i = sqrt(A_i^0 / A_i) of the ring areas.
+/// Laplacian contraction of a point cloud (Cao, Tagliasacchi et al. 2010, "Point cloud skeletons via
+/// Laplacian-based contraction", section 4): the mesh contraction of contract_mesh.h on the local
+/// Delaunay one-rings of the points (local_delaunay.h) instead of faces. Each iteration takes the
+/// cotangent weights of the rings' triangles at the current positions (clamped, with a uniform part
+/// as proxy_contraction adds) and the attraction W_H,i = sqrt(A_i^0 / A_i) of the ring areas.
 #include "libstm/core/progress.h"
 #include "libstm/skeleton/contract_mesh.h"
 

@@ -1,12 +1,12 @@
 #pragma once
-// Extractions often split the junction where the two limbs of a pair meet (FAUST's shoulders: two
-// degree-3 junctions 2-5 % of the skeleton's length apart, one arm at each), and which limb hangs
-// from which of the two follows the last bits of the coordinates (tr_reg_024 with every coordinate
-// moved by 1e-7 of the diagonal: either arm). Two skeletons split the other way round match only
-// with the pair crossed, the left arm of one on the right arm of the other: the split, not the
-// shape, then decides left and right, and no candidate match has them right. The variants here
-// exchange such a pair between its two junctions, so that the matcher offers both assignments and
-// the registration chooses between them (register_bodies). DECISIONS 5, "keeps left and right".
+/// Extractions often split the junction where the two limbs of a pair meet (a body's shoulders: two
+/// degree-3 junctions a few percent of the skeleton's length apart, one arm at each), and which limb
+/// hangs from which of the two follows the last bits of the coordinates (every coordinate moved by
+/// 1e-7 of the diagonal: either arm). Two skeletons split the other way round match only
+/// with the pair crossed, the left arm of one on the right arm of the other: the split, not the
+/// shape, then decides left and right, and no candidate match has them right. The variants here
+/// exchange such a pair between its two junctions, so that the matcher offers both assignments and
+/// the registration chooses between them (register_bodies). DECISIONS 5, "keeps left and right".
 #include "libstm/skeleton/skeleton.h"
 
 #include <vector>

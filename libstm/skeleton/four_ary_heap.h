@@ -1,8 +1,8 @@
 #pragma once
-// A four-ary min-heap with a sweep for lazily deleted entries: the priority queue of connectivity
-// surgery (surgery.cpp). A collapse there invalidates the queued entries of the vertices it touches
-// and queues them anew, so most entries go stale before they reach the top. Four-ary: a pop sifts
-// through half the levels of a binary heap, and pops (mostly of stale entries) dominate.
+/// A four-ary min-heap with a sweep for lazily deleted entries: the priority queue of connectivity
+/// surgery (surgery.cpp). A collapse there invalidates the queued entries of the vertices it touches
+/// and queues them anew, so most entries go stale before they reach the top. Four-ary: a pop sifts
+/// through half the levels of a binary heap, and pops (mostly of stale entries) dominate.
 #include <algorithm>
 #include <cstddef>
 #include <functional>
@@ -49,7 +49,7 @@ class FourAryHeap {
   }
 
  private:
-  // x comes out after y.
+  /// x comes out after y.
   bool later(const T& x, const T& y) const { return less_(y, x); }
 
   void sift_down(size_t at) {

@@ -1,12 +1,12 @@
 #pragma once
-// The curve skeleton of a point cloud (Cao, Tagliasacchi et al. 2010, "Point cloud skeletons via
-// Laplacian-based contraction"): the cloud, or an even subsample of it, contracted on its kNN graph
-// (contract_points.h); farthest-point sampling of the contracted points into nodes, each point
-// keeping its node; edges where the one-rings join two nodes; then, as in the paper, triangles
-// collapsed along their shortest edge. Two clean-ups follow, the roles of the mesh path's surgery
-// and refinement: a cycle is kept only when it is longer than the circumference of the tube around
-// it (a handle encloses a hole wider than its own section; the web of nodes a flat part contracts
-// into does not), and end branches shorter than their junction's radius are merged into it.
+/// The curve skeleton of a point cloud (Cao, Tagliasacchi et al. 2010, "Point cloud skeletons via
+/// Laplacian-based contraction"): the cloud, or an even subsample of it, contracted on its kNN graph
+/// (contract_points.h); farthest-point sampling of the contracted points into nodes, each point
+/// keeping its node; edges where the one-rings join two nodes; then, as in the paper, triangles
+/// collapsed along their shortest edge. Two clean-ups follow, the roles of the mesh path's surgery
+/// and refinement: a cycle is kept only when it is longer than the circumference of the tube around
+/// it (a handle encloses a hole wider than its own section; the web of nodes a flat part contracts
+/// into does not), and end branches shorter than their junction's radius are merged into it.
 #include "libstm/core/progress.h"
 #include "libstm/skeleton/contract_points.h"
 #include "libstm/skeleton/skeleton.h"

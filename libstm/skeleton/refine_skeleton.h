@@ -1,10 +1,10 @@
 #pragma once
-// Refinement of a surgery's graph (Au et al. 2008, section 4.3, "embedding refinement"; CGAL's
-// skeletonization leaves the same step to the caller): nodes move to the centre of the original
-// vertices they own, short end branches and short edges are merged, and the graph is kept inside
-// the volume (nodes pulled in, crossing edges bent through a medial pole). Each step below can be
-// called alone; extract_skeleton runs refine_skeleton, centre_junctions (when asked),
-// bend_crossing_edges and, on the chosen candidate, split_lone_node.
+/// Refinement of a surgery's graph (Au et al. 2008, section 4.3, "embedding refinement"; CGAL's
+/// skeletonization leaves the same step to the caller): nodes move to the centre of the original
+/// vertices they own, short end branches and short edges are merged, and the graph is kept inside
+/// the volume (nodes pulled in, crossing edges bent through a medial pole). Each step below can be
+/// called alone; extract_skeleton runs refine_skeleton, centre_junctions (when asked),
+/// bend_crossing_edges and, on the chosen candidate, split_lone_node.
 #include "libstm/mesh/inside_mesh.h"
 #include "libstm/geometry/triangle_bvh.h"
 #include "libstm/skeleton/skeleton_graph.h"

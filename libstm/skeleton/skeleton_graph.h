@@ -1,8 +1,8 @@
 #pragma once
-// The skeleton of one connected part while it is being built: what connectivity surgery
-// (surgery.h) hands to refinement (refine_skeleton.h) and candidate choice (choose_candidate.h).
-// Nodes own clusters of the part's vertices (part-local indices); extract_skeleton turns the chosen
-// graph into the Skeleton of the whole mesh.
+/// The skeleton of one connected part while it is being built: what connectivity surgery
+/// (surgery.h) hands to refinement (refine_skeleton.h) and candidate choice (choose_candidate.h).
+/// Nodes own clusters of the part's vertices (part-local indices); extract_skeleton turns the chosen
+/// graph into the Skeleton of the whole mesh.
 #include <Eigen/Dense>
 
 #include <algorithm>
@@ -13,10 +13,10 @@
 namespace sdm {
 
 struct SkeletonGraph {
-  std::vector<Eigen::Vector3d> pos;       // node position
-  std::vector<Eigen::Vector3d> fallback;  // contracted position, used when pos must be pulled in
-  std::vector<std::vector<int>> verts;    // original (part-local) vertices per node
-  std::set<std::pair<int, int>> edges;    // (a, b) with a < b
+  std::vector<Eigen::Vector3d> pos;       ///< node position
+  std::vector<Eigen::Vector3d> fallback;  ///< contracted position, used when pos must be pulled in
+  std::vector<std::vector<int>> verts;    ///< original (part-local) vertices per node
+  std::set<std::pair<int, int>> edges;    ///< (a, b) with a < b
 
   /// Number of edges at each node.
   std::vector<int> degrees() const {

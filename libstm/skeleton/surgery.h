@@ -1,11 +1,11 @@
 #pragma once
-// Connectivity surgery (Au et al. 2008, "Skeleton extraction by mesh contraction", section 4.2;
-// CGAL's Mean_curvature_flow_skeletonization::convert_to_skeleton is the same step): the contracted
-// mesh, taken as a simplicial complex, loses edges by collapse, cheapest first, until no face is
-// left; the surviving vertices and edges are the curve skeleton, each vertex owning the cluster of
-// vertices collapsed into it. Au et al.'s cost: a shape term (sum of squared distances to the
-// lines of the edges once incident, an edge quadric) and a sampling term (the collapsed edge's
-// length times the length of the edges around the vertex, which keeps segment lengths even).
+/// Connectivity surgery (Au et al. 2008, "Skeleton extraction by mesh contraction", section 4.2;
+/// CGAL's Mean_curvature_flow_skeletonization::convert_to_skeleton is the same step): the contracted
+/// mesh, taken as a simplicial complex, loses edges by collapse, cheapest first, until no face is
+/// left; the surviving vertices and edges are the curve skeleton, each vertex owning the cluster of
+/// vertices collapsed into it. Au et al.'s cost: a shape term (sum of squared distances to the
+/// lines of the edges once incident, an edge quadric) and a sampling term (the collapsed edge's
+/// length times the length of the edges around the vertex, which keeps segment lengths even).
 #include "libstm/mesh/inside_mesh.h"
 #include "libstm/skeleton/skeleton_graph.h"
 #include "libstm/skeleton/skeleton_options.h"
