@@ -5,6 +5,9 @@
 // folder unusable, file names that are not UTF-8, and valid files the readers refused (ASCII PLY
 // with 16- and 32-bit list types, an OBJ face with a comment, map_Kd options and Windows paths).
 // Every hostile case is refused by name with exit 2, and every valid one is read.
+#include "libstm/core/errors.h"
+#include "libstm/core/image.h"
+#include "libstm/core/limits.h"
 #include "libstm/mesh/obj_material.h"
 #include "tests/test_util.h"
 
@@ -184,6 +187,26 @@ TEST_CASE("Images whose header claims more than the bytes or the memory budget h
     expect_refused(run_sdm_guarded("render " + dir / "tex.obj" + " -o " + out, memory_cap()), "header claims");
   }
   CHECK_FALSE(fs::exists(out));
+}
+
+TEST_CASE("read_png refuses a header claiming more than kMaxImageSide a side or than its bytes hold, before allocating", "[hostile]") {
+  TempDir dir;
+  // 2^20 a side is 64 times kMaxImageSide: 4 TB of RGBA had it been allocated (std::bad_alloc, not
+  // InputError); 16384^2 in 60 bytes is within the side limit but beyond what deflate can encode.
+  REQUIRE((uint32_t(1) << 20) > uint32_t(sdm::kMaxImageSide));
+  write_file(dir / "wide.png", png_claiming(uint32_t(1) << 20, 0));
+  write_file(dir / "tiny.png", png_claiming(16384, 0));
+  for (const std::string name : {"wide.png", "tiny.png"}) {
+    INFO(name);
+    try {
+      sdm::read_png(dir / name);
+      FAIL("read_png took " + name);
+    } catch (const sdm::InputError& e) {
+      const std::string what = e.what();
+      CHECK(what.find("header claims") != std::string::npos);
+      CHECK(what.find(name) != std::string::npos);
+    }
+  }
 }
 
 TEST_CASE("An --stm beyond the memory budget and a layout beyond the JSON size limit are refused before reading", "[hostile]") {
