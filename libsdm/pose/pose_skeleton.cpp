@@ -11,7 +11,7 @@
 namespace sdm {
 namespace {
 
-void check_same_graph(const Skeleton& rest, const Skeleton& posed) {
+void check_same_graph(const Skeleton& rest, const PosedSkeleton& posed) {
   if (posed.nodes.size() != rest.nodes.size() || posed.edges.size() != rest.edges.size())
     throw InputError("the skeleton has " + std::to_string(posed.nodes.size()) + " nodes and " + std::to_string(posed.edges.size()) +
                      " edges, the SDM's has " + std::to_string(rest.nodes.size()) + " and " + std::to_string(rest.edges.size()) +
