@@ -204,13 +204,20 @@ std::vector<SourcePoint> zoomout(const Mesh& source, const LaplaceBasis& source_
   const RowMatrix phi_s = unit_functions(source_basis, k_end), phi_t = unit_functions(target_basis, k_end);
   const Eigen::VectorXf mass_t = (target_basis.mass / target_basis.mass.sum()).cast<float>(), mass_s = (source_basis.mass / source_basis.mass.sum()).cast<float>();
   const double source_scale = std::sqrt(source_basis.mass.sum());
-  // Spatial coordinates on the source: the start's points for the target's vertices.
+  // Spatial coordinates on the source: the start's points for the target's vertices (with `follow`,
+  // each step's map's).
   std::vector<Eigen::Vector3d> start_points, source_points;
   for (const auto& p : start) start_points.push_back(position_of(source, p));
   for (auto v : source.vertices()) source_points.push_back(point(source, v));
+  std::vector<Eigen::Vector3d> anchors = start_points;
   std::vector<std::vector<int>> t_windows, s_windows;
-  if (o.window > 0) t_windows = search_windows(source_points, start_points, o.window * source_scale);
-  if (o.window > 0 && o.bidirectional) s_windows = search_windows(start_points, source_points, o.window * source_scale);
+  const auto set_windows = [&](double window) {
+    t_windows.clear(), s_windows.clear();
+    if (window > 0) t_windows = search_windows(source_points, anchors, window * source_scale);
+    if (window > 0 && o.bidirectional) s_windows = search_windows(anchors, source_points, window * source_scale);
+  };
+  set_windows(o.window);
+  double window_now = o.window;
   std::vector<SourcePoint> map = start;
   // The source's vertices' target vertices (bidirectional): at first the target vertex whose start
   // point is nearest.
@@ -228,6 +235,11 @@ std::vector<SourcePoint> zoomout(const Mesh& source, const LaplaceBasis& source_
   for (size_t i = 0; i < sizes.size(); ++i) {
     const int k = sizes[i];
     const double at = k_end > o.k_start ? double(k - o.k_start) / (k_end - o.k_start) : 1.0;
+    const double window = o.window_end >= 0 ? (1 - at) * o.window + at * o.window_end : o.window;
+    const bool follow = o.follow > 0 && i > 0;
+    if (follow)
+      for (size_t t = 0; t < size_t(nt); ++t) anchors[t] = start_points[t] + o.follow * (position_of(source, map[t]) - start_points[t]);
+    if (follow || window != window_now) set_windows(window), window_now = window;
     const double w_end = o.spatial_weight_end >= 0 ? o.spatial_weight_end : o.spatial_weight;
     const double w = ((1 - at) * o.spatial_weight + at * w_end) / source_scale;
     const double fw_end = o.feature_weight_end >= 0 ? o.feature_weight_end : o.feature_weight;
@@ -246,7 +258,7 @@ std::vector<SourcePoint> zoomout(const Mesh& source, const LaplaceBasis& source_
       const Eigen::BDCSVD<Eigen::MatrixXf> svd(C, Eigen::ComputeThinU | Eigen::ComputeThinV);
       C = svd.matrixU() * svd.matrixV().transpose();
     }
-    const RowMatrix queries = embedding(phi_t, k, C, start_points, w, f_t), database = embedding(phi_s, k, {}, source_points, w, f_s);
+    const RowMatrix queries = embedding(phi_t, k, C, anchors, w, f_t), database = embedding(phi_s, k, {}, source_points, w, f_s);
     const std::vector<int> nearest = nearest_rows(queries, database, t_windows, o.threads);
     if (i + 1 == sizes.size()) {
       parallel_for(nt, 256, [&](int t) { map[size_t(t)] = nearest_point_around(source, nearest[size_t(t)], queries.row(t), database); }, o.threads);
@@ -254,7 +266,7 @@ std::vector<SourcePoint> zoomout(const Mesh& source, const LaplaceBasis& source_
     }
     for (int t = 0; t < nt; ++t) map[size_t(t)] = vertex_point(source, nearest[size_t(t)]);
     if (o.bidirectional)
-      s2t = nearest_rows(embedding(phi_s, k, C.transpose(), source_points, w, f_s), embedding(phi_t, k, {}, start_points, w, f_t), s_windows,
+      s2t = nearest_rows(embedding(phi_s, k, C.transpose(), source_points, w, f_s), embedding(phi_t, k, {}, anchors, w, f_t), s_windows,
                          o.threads);
   }
   return map;

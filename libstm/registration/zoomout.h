@@ -32,6 +32,12 @@ struct ZoomOutOptions {
   /// Each target vertex searches only the source vertices within this distance (at unit area) of
   /// its start's point on the source (0: every source vertex).
   double window = 0.06;
+  double window_end = -1;  ///< the window at k_end (linear in k between; < 0: window throughout)
+  /// The spatial coordinates and the window of each target vertex around the point this share of
+  /// the way from its start's source point to its current one (the previous step's map): 0 the
+  /// start, 1 the current map, which may move further than the window in steps. Off (BENCHMARKS,
+  /// "A refinement anchor that follows the map").
+  double follow = 0;
   /// Each step also maps the source's vertices to the target's (nearest rows of Phi_T to those of
   /// Phi_S C^T) and C is the mean of both maps' functional maps (Ren et al. 2021's bidirectional
   /// ZoomOut).
