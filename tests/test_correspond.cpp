@@ -9,6 +9,7 @@
 #include "libstm/mesh/primitives.h"
 #include "libstm/skeleton/extract_skeleton.h"
 #include "libstm/transfer/transfer_texture.h"
+#include "correspondence_points.h"
 #include "synthetic_shapes.h"
 #include "test_util.h"
 
@@ -20,25 +21,6 @@
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <sstream>
-
-namespace {
-
-// Per line of a correspondence file, the source point's position.
-std::vector<Eigen::Vector3d> read_points(const std::string& path, const sdm::Mesh& source) {
-  std::ifstream in(path);
-  std::vector<Eigen::Vector3d> out;
-  std::string line;
-  while (std::getline(in, line)) {
-    if (line.empty() || line[0] == '#') continue;
-    std::istringstream s(line);
-    sdm::SourcePoint p;
-    s >> p.face >> p.barycentric[0] >> p.barycentric[1] >> p.barycentric[2];
-    out.push_back(sdm::position_of(source, p));
-  }
-  return out;
-}
-
-}  // namespace
 
 TEST_CASE("correspond onto a new tessellation of the ypsilon carries the skeleton and lays every point under its vertex", "[correspond]") {
   const sdm::Mesh a = sdm::make_primitive("ypsilon", 1200);
@@ -66,7 +48,7 @@ TEST_CASE("sdm correspond writes one source point per target vertex, and refuses
   const nlohmann::json j = test_util::last_json(res);
   CHECK(j["kind"] == "carried");
   CHECK(j["target_vertices"] == b.n_vertices());
-  const std::vector<Eigen::Vector3d> at = read_points(dir / "c.txt", a);
+  const std::vector<Eigen::Vector3d> at = test_util::read_points(dir / "c.txt", a);
   REQUIRE(at.size() == b.n_vertices());
   double worst = 0;
   for (auto v : b.vertices()) worst = std::max(worst, (at[size_t(v.idx())] - sdm::point(b, v)).norm());
