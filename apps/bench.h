@@ -4,6 +4,8 @@
 // and written to docs/BENCHMARKS.md, never asserted by tests.
 #include <algorithm>
 #include <cstddef>
+#include <functional>
+#include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
 
@@ -42,6 +44,11 @@ size_t peak_rss_bytes();
 
 // Keeps the fastest of the runs: `slot` holds the best time so far.
 inline void keep_fastest(double& slot, double seconds) { slot = std::min(slot, seconds); }
+
+// One row per file of `paths`, in order: `row(path)`, its figures as a JSON object, each file named
+// on stderr ("bench: WHAT PATH") once measured (bench --load, --pipeline).
+nlohmann::json rows_per_file(const std::vector<std::string>& paths, const std::string& what,
+                             const std::function<nlohmann::json(const std::string&)>& row);
 
 // Table I, Table II and the SDM timings on the paper's five shapes (and bunny00): bench_stages.cpp.
 int run_stages(const BenchOptions& o);

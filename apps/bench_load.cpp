@@ -12,37 +12,49 @@
 
 namespace sdm::cli {
 
+namespace {
+
+// The fastest of the runs of each loading stage of one file, and what the load found.
+struct LoadTimes {
+  double read = INFINITY, validate = INFINITY, build = INFINITY, repair = INFINITY, clean = INFINITY;
+  size_t vertices = 0, faces = 0;
+  long repairs = 0;
+};
+
+// One run of load_mesh's stages on `path`, each stage's time kept in `t` where it is the fastest.
+void time_load_once(const std::string& path, LoadTimes& t) {
+  Stopwatch sw;
+  MeshSoup soup = read_mesh_soup(path);
+  keep_fastest(t.read, sw.lap());
+  EdgeTable table;
+  const LoadReport lr = prepare_soup(soup, path, LoadOptions{}, &table);
+  keep_fastest(t.validate, sw.lap());
+  const Mesh mesh = build_mesh(soup, table.edges() ? &table : nullptr);
+  keep_fastest(t.build, sw.lap());
+  validate_mesh(soup);
+  keep_fastest(t.clean, sw.lap());
+  keep_fastest(t.repair, lr.repair_seconds);
+  t.vertices = mesh.n_vertices(), t.faces = mesh.n_faces(), t.repairs = long(lr.repair.steps.size());
+}
+
+nlohmann::json load_row(const std::string& path, int repeat) {
+  LoadTimes t;
+  for (int i = 0; i < repeat; ++i) time_load_once(path, t);
+  const double total = t.read + t.validate + t.build;
+  return {{"file", path}, {"vertices", t.vertices}, {"faces", t.faces}, {"read_s", t.read}, {"validate_s", t.validate},
+          {"build_s", t.build}, {"total_s", total}, {"repair_s", t.repair}, {"repair_share", t.repair / total},
+          {"repair_steps", t.repairs}, {"validate_repaired_s", t.clean}, {"defect_share", (t.validate - t.clean) / total}};
+}
+
+}  // namespace
+
 // Per file: reading the soup, validating it (and repairing it where validation says repair may
 // help, as load_mesh does), building the halfedge mesh (the stages of load_mesh), the fastest of
 // `repeat` runs each, and the process's peak memory after them. Beside them, the repair's share of
 // the load, and the validation of the repaired soup: what the load of the same mesh, clean, spends
 // on validation (the difference is what a defect costs).
 int run_load_bench(const BenchOptions& o) {
-  nlohmann::json rows = nlohmann::json::array();
-  for (const std::string& path : o.load) {
-    double read = INFINITY, validate = INFINITY, build = INFINITY, repair = INFINITY, clean = INFINITY;
-    size_t vertices = 0, faces = 0;
-    long repairs = 0;
-    for (int i = 0; i < o.repeat; ++i) {
-      Stopwatch sw;
-      MeshSoup soup = read_mesh_soup(path);
-      const double r = sw.lap();
-      EdgeTable table;
-      const LoadReport lr = prepare_soup(soup, path, LoadOptions{}, &table);
-      const double v = sw.lap();
-      const Mesh mesh = build_mesh(soup, table.edges() ? &table : nullptr);
-      const double b = sw.lap();
-      validate_mesh(soup);
-      clean = std::min(clean, sw.lap());
-      read = std::min(read, r), validate = std::min(validate, v), build = std::min(build, b), repair = std::min(repair, lr.repair_seconds);
-      vertices = mesh.n_vertices(), faces = mesh.n_faces(), repairs = long(lr.repair.steps.size());
-    }
-    std::cerr << "bench: loaded " << path << "\n";
-    const double total = read + validate + build;
-    rows.push_back({{"file", path}, {"vertices", vertices}, {"faces", faces}, {"read_s", read}, {"validate_s", validate},
-                    {"build_s", build}, {"total_s", total}, {"repair_s", repair}, {"repair_share", repair / total},
-                    {"repair_steps", repairs}, {"validate_repaired_s", clean}, {"defect_share", (validate - clean) / total}});
-  }
+  const nlohmann::json rows = rows_per_file(o.load, "loaded", [&](const std::string& path) { return load_row(path, o.repeat); });
   if (o.json) {
     print_json({{"machine", machine_line()}, {"loads", rows}, {"peak_rss_mb", double(peak_rss_bytes()) / 1e6}});
     return 0;

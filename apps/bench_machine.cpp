@@ -1,6 +1,7 @@
 #include "apps/bench.h"
 
 #include <fstream>
+#include <iostream>
 #include <thread>
 
 #include <sys/resource.h>
@@ -26,6 +27,16 @@ size_t peak_rss_bytes() {
   rusage u{};
   getrusage(RUSAGE_SELF, &u);
   return size_t(u.ru_maxrss) * 1024;
+}
+
+nlohmann::json rows_per_file(const std::vector<std::string>& paths, const std::string& what,
+                             const std::function<nlohmann::json(const std::string&)>& row) {
+  nlohmann::json rows = nlohmann::json::array();
+  for (const std::string& path : paths) {
+    rows.push_back(row(path));
+    std::cerr << "bench: " << what << " " << path << "\n";
+  }
+  return rows;
 }
 
 }  // namespace sdm::cli

@@ -15,39 +15,45 @@
 
 namespace sdm::cli {
 
+namespace {
+
+// One file through every stage, the fastest of `repeat` runs of each.
+nlohmann::json pipeline_row(const std::string& path, int repeat, int size) {
+  double load = INFINITY, skeleton = INFINITY, layout = INFINITY, encode = INFINITY, decode = INFINITY;
+  size_t vertices = 0, faces = 0;
+  for (int i = 0; i < repeat; ++i) {
+    Stopwatch sw;
+    const Mesh mesh = load_mesh(path).mesh;
+    keep_fastest(load, sw.lap());
+    const Skeleton sk = extract_skeleton(mesh);
+    keep_fastest(skeleton, sw.lap());
+    LayoutOptions lo;
+    lo.size = size;
+    const Layout L = compute_layout(mesh, sk, lo);
+    keep_fastest(layout, sw.lap());
+    EncodeOptions eo;
+    eo.fill_unread = false;  // as `sdm encode` writes a file
+    const SdmImage im = encode_sdm(mesh, L, eo);
+    keep_fastest(encode, sw.lap());
+    DecodeOptions d;
+    d.level = 3;
+    faces = decode_sdm(im, d).n_faces();
+    keep_fastest(decode, sw.lap());
+    vertices = mesh.n_vertices();
+  }
+  return {{"file", path}, {"vertices", vertices}, {"load_s", load}, {"skeleton_s", skeleton}, {"layout_s", layout},
+          {"encode_s", encode}, {"decode3_s", decode}, {"decode3_faces", faces}, {"decode3_faces_per_s", double(faces) / decode},
+          {"skeleton_to_decode_s", skeleton + layout + encode + decode}};
+}
+
+}  // namespace
+
 // Per file: load, skeleton, layout (--size atlas), encode (same size) and decode at level 3, the
 // fastest of `repeat` runs each (in-memory, as the commands run them without their checks), the
 // decode's rate in faces per second, and the process's peak memory after them.
 int run_pipeline_bench(const BenchOptions& o) {
-  nlohmann::json rows = nlohmann::json::array();
-  for (const std::string& path : o.pipeline) {
-    double load = INFINITY, skeleton = INFINITY, layout = INFINITY, encode = INFINITY, decode = INFINITY;
-    size_t vertices = 0, faces = 0;
-    for (int i = 0; i < o.repeat; ++i) {
-      Stopwatch sw;
-      const Mesh mesh = load_mesh(path).mesh;
-      load = std::min(load, sw.lap());
-      const Skeleton sk = extract_skeleton(mesh);
-      skeleton = std::min(skeleton, sw.lap());
-      LayoutOptions lo;
-      lo.size = o.size;
-      const Layout L = compute_layout(mesh, sk, lo);
-      layout = std::min(layout, sw.lap());
-      EncodeOptions eo;
-      eo.fill_unread = false;  // as `sdm encode` writes a file
-      const SdmImage im = encode_sdm(mesh, L, eo);
-      encode = std::min(encode, sw.lap());
-      DecodeOptions d;
-      d.level = 3;
-      faces = decode_sdm(im, d).n_faces();
-      decode = std::min(decode, sw.lap());
-      vertices = mesh.n_vertices();
-    }
-    std::cerr << "bench: pipeline " << path << "\n";
-    rows.push_back({{"file", path}, {"vertices", vertices}, {"load_s", load}, {"skeleton_s", skeleton}, {"layout_s", layout},
-                    {"encode_s", encode}, {"decode3_s", decode}, {"decode3_faces", faces}, {"decode3_faces_per_s", double(faces) / decode},
-                    {"skeleton_to_decode_s", skeleton + layout + encode + decode}});
-  }
+  const nlohmann::json rows =
+      rows_per_file(o.pipeline, "pipeline", [&](const std::string& path) { return pipeline_row(path, o.repeat, o.size); });
   if (o.json) {
     print_json({{"machine", machine_line()}, {"size", o.size}, {"pipelines", rows}, {"peak_rss_mb", double(peak_rss_bytes()) / 1e6}});
     return 0;

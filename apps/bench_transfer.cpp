@@ -39,9 +39,7 @@ Image checker_texture() {
 }
 
 // How the transfer found the target's skeleton, as `sdm transfer --json` names it.
-std::string target_kind(const TextureTransfer& t) {
-  return t.carried ? "carried" : t.fitted ? "bent" : t.registered ? "registered" : "extracted";
-}
+std::string target_kind(const TextureTransfer& t) { return target_skeleton_name(t.kind, false); }
 
 std::string pair_name(const std::string& a_path, const std::string& b_path) {
   return std::filesystem::path(a_path).stem().string() + " -> " + std::filesystem::path(b_path).stem().string();

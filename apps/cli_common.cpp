@@ -17,8 +17,9 @@
 namespace sdm::cli {
 namespace {
 
-sdm::Layout read_layout_for(const sdm::Mesh& mesh, const std::string& path, const std::string& max_memory) {
-  sdm::Layout layout = sdm::read_layout_json(path, json_budget(max_memory, path));
+sdm::Layout read_layout_for(const sdm::Mesh& mesh, const LayoutSource& source, const std::string& max_memory) {
+  const std::string& path = source.layout_file;
+  sdm::Layout layout = source.read ? *source.read : sdm::read_layout_json(path, json_budget(max_memory, path));
   if (layout.skeleton.vertex_node.size() != mesh.n_vertices())
     throw sdm::InputError("layout " + path + " was made for a mesh with " + std::to_string(layout.skeleton.vertex_node.size()) +
                           " vertices, this one has " + std::to_string(mesh.n_vertices()));
@@ -30,7 +31,7 @@ sdm::Layout read_layout_for(const sdm::Mesh& mesh, const std::string& path, cons
 LayoutForMesh layout_for(const sdm::Mesh& mesh, const LayoutSource& source, const std::string& max_memory) {
   LayoutForMesh r;
   if (!source.layout_file.empty()) {
-    r.layout = read_layout_for(mesh, source.layout_file, max_memory);
+    r.layout = read_layout_for(mesh, source, max_memory);
     return r;
   }
   const sdm::Progress stage_progress =

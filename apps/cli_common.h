@@ -6,6 +6,7 @@
 
 #include <CLI/CLI.hpp>
 
+#include <optional>
 #include <string>
 
 namespace sdm::cli {
@@ -20,6 +21,9 @@ struct LayoutSource {
   // Print a line as each stage starts ("extracting the skeleton", "computing the layout") with
   // the stage's own progress lines indented under it; otherwise the stage's lines only, as they are.
   bool announce_stages = false;
+  // The layout file as check_layout_memory read it (within the memory budget), which layout_for
+  // then serves: the file is parsed once. Empty until then, or without a layout file.
+  std::optional<Layout> read;
 };
 
 struct LayoutForMesh {
@@ -30,7 +34,8 @@ struct LayoutForMesh {
 };
 
 /// The layout of `mesh` from `source`, progress lines on stderr; a layout or skeleton file is read
-/// within `max_memory` (--max-memory; json_budget). Throws InputError when the layout file was made
+/// within `max_memory` (--max-memory; json_budget), the layout file only where check_layout_memory
+/// did not read it already (LayoutSource::read). Throws InputError when the layout file was made
 /// for a mesh with another vertex count or is beyond the budget, and whatever reading the files,
 /// extracting the skeleton or computing the layout throws.
 LayoutForMesh layout_for(const Mesh& mesh, const LayoutSource& source, const std::string& max_memory);

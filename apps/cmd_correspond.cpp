@@ -69,33 +69,38 @@ int run_correspond(const CorrespondArgs& o) {
   std::vector<SourcePoint> points = a.parts.reduced() ? onto_input_source(a.parts, a.input, c.points) : c.points;
   if (b.parts.reduced()) points = onto_input_target(b.parts, b.input, points);
   write_text_file(o.output, correspondence_text(points, has_extension(o.output, {".json"})));
+  // One summary: --json prints it, the text reads it.
+  const nlohmann::json j = {{"output", o.output},
+                           {"target_vertices", points.size()},
+                           {"kind", kind_name(c.kind)},
+                           {"fit_rms", finite_or_null(d.fit_rms)},
+                           {"fit_p99", finite_or_null(d.fit_p99)},
+                           {"registration_rms", finite_or_null(d.registration.rms)},
+                           {"refined", d.refined},
+                           {"ambiguity", d.ambiguity.empty() ? nlohmann::json() : nlohmann::json(d.ambiguity)},
+                           {"attachment", d.attachment},
+                           {"distortion", d.distortion},
+                           {"rival", d.rival >= 0 ? nlohmann::json(d.rival + 1) : nlohmann::json()},
+                           {"final_score", finite_or_null(d.final_score)},
+                           {"rival_score", finite_or_null(d.rival_score)},
+                           {"rival_kept", d.switched},
+                           {"other_source_candidate", d.other_source_candidate},
+                           {"other_target_candidate", d.other_target_candidate},
+                           {"source_parts_left_out", a.parts.left_out},
+                           {"target_parts_left_out", b.parts.left_out},
+                           {"jumping_share", jumps.area_share}};
   if (o.json) {
-    print_json({{"output", o.output},
-                {"target_vertices", points.size()},
-                {"kind", kind_name(c.kind)},
-                {"fit_rms", finite_or_null(d.fit_rms)},
-                {"fit_p99", finite_or_null(d.fit_p99)},
-                {"registration_rms", finite_or_null(d.registration.rms)},
-                {"refined", d.refined},
-                {"ambiguity", d.ambiguity.empty() ? nlohmann::json() : nlohmann::json(d.ambiguity)},
-                {"attachment", d.attachment},
-                {"distortion", d.distortion},
-                {"rival", d.rival >= 0 ? nlohmann::json(d.rival + 1) : nlohmann::json()},
-                {"final_score", finite_or_null(d.final_score)},
-                {"rival_score", finite_or_null(d.rival_score)},
-                {"rival_kept", d.switched},
-                {"other_source_candidate", d.other_source_candidate},
-                {"other_target_candidate", d.other_target_candidate},
-                {"source_parts_left_out", a.parts.left_out},
-                {"target_parts_left_out", b.parts.left_out},
-                {"jumping_share", jumps.area_share}});
+    print_json(j);
   } else {
-    std::cout << o.output << ": " << points.size() << " target vertices, each with its point of " << o.source << "\n  the target "
-              << (c.kind == CorrespondenceKind::carried  ? "is the source's shape: the source's skeleton carried over"
-                  : c.kind == CorrespondenceKind::bent ? "is the source in another pose: the source's skeleton bent along"
-                                                       : "is another body: the source registered onto it along its skeleton")
-              << "; fit " << 100 * (std::isfinite(d.fit_rms) ? d.fit_rms : d.registration.rms) << " % of the diagonal (RMS)"
-              << (d.refined ? ", refined in the Laplace-Beltrami eigenbases" : "") << "\n";
+    const std::string kind = j["kind"];
+    const nlohmann::json& fit = j["fit_rms"].is_null() ? j["registration_rms"] : j["fit_rms"];
+    std::cout << j["output"].get<std::string>() << ": " << j["target_vertices"] << " target vertices, each with its point of " << o.source
+              << "\n  the target "
+              << (kind == "carried" ? "is the source's shape: the source's skeleton carried over"
+                  : kind == "bent"  ? "is the source in another pose: the source's skeleton bent along"
+                                    : "is another body: the source registered onto it along its skeleton")
+              << "; fit " << 100 * (fit.is_null() ? NAN : fit.get<double>()) << " % of the diagonal (RMS)"
+              << (j["refined"].get<bool>() ? ", refined in the Laplace-Beltrami eigenbases" : "") << "\n";
   }
   return 0;
 }

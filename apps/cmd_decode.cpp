@@ -74,13 +74,15 @@ Command add_decode_command(CLI::App& parent) {
               else
                 sdm::write_skeleton_json(sk, o->write_skeleton);
             }
-            if (o->json) {
-              print_json({{"output", o->out}, {"vertices", mesh.n_vertices()}, {"faces", mesh.n_faces()},
-                          {"closed", top.closed()}, {"manifold", top.manifold}, {"boundary_loops", top.boundary_loops}, {"seconds", s}});
-            } else {
-              std::cout << o->out << ": " << mesh.n_vertices() << " vertices, " << mesh.n_faces() << " faces, "
-                        << top.text() << ", " << s << " s\n";
-            }
+            // One summary: --json prints it, the text reads it (and the topology's own words).
+            const nlohmann::json j = {{"output", o->out}, {"vertices", mesh.n_vertices()}, {"faces", mesh.n_faces()},
+                                      {"closed", top.closed()}, {"manifold", top.manifold}, {"boundary_loops", top.boundary_loops},
+                                      {"seconds", s}};
+            if (o->json)
+              print_json(j);
+            else
+              std::cout << j["output"].get<std::string>() << ": " << j["vertices"] << " vertices, " << j["faces"] << " faces, "
+                        << top.text() << ", " << j["seconds"].get<double>() << " s\n";
             return 0;
           }};
 }

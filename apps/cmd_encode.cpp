@@ -23,7 +23,7 @@ namespace sdm::cli {
 namespace {
 
 // False colour of D (blue near the axis, red far) where A = 1, grey where A = 0, black outside.
-sdm::Image false_colour(const sdm::SdmImage& im) {
+sdm::Image false_color(const sdm::SdmImage& im) {
   float lo = INFINITY, hi = -INFINITY;
   for (size_t i = 0; i < im.D.size(); ++i)
     if (im.A[i] > 0.5f) lo = std::min(lo, im.D[i]), hi = std::max(hi, im.D[i]);
@@ -48,15 +48,27 @@ sdm::Image false_colour(const sdm::SdmImage& im) {
   return out;
 }
 
+// Encode's summary (its --json object) as text.
+void print_encode_text(const nlohmann::json& j) {
+  const double texels = j["texels"].get<double>(), own = texels > 0 ? j["own_hits"].get<double>() / texels : 0.0;
+  const long left = j["decode_folds"]["left"].get<long>();
+  std::cout << j["output"].get<std::string>() << ": " << j["size"] << "x" << j["size"] << ", " << j["segments"] << " segments, "
+            << j["base_faces"] << " base faces, " << std::round(1000 * own) / 10 << " % of segment texels on their own surface\n"
+            << "  carries " << std::round(1000 * j["carried"].get<double>()) / 10 << " % of the surface within "
+            << 100 * kCarriedTolerance << " % of the diagonal at level 3 (RMS " << 100 * j["carried_rms"].get<double>() << " %)\n"
+            << (left ? "  level 3 keeps " + std::to_string(left) + " folded face pairs (crossing) it could not untangle\n" : std::string())
+            << "  layout " << j["layout_seconds"].get<double>() << " s, encode " << j["encode_seconds"].get<double>() << " s, check "
+            << j["check_seconds"].get<double>() << " s\n";
+}
+
 }  // namespace
 
 Command add_encode_command(CLI::App& parent) {
   struct Opts {
-    std::string mesh, out, png, max_memory, precision = "10";  // BENCHMARKS: float's accuracy, 3.6-6.1x smaller at 1024
+    std::string mesh, out, png, precision = "10";  // BENCHMARKS: float's accuracy, 3.6-6.1x smaller at 1024
     LayoutSource layout = layout_defaults(1024, 4, true);  // the stages announced
-    double min_part = 0, min_carried = 0.9, face_error = sdm::EncodeOptions().flat_above;
-    bool fill_holes = false;
-    bool json = false, strict = false;
+    EncodeQuality q;
+    bool json = false;
   };
   auto o = std::make_shared<Opts>();
   auto* app = parent.add_subcommand(
@@ -66,61 +78,46 @@ Command add_encode_command(CLI::App& parent) {
   app->add_option("-o,--output", o->out, "Output map (.exr)")->required();
   add_layout_options(app, o->layout, {true, true, false});
   app->add_option("--png", o->png, "Also write a false-colour picture of the map (.png)");
-  add_min_part_option(app, o->min_part);
-  add_repair_options(app);
-  add_fill_holes_option(app, o->fill_holes);
-  add_max_memory_option(app, o->max_memory);
   app->add_option("--precision", o->precision, kPrecisionHelp)->capture_default_str();
-  app->add_flag("--strict", o->strict,
-                "Refuse (exit 2, nothing written) a self-intersecting input or a map that carries under --min-carried of the surface");
-  add_min_carried_option(app, o->min_carried);
-  add_face_error_option(app, o->face_error);
+  add_encode_quality_options(
+      app, o->q, "Refuse (exit 2, nothing written) a self-intersecting input or a map that carries under --min-carried of the surface");
   app->add_flag("--json", o->json, "Print one JSON object with the summary");
   return {app, [o]() {
-            check_layout_memory(o->layout, 10, o->max_memory);
+            check_layout_memory(o->layout, 10, o->q.max_memory);
             if (sdm::is_point_cloud_file(o->mesh))
-              return cloud_encode({o->mesh, o->out, o->png, o->precision, "", o->layout.options.size, 3, 0, o->face_error, -1, o->json});
+              return cloud_encode({o->mesh, o->out, o->png, o->precision, "", o->layout.options.size, 3, 0, o->q.face_error, -1, o->json});
             const sdm::SdmPrecision precision = sdm::SdmPrecision::parse(o->precision);
             sdm::Stopwatch clock;
-            const sdm::Mesh mesh = load_mesh_min_part(o->mesh, o->min_part, o->fill_holes);
-            const sdm::SelfIntersections crossings = check_self_intersections(mesh, o->strict);
-            const sdm::Layout layout = layout_for(mesh, o->layout, o->max_memory).layout;
+            const sdm::Mesh mesh = load_mesh_min_part(o->mesh, o->q.min_part, o->q.fill_holes);
+            const sdm::SelfIntersections crossings = check_self_intersections(mesh, o->q.strict);
+            const sdm::Layout layout = layout_for(mesh, o->layout, o->q.max_memory).layout;
             const double layout_s = clock.lap();
             sdm::EncodeStats st;
             sdm::EncodeOptions eo;
             eo.progress = [](const std::string& s) { progress("  " + s); };
             eo.fill_unread = !o->png.empty();  // only the picture shows texels no face reads
-            encode_check_options(eo, o->face_error);
+            encode_check_options(eo, o->q.face_error);
             const sdm::SdmImage im = sdm::encode_sdm(mesh, layout, eo, &st);
             const double encode_s = clock.lap();
             progress("  checking the map (decoded at level 3)");
             const double diag = sdm::bounding_box_diagonal(mesh);
             sdm::DecodeTrace trace;
             const sdm::SurfaceCoverage carried = check_carried(
-                mesh, sdm::decode_sdm(sdm::as_stored(im, precision), sdm::DecodeOptions{}, &trace), diag, o->min_carried, o->strict);
+                mesh, sdm::decode_sdm(sdm::as_stored(im, precision), sdm::DecodeOptions{}, &trace), diag, o->q.min_carried, o->q.strict);
             const double check_s = clock.lap();
             sdm::write_sdm_exr(im, o->out, precision);
-            if (!o->png.empty()) sdm::write_png(false_colour(im), o->png);
-            const double own = st.texels ? double(st.own_hits) / st.texels : 0.0;
-            if (o->json) {
-              print_json({{"output", o->out}, {"size", im.width}, {"segments", layout.segments.size()},
-                          {"texels", st.texels}, {"own_hits", st.own_hits}, {"other_hits", st.other_hits},
-                          {"filled", st.filled}, {"base_faces", st.base_faces}, {"flat_faces", st.flat_faces}, {"layout_seconds", layout_s},
-                          {"encode_seconds", encode_s}, {"check_seconds", check_s}, {"carried", carried.share},
-                          {"carried_rms", carried.rms / diag}, {"self_intersections", crossings.pairs},
-                          {"decode_folds", {{"level", 3}, {"untangled", trace.untangle.crossing - trace.untangle.left},
-                                            {"left", trace.untangle.left}, {"segments", trace.untangle.left_segments}}}});
-            } else {
-              std::cout << o->out << ": " << im.width << "x" << im.height << ", " << layout.segments.size() << " segments, "
-                        << st.base_faces << " base faces, " << std::round(1000 * own) / 10 << " % of segment texels on their own surface\n"
-                        << "  carries " << std::round(1000 * carried.share) / 10 << " % of the surface within "
-                        << 100 * kCarriedTolerance << " % of the diagonal at level 3 (RMS "
-                        << 100 * carried.rms / diag << " %)\n"
-                        << (trace.untangle.left ? "  level 3 keeps " + std::to_string(trace.untangle.left) +
-                                                      " folded face pairs (crossing) it could not untangle\n"
-                                                : std::string())
-                        << "  layout " << layout_s << " s, encode " << encode_s << " s, check " << check_s << " s\n";
-            }
+            if (!o->png.empty()) sdm::write_png(false_color(im), o->png);
+            // One summary: --json prints it, the text reads it.
+            const nlohmann::json j = {
+                {"output", o->out}, {"size", im.width}, {"segments", layout.segments.size()},
+                {"texels", st.texels}, {"own_hits", st.own_hits}, {"other_hits", st.other_hits},
+                {"filled", st.filled}, {"base_faces", st.base_faces}, {"flat_faces", st.flat_faces}, {"layout_seconds", layout_s},
+                {"encode_seconds", encode_s}, {"check_seconds", check_s}, {"carried", carried.share},
+                {"carried_rms", carried.rms / diag}, {"self_intersections", crossings.pairs},
+                {"decode_folds", {{"level", 3}, {"untangled", trace.untangle.crossing - trace.untangle.left},
+                                  {"left", trace.untangle.left}, {"segments", trace.untangle.left_segments}}}};
+            if (o->json) print_json(j);
+            else print_encode_text(j);
             return 0;
           }};
 }

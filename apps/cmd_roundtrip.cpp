@@ -94,6 +94,20 @@ void write_error_png(const sdm::Mesh& input, sdm::Mesh decoded, double diag, con
   sdm::write_png(sdm::contact_sheet(views, 2), path);
 }
 
+// Roundtrip's summary (its --json object) as text, the decoded surface's topology in its own words.
+void print_roundtrip_text(const nlohmann::json& j, const SurfaceTopology& top) {
+  auto num = [&](const char* key) { return j[key].get<double>(); };
+  const nlohmann::json& w = j["worst"];
+  const Eigen::Vector3d at(w["position"][0].get<double>(), w["position"][1].get<double>(), w["position"][2].get<double>());
+  std::cout << j["mesh"].get<std::string>() << " at " << j["size"] << ", level " << j["lod"] << ": RMS " << 100 * num("rms")
+            << " %, Hausdorff " << 100 * num("hausdorff") << " % of the diagonal, PSNR " << num("psnr") << " dB, " << j["faces"]
+            << " faces, " << top.text() << " (input: " << j["input_boundary_loops"] << " boundary loop(s)), map " << j["map_bytes"]
+            << " bytes (" << j["precision"].get<std::string>() << ")\n"
+            << "  worst at " << point_text(at) << ", segment " << w["segment"] << ", base face " << w["base_face"] << " ("
+            << w["where"].get<std::string>() << ")\n"
+            << "  longest decoded edge " << num("longest_edge_ratio") << " times the input's\n";
+}
+
 }  // namespace
 
 Command add_roundtrip_command(CLI::App& parent) {
@@ -101,10 +115,9 @@ Command add_roundtrip_command(CLI::App& parent) {
     std::string mesh, out, png, precision = "10", reference;
     LayoutSource layout = layout_defaults(1024, 4, true);  // the stages announced
     int lod = 3, samples = 100000;
-    double max_rms = -1, min_part = 0, min_carried = 0.9, face_error = sdm::EncodeOptions().flat_above;
-    bool fill_holes = false;
-    std::string max_memory;
-    bool json = false, strict = false;
+    double max_rms = -1;
+    EncodeQuality q;
+    bool json = false;
   };
   auto o = std::make_shared<Opts>();
   auto* app = parent.add_subcommand(
@@ -124,43 +137,37 @@ Command add_roundtrip_command(CLI::App& parent) {
   app->add_option("--png", o->png,
                   "Also draw the decoded mesh coloured by its distance to the input (.png, four views; grey at 0, yellow at "
                   "0.15 %, red from 0.5 % of the diagonal)");
-  add_min_part_option(app, o->min_part);
-  add_repair_options(app);
-  add_fill_holes_option(app, o->fill_holes);
-  add_max_memory_option(app, o->max_memory);
-  app->add_flag("--strict", o->strict,
-                "Refuse (exit 2) a self-intersecting input or a decoded surface that carries under --min-carried of the input");
-  add_min_carried_option(app, o->min_carried);
-  add_face_error_option(app, o->face_error);
+  add_encode_quality_options(app, o->q,
+                             "Refuse (exit 2) a self-intersecting input or a decoded surface that carries under --min-carried of the input");
   app->add_flag("--json", o->json, "Print one JSON object with the summary");
   return {app, [o]() {
-            check_layout_memory(o->layout, 10, o->max_memory);
+            check_layout_memory(o->layout, 10, o->q.max_memory);
             if (sdm::is_point_cloud_file(o->mesh))
               return cloud_roundtrip({o->mesh, o->out, o->png, o->precision, o->reference, o->layout.options.size, o->lod, o->samples,
-                                      o->face_error, o->max_rms, o->json});
+                                      o->q.face_error, o->max_rms, o->json});
             if (!o->reference.empty()) throw sdm::InputError("--reference is for a point cloud; a mesh is its own reference");
             const sdm::Stopwatch total;
             const sdm::SdmPrecision precision = sdm::SdmPrecision::parse(o->precision);
-            const sdm::Mesh mesh = load_mesh_min_part(o->mesh, o->min_part, o->fill_holes);
-            const sdm::SelfIntersections crossings = check_self_intersections(mesh, o->strict);
-            const sdm::Layout layout = layout_for(mesh, o->layout, o->max_memory).layout;
+            const sdm::Mesh mesh = load_mesh_min_part(o->mesh, o->q.min_part, o->q.fill_holes);
+            const sdm::SelfIntersections crossings = check_self_intersections(mesh, o->q.strict);
+            const sdm::Layout layout = layout_for(mesh, o->layout, o->q.max_memory).layout;
             sdm::Stopwatch stage;
             progress("encoding");
             sdm::EncodeOptions eo;
             eo.progress = [](const std::string& s) { progress("  " + s); };  // as encode reports it
             eo.fill_unread = false;  // the file leaves them out
-            encode_check_options(eo, o->face_error);
+            encode_check_options(eo, o->q.face_error);
             sdm::EncodeStats st;
             const auto [im, map_bytes] = through_file(sdm::encode_sdm(mesh, layout, eo, &st), precision);
             const double encode_s = stage.lap();
             progress("decoding");
             sdm::DecodeOptions d;
             d.level = o->lod;
-            check_decode_memory(im, d, o->max_memory);
+            check_decode_memory(im, d, o->q.max_memory);
             sdm::DecodeTrace trace;
             const sdm::Mesh out = sdm::decode_sdm(im, d, &trace);
             const double decode_s = stage.lap();
-            const sdm::SurfaceCoverage carried = check_carried(mesh, out, sdm::bounding_box_diagonal(mesh), o->min_carried, o->strict);
+            const sdm::SurfaceCoverage carried = check_carried(mesh, out, sdm::bounding_box_diagonal(mesh), o->q.min_carried, o->q.strict);
             if (!o->out.empty()) sdm::write_mesh(out, o->out);
             progress("measuring");
             const sdm::SurfaceDistance dist = sdm::surface_distance(mesh, out, o->samples);
@@ -173,22 +180,17 @@ Command add_roundtrip_command(CLI::App& parent) {
             const nlohmann::json worst_json = {{"position", {worst.position.x(), worst.position.y(), worst.position.z()}},
                                                {"segment", worst.segment}, {"base_face", worst.base_face},
                                                {"where", worst.decoded_strays ? "decoded surface off the input" : "input not reached"}};
-            if (o->json) {
-              print_json({{"mesh", o->mesh}, {"size", o->layout.options.size}, {"lod", o->lod}, {"segments", layout.segments.size()},
-                          {"precision", precision.name()}, {"map_bytes", map_bytes}, {"base_faces", st.base_faces}, {"flat_faces", st.flat_faces},
-                          {"rms", rms}, {"hausdorff", hd}, {"psnr", psnr}, {"faces", out.n_faces()},
-                          {"closed", top.closed()}, {"manifold", top.manifold}, {"boundary_loops", top.boundary_loops},
-                          {"input_boundary_loops", input_top.boundary_loops}, {"encode_seconds", encode_s}, {"decode_seconds", decode_s},
-                          {"total_seconds", total.seconds()}, {"samples", o->samples}, {"carried", carried.share},
-                          {"self_intersections", crossings.pairs}, {"longest_edge_ratio", edge_ratio}, {"worst", worst_json}});
-            } else {
-              std::cout << o->mesh << " at " << o->layout.options.size << ", level " << o->lod << ": RMS " << 100 * rms << " %, Hausdorff "
-                        << 100 * hd << " % of the diagonal, PSNR " << psnr << " dB, " << out.n_faces() << " faces, "
-                        << top.text() << " (input: " << input_top.boundary_loops << " boundary loop(s)), map " << map_bytes << " bytes (" << precision.name() << ")\n"
-                        << "  worst at " << point_text(worst.position) << ", segment " << worst.segment << ", base face "
-                        << worst.base_face << " (" << worst_json.at("where").get<std::string>() << ")\n"
-                        << "  longest decoded edge " << edge_ratio << " times the input's\n";
-            }
+            // One summary: --json prints it, the text reads it (and the topology's own words).
+            const nlohmann::json j = {
+                {"mesh", o->mesh}, {"size", o->layout.options.size}, {"lod", o->lod}, {"segments", layout.segments.size()},
+                {"precision", precision.name()}, {"map_bytes", map_bytes}, {"base_faces", st.base_faces}, {"flat_faces", st.flat_faces},
+                {"rms", rms}, {"hausdorff", hd}, {"psnr", psnr}, {"faces", out.n_faces()},
+                {"closed", top.closed()}, {"manifold", top.manifold}, {"boundary_loops", top.boundary_loops},
+                {"input_boundary_loops", input_top.boundary_loops}, {"encode_seconds", encode_s}, {"decode_seconds", decode_s},
+                {"total_seconds", total.seconds()}, {"samples", o->samples}, {"carried", carried.share},
+                {"self_intersections", crossings.pairs}, {"longest_edge_ratio", edge_ratio}, {"worst", worst_json}};
+            if (o->json) print_json(j);
+            else print_roundtrip_text(j, top);
             if (o->max_rms >= 0 && rms > o->max_rms) {
               std::cerr << "sdm roundtrip: RMS " << rms << " exceeds --max-rms " << o->max_rms << std::endl;
               return 3;

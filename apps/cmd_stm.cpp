@@ -20,15 +20,33 @@ namespace sdm::cli {
 namespace {
 
 // "  capsule runs on past a by 1.5 r" and the like, for the segments whose caps would fold faces at
-// a joint (assign_faces, segments.h); empty for the others.
-std::string extension_note(const sdm::LayoutSegment& g) {
-  if (g.extend_a <= 0 && g.extend_b <= 0) return "";
+// a joint (assign_faces, segments.h; `extend`: past a and past b, in radii); empty for the others.
+std::string extension_note(const nlohmann::json& extend) {
+  const double a = extend[0].get<double>(), b = extend[1].get<double>();
+  if (a <= 0 && b <= 0) return "";
   std::ostringstream s;
   s << "  capsule runs on past";
-  if (g.extend_a > 0) s << " a by " << std::setprecision(2) << std::defaultfloat << g.extend_a << " r";
-  if (g.extend_a > 0 && g.extend_b > 0) s << " and";
-  if (g.extend_b > 0) s << " b by " << std::setprecision(2) << std::defaultfloat << g.extend_b << " r";
+  if (a > 0) s << " a by " << std::setprecision(2) << std::defaultfloat << a << " r";
+  if (a > 0 && b > 0) s << " and";
+  if (b > 0) s << " b by " << std::setprecision(2) << std::defaultfloat << b << " r";
   return s.str();
+}
+
+// The summary of stm (its --json object) as text.
+void print_stm_text(const nlohmann::json& j) {
+  auto num = [](const nlohmann::json& x) { return x.get<double>(); };
+  std::cout << j["mesh"].get<std::string>() << "\n  segments        " << j["segments"] << "\n";
+  std::cout << std::fixed << std::setprecision(4);
+  for (const auto& g : j["rectangles"])
+    std::cout << "    " << std::setw(3) << g["segment"].get<int>() << "  nodes " << g["a"] << " -> " << g["b"] << "  L "
+              << num(g["length"]) << "  r " << num(g["radius"]) << "  rect " << g["rect"][2] << "x" << g["rect"][3] << " at ("
+              << g["rect"][0] << ", " << g["rect"][1] << ")" << (g["rotated"].get<bool>() ? " rotated" : "") << extension_note(g["extend"])
+              << "\n";
+  std::cout << "  atlas           " << j["size"] << "^2 texels, margin " << j["margin"] << "\n";
+  std::cout << "  coverage        " << num(j["coverage"]) << " (inner " << num(j["coverage_inner"]) << ")\n";
+  std::cout << "  L2 stretch      " << num(j["stretch"]) << "\n";
+  std::cout << "  seam faces      " << j["seam_faces"] << "\n";
+  std::cout << "  layout          " << j["layout"].get<std::string>() << "\n";
 }
 
 }  // namespace
@@ -68,37 +86,17 @@ Command add_stm_command(CLI::App& parent) {
             sdm::write_layout_json(layout, o->out);
             if (!o->atlas_png.empty()) sdm::write_atlas_png(mesh, layout, c.face_segment, o->atlas_png);
             if (!o->uv_obj.empty()) sdm::write_mesh(c.mesh, o->uv_obj, o->atlas_png.empty() ? "" : std::filesystem::absolute(o->atlas_png).string());
-            if (o->json) {
-              nlohmann::json j;
-              j["mesh"] = o->mesh;
-              j["layout"] = o->out;
-              j["segments"] = layout.segments.size();
-              j["coverage"] = layout.coverage;
-              j["coverage_inner"] = layout.coverage_inner;
-              j["stretch"] = c.stretch;
-              j["seam_faces"] = c.seam_faces;
-              j["size"] = layout.size;
-              j["margin"] = layout.margin;
-              j["scale"] = layout.scale;
-              j["rectangles"] = nlohmann::json::array();
-              for (const auto& g : layout.segments)
-                j["rectangles"].push_back({{"segment", g.edge}, {"a", g.a}, {"b", g.b}, {"length", g.length}, {"radius", g.radius},
-                                           {"rect", {g.x, g.y, g.w, g.h}}, {"rotated", g.rotated},
-                                           {"extend", {g.extend_a, g.extend_b}}});
-              print_json(j);
-            } else {
-              std::cout << o->mesh << "\n  segments        " << layout.segments.size() << "\n";
-              std::cout << std::fixed << std::setprecision(4);
-              for (const auto& g : layout.segments)
-                std::cout << "    " << std::setw(3) << g.edge << "  nodes " << g.a << " -> " << g.b << "  L " << g.length << "  r "
-                          << g.radius << "  rect " << g.w << "x" << g.h << " at (" << g.x << ", " << g.y << ")"
-                          << (g.rotated ? " rotated" : "") << extension_note(g) << "\n";
-              std::cout << "  atlas           " << layout.size << "^2 texels, margin " << layout.margin << "\n";
-              std::cout << "  coverage        " << layout.coverage << " (inner " << layout.coverage_inner << ")\n";
-              std::cout << "  L2 stretch      " << c.stretch << "\n";
-              std::cout << "  seam faces      " << c.seam_faces << "\n";
-              std::cout << "  layout          " << o->out << "\n";
-            }
+            nlohmann::json rectangles = nlohmann::json::array();
+            for (const auto& g : layout.segments)
+              rectangles.push_back({{"segment", g.edge}, {"a", g.a}, {"b", g.b}, {"length", g.length}, {"radius", g.radius},
+                                    {"rect", {g.x, g.y, g.w, g.h}}, {"rotated", g.rotated}, {"extend", {g.extend_a, g.extend_b}}});
+            // One summary: --json prints it, the text reads it.
+            const nlohmann::json j = {{"mesh", o->mesh}, {"layout", o->out}, {"segments", layout.segments.size()},
+                                      {"coverage", layout.coverage}, {"coverage_inner", layout.coverage_inner}, {"stretch", c.stretch},
+                                      {"seam_faces", c.seam_faces}, {"size", layout.size}, {"margin", layout.margin},
+                                      {"scale", layout.scale}, {"rectangles", rectangles}};
+            if (o->json) print_json(j);
+            else print_stm_text(j);
             return 0;
           }};
 }

@@ -40,22 +40,28 @@ struct TransferArgs {
   bool strict = false;  // --strict: a small separate part refuses the pair instead of being left out
 };
 
-// The match's chains as text lines, and as JSON objects into *chains.
-std::string match_text(const sdm::SkeletonMatch& m, nlohmann::json* chains) {
-  std::ostringstream out;
-  *chains = nlohmann::json::array();
+// The match's chains as JSON objects: source and target key nodes, and lengths.
+nlohmann::json match_chains(const sdm::SkeletonMatch& m) {
+  nlohmann::json chains = nlohmann::json::array();
   for (size_t c = 0; c < m.a.chains.size(); ++c) {
     const auto& ca = m.a.chains[c];
     const auto& cb = m.b.chains[m.chain_a_to_b[c].first];
     const bool rev = m.chain_a_to_b[c].second;
     const int t0 = m.b.keys[rev ? cb.to : cb.from], t1 = m.b.keys[rev ? cb.from : cb.to];
-    chains->push_back({{"source", {m.a.keys[ca.from], m.a.keys[ca.to]}},
-                       {"target", {t0, t1}},
-                       {"source_length", ca.length},
-                       {"target_length", cb.length}});
-    out << "  chain " << m.a.keys[ca.from] << "-" << m.a.keys[ca.to] << " (length " << ca.length << ") -> " << t0 << "-" << t1
-        << " (length " << cb.length << ")\n";
+    chains.push_back({{"source", {m.a.keys[ca.from], m.a.keys[ca.to]}},
+                      {"target", {t0, t1}},
+                      {"source_length", ca.length},
+                      {"target_length", cb.length}});
   }
+  return chains;
+}
+
+// The summary's chains (match_chains) as text lines.
+std::string chains_text(const nlohmann::json& chains) {
+  std::ostringstream out;
+  for (const auto& c : chains)
+    out << "  chain " << c["source"][0] << "-" << c["source"][1] << " (length " << c["source_length"].get<double>() << ") -> "
+        << c["target"][0] << "-" << c["target"][1] << " (length " << c["target_length"].get<double>() << ")\n";
   return out.str();
 }
 
@@ -74,15 +80,15 @@ int run_sdm_transfer(const TransferArgs& o) {
   d.skeleton = sdm::skeleton_onto_graph(graph, target, parse_node_pairs(o.settings.match), &m);
   const sdm::Mesh mesh = sdm::decode_sdm(im, d);
   sdm::write_mesh(mesh, o.output);
-  nlohmann::json chains;
-  const std::string text = match_text(m, &chains);
+  // One summary: --json prints it, the text reads it.
+  const nlohmann::json j = {{"output", o.output}, {"vertices", mesh.n_vertices()}, {"faces", mesh.n_faces()},
+                            {"confidence", m.confidence}, {"candidates", m.candidates}, {"chains", match_chains(m)}};
   if (o.json) {
-    print_json({{"output", o.output}, {"vertices", mesh.n_vertices()}, {"faces", mesh.n_faces()}, {"confidence", m.confidence},
-                {"candidates", m.candidates}, {"chains", chains}});
+    print_json(j);
   } else {
-    std::cout << o.output << ": " << mesh.n_vertices() << " vertices decoded from " << o.sdm << " around " << o.target_skeleton
-              << "\n  match confidence " << m.confidence << " (" << m.candidates << " candidates)\n"
-              << text;
+    std::cout << o.output << ": " << j["vertices"] << " vertices decoded from " << o.sdm << " around " << o.target_skeleton
+              << "\n  match confidence " << j["confidence"].get<double>() << " (" << j["candidates"] << " candidates)\n"
+              << chains_text(j["chains"]);
   }
   return 0;
 }
@@ -267,17 +273,19 @@ nlohmann::json branch_fit_json(const std::vector<sdm::BranchFit>& fits) {
   return a;
 }
 
-// The result as one JSON object (node numbers as in the given skeletons).
-void print_transfer_json(const TransferArgs& o, const TransferInputs& in, const sdm::TextureTransfer& r, const OutputPaths& out,
-                         const sdm::CorrespondenceJumps& jumps) {
+// The result as one JSON object (node numbers as in the given skeletons): what --json prints and
+// the text (print_transfer_text) reads.
+nlohmann::json transfer_summary(const TransferArgs& o, const TransferInputs& in, const sdm::TextureTransfer& r, const OutputPaths& out,
+                                const sdm::CorrespondenceJumps& jumps) {
   const sdm::SkeletonMatch m = sdm::match_in_given_numbering(r.skeletons);
-  nlohmann::json chains;
-  match_text(m, &chains);
+  nlohmann::json chains = match_chains(m);
   for (size_t c = 0; c < chains.size(); ++c) chains[c]["segments"] = r.skeletons.chain_edges[c].size();
   nlohmann::json keys = nlohmann::json::array();
   for (size_t k = 0; k < m.a.keys.size(); ++k)
     keys.push_back({{"source", m.a.keys[k]}, {"target", m.b.keys[m.key_a_to_b[k]]}, {"degree", m.a.key_degree[k]}});
-  print_json({{"output", out.mesh},
+  return {{"output", out.mesh},
+              {"source", o.source},
+              {"target_vertices", in.target.n_vertices()},
               {"atlas", out.atlas},
               {"preview", out.preview},
               {"texture", in.texture_path.empty() ? nlohmann::json() : nlohmann::json(in.texture_path)},
@@ -302,12 +310,8 @@ void print_transfer_json(const TransferArgs& o, const TransferInputs& in, const 
               {"candidate_attachment", r.candidate_attachment},
               {"candidate_bend", r.candidate_bend},
               {"attachment_misfit", r.attachment},
-              {"target_skeleton", r.carried      ? "carried"
-                                  : r.fitted     ? "bent"
-                                  : r.registered ? "registered"
-                                  : o.target_skeleton.empty() ? "extracted"
-                                                              : "given"},
-              {"bent_rms", finite_or_null(r.fitted ? r.fit_rms : INFINITY)},
+              {"target_skeleton", target_skeleton_name(r.kind, !o.target_skeleton.empty())},
+              {"bent_rms", finite_or_null(r.kind == sdm::CorrespondenceKind::bent ? r.fit_rms : INFINITY)},
               {"fit_rms", finite_or_null(r.fit_rms)},
               {"fit_p99", finite_or_null(r.fit_p99)},
               {"refined", r.refined},
@@ -322,42 +326,41 @@ void print_transfer_json(const TransferArgs& o, const TransferInputs& in, const 
               {"stretch", r.stretch},
               {"seam_faces", r.seam_faces},
               {"jumping_share", r.correspondence.empty() ? nlohmann::json() : nlohmann::json(jumps.area_share)},
-              {"jumping_vertices", r.correspondence.empty() ? nlohmann::json() : nlohmann::json(jumps.vertices)}});
+              {"jumping_vertices", r.correspondence.empty() ? nlohmann::json() : nlohmann::json(jumps.vertices)}};
 }
 
-// The result as text (node numbers as in the given skeletons).
-void print_transfer_text(const TransferArgs& o, const TransferInputs& in, const sdm::TextureTransfer& r, const OutputPaths& out) {
-  const sdm::SkeletonMatch m = sdm::match_in_given_numbering(r.skeletons);
-  nlohmann::json chains;
-  const std::string text = match_text(m, &chains);
-  std::cout << out.mesh << ": " << in.target.n_vertices() << " vertices textured from " << o.source
-            << (in.texture_path.empty() ? " (its vertex colours)" : "") << "\n"
-            << "  atlas " << out.atlas << " (" << r.layout_a.size << "^2, " << r.layout_a.segments.size() << " segments), preview "
-            << out.preview << "\n";
-  if (!out.vertex_colors.empty())
-    std::cout << "  vertex colours " << out.vertex_colors << " (from the source's "
-              << (in.source_colors.empty() ? "texture" : "vertex colours") << ")\n";
-  if (!out.correspondence.empty()) std::cout << "  correspondence " << out.correspondence << "\n";
-  std::cout << "  match confidence " << m.confidence << " (" << m.candidates << " candidates)\n";
-  if (r.carried)
-    std::cout << "  the target is the source's shape (registered to " << 100 * r.registration.rms
+// The summary (transfer_summary) as text.
+void print_transfer_text(const nlohmann::json& j) {
+  auto pc = [](const nlohmann::json& x) { return x.is_null() ? NAN : 100 * x.get<double>(); };  // null: not measured
+  std::cout << j["output"].get<std::string>() << ": " << j["target_vertices"] << " vertices textured from " << j["source"].get<std::string>()
+            << (j["texture"].is_null() ? " (its vertex colours)" : "") << "\n"
+            << "  atlas " << j["atlas"].get<std::string>() << " (" << j["size"] << "^2, " << j["segments"] << " segments), preview "
+            << j["preview"].get<std::string>() << "\n";
+  if (!j["vertex_colors"].is_null())
+    std::cout << "  vertex colours " << j["vertex_colors"].get<std::string>() << " (from the source's "
+              << j["vertex_colors_from"].get<std::string>() << ")\n";
+  if (!j["correspondence"].is_null()) std::cout << "  correspondence " << j["correspondence"].get<std::string>() << "\n";
+  std::cout << "  match confidence " << j["confidence"].get<double>() << " (" << j["candidates"] << " candidates)\n";
+  const std::string kind = j["target_skeleton"];
+  if (kind == "carried")
+    std::cout << "  the target is the source's shape (registered to " << pc(j["registration_rms"])
               << " % of the diagonal, RMS): the source's skeleton carried over\n";
-  if (r.fitted)
-    std::cout << "  the target is the source in another pose (bent onto it to " << 100 * r.fit_rms
+  if (kind == "bent")
+    std::cout << "  the target is the source in another pose (bent onto it to " << pc(j["fit_rms"])
               << " % of the diagonal, RMS): the source's skeleton bent along\n";
-  if (r.registered) {
+  if (kind == "registered") {
     std::cout << "  the target is another body with the same branching: the source registered onto it along its skeleton, "
-              << 100 * r.fit_rms << " % of the diagonal (RMS), 99th percentile " << 100 * r.fit_p99 << " %\n";
-    if (r.other_source_candidate || r.other_target_candidate)
-      std::cout << "    with the other extraction candidate of the "
-                << sdm::other_candidates_named(r.other_source_candidate, r.other_target_candidate)
+              << pc(j["fit_rms"]) << " % of the diagonal (RMS), 99th percentile " << pc(j["fit_p99"]) << " %\n";
+    const bool other_source = j["other_skeleton_candidate"]["source"], other_target = j["other_skeleton_candidate"]["target"];
+    if (other_source || other_target)
+      std::cout << "    with the other extraction candidate of the " << sdm::other_candidates_named(other_source, other_target)
                 << " (the registration with the kept ones was refused or marginal; node numbers below are that candidate's)\n";
-    for (const auto& b : r.branch_fit)
-      std::cout << "    branch " << b.source_from << "-" << b.source_to << ": RMS " << 100 * b.rms << " %, 99th percentile " << 100 * b.p99 << " %\n";
+    for (const auto& b : j["branch_fit"])
+      std::cout << "    branch " << b["source"][0] << "-" << b["source"][1] << ": RMS " << pc(b["rms"]) << " %, 99th percentile "
+                << pc(b["p99"]) << " %\n";
   }
-  for (size_t k = 0; k < m.a.keys.size(); ++k)
-    std::cout << "  node " << m.a.keys[k] << " -> " << m.b.keys[m.key_a_to_b[k]] << " (degree " << m.a.key_degree[k] << ")\n";
-  std::cout << text;
+  for (const auto& k : j["keys"]) std::cout << "  node " << k["source"] << " -> " << k["target"] << " (degree " << k["degree"] << ")\n";
+  std::cout << chains_text(j["chains"]);
 }
 
 // The texture transfer: inputs, transfer_texture, preview, files, report.
@@ -380,10 +383,11 @@ int run_texture_transfer(const TransferArgs& o) {
                           "--target-skeleton so that the source is registered onto the target");
   if (!r.ambiguity.empty())
     progress("warning: left and right (or front and back) may be swapped (--force was given): " + r.ambiguity);
-  if (r.registered && r.attachment > to.registered_attachment)
+  const bool registered = r.kind == sdm::CorrespondenceKind::registered;
+  if (registered && r.attachment > to.registered_attachment)
     progress("warning: the skeletons' branches meet the core at other places on the two models (--force was given): limbs may "
              "land on other limbs");
-  if (r.registered && !(r.fit_rms <= to.registered_rms && r.fit_p99 <= to.registered_p99))
+  if (registered && !(r.fit_rms <= to.registered_rms && r.fit_p99 <= to.registered_p99))
     progress("warning: the source fits the target poorly (--force was given): the texture may be misplaced");
   for (const auto& b : r.branch_fit)
     if (b.p99 > to.registered_p99)
@@ -409,8 +413,9 @@ int run_texture_transfer(const TransferArgs& o) {
   const sdm::Image preview = render_preview(gl, in, r, o);
   const OutputPaths out(o);
   write_outputs(in, r, preview, out, colors);
-  if (o.json) print_transfer_json(o, in, r, out, jumps);
-  else print_transfer_text(o, in, r, out);
+  const nlohmann::json summary = transfer_summary(o, in, r, out, jumps);
+  if (o.json) print_json(summary);
+  else print_transfer_text(summary);
   return 0;
 }
 

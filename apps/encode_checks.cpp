@@ -1,6 +1,7 @@
 #include "apps/encode_checks.h"
 
 #include "apps/commands.h"
+#include "apps/memory_budget.h"
 #include "libstm/core/errors.h"
 
 #include <cmath>
@@ -59,6 +60,16 @@ void add_min_carried_option(CLI::App* app, double& floor) {
                   "or a refusal with --strict")
       ->capture_default_str()
       ->check(number_in(0.0, 1.0));
+}
+
+void add_encode_quality_options(CLI::App* app, EncodeQuality& q, const std::string& strict_help) {
+  add_min_part_option(app, q.min_part);
+  add_repair_options(app);
+  add_fill_holes_option(app, q.fill_holes);
+  add_max_memory_option(app, q.max_memory);
+  app->add_flag("--strict", q.strict, strict_help);
+  add_min_carried_option(app, q.min_carried);
+  add_face_error_option(app, q.face_error);
 }
 
 }  // namespace sdm::cli

@@ -22,8 +22,8 @@ constexpr const char* kPrecisionHelp =
 std::string point_text(const Eigen::Vector3d& p);
 
 // The quality gate of encode and roundtrip. A surface that crosses itself has two sheets
-// where a map holds one per ray (a Spot with its head pushed through its body encoded silently to
-// 1.2 % RMS): named on stderr, refused under --strict.
+// where a map holds one per ray (a head pushed through its body encodes silently to a poor RMS;
+// docs/BENCHMARKS.md, "Thresholds: what they rest on"): named on stderr, refused under --strict.
 sdm::SelfIntersections check_self_intersections(const sdm::Mesh& mesh, bool strict);
 
 // The share of the input's surface (by vertex area) that the decoded surface carries within 1 % of
@@ -37,5 +37,18 @@ void add_face_error_option(CLI::App* app, double& error);
 void encode_check_options(sdm::EncodeOptions& eo, double face_error);
 // --min-carried: the floor of check_carried.
 void add_min_carried_option(CLI::App* app, double& floor);
+
+// The input and quality options encode and roundtrip share, in the order --help lists them.
+struct EncodeQuality {
+  double min_part = 0;                                       // --min-part
+  bool fill_holes = false;                                   // --fill-holes
+  std::string max_memory;                                    // --max-memory
+  bool strict = false;                                       // --strict
+  double min_carried = 0.9;                                  // --min-carried
+  double face_error = sdm::EncodeOptions().flat_above;       // --face-error
+};
+// Adds --min-part, --no-repair and --weld-tolerance, --fill-holes, --max-memory, --strict (with
+// `strict_help`, which says what the command refuses), --min-carried and --face-error, bound to `q`.
+void add_encode_quality_options(CLI::App* app, EncodeQuality& q, const std::string& strict_help);
 
 }  // namespace sdm::cli

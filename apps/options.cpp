@@ -41,9 +41,10 @@ LayoutSource layout_defaults(int size, int margin, bool announce_stages) {
   return source;
 }
 
-void check_layout_memory(const LayoutSource& source, double bytes_per_texel, const std::string& max_memory) {
-  const int size = source.layout_file.empty() ? source.options.size : sdm::read_layout_json(source.layout_file, json_budget(max_memory, source.layout_file)).size;
-  check_atlas_memory(size, bytes_per_texel, max_memory);
+void check_layout_memory(LayoutSource& source, double bytes_per_texel, const std::string& max_memory) {
+  source.read.reset();  // a command run again reads its file again
+  if (!source.layout_file.empty()) source.read = sdm::read_layout_json(source.layout_file, json_budget(max_memory, source.layout_file));
+  check_atlas_memory(source.read ? source.read->size : source.options.size, bytes_per_texel, max_memory);
 }
 
 std::map<int, int> parse_segment_levels(const std::vector<std::string>& items) {

@@ -36,9 +36,9 @@ void add_layout_options(CLI::App* app, LayoutSource& source, LayoutFlags flags);
 LayoutSource layout_defaults(int size, int margin, bool announce_stages = false);
 
 // Refuses, before any work, an atlas beyond the memory budget (check_atlas_memory at
-// `bytes_per_texel`): the computed layout's --size, or the size of the layout file given (read within
-// the budget, json_budget).
-void check_layout_memory(const LayoutSource& source, double bytes_per_texel, const std::string& max_memory);
+// `bytes_per_texel`): the computed layout's --size, or the size of the layout file given, read
+// within the budget (json_budget) into source.read, where layout_for takes it from.
+void check_layout_memory(LayoutSource& source, double bytes_per_texel, const std::string& max_memory);
 
 // ID=VALUE items (libstm/core/id_value.h; --match's: parse_node_pairs in share_skeletons.h):
 // --lod-segment ID=LEVEL items, as a map from segment to level.

@@ -30,6 +30,16 @@ void obtain_both_skeletons(size_t vertices, const std::function<void()>& source,
   }
 }
 
+const char* target_skeleton_name(CorrespondenceKind kind, bool given) {
+  switch (kind) {
+    case CorrespondenceKind::carried: return "carried";
+    case CorrespondenceKind::bent: return "bent";
+    case CorrespondenceKind::registered: return "registered";
+    case CorrespondenceKind::skeleton_only: break;
+  }
+  return given ? "given" : "extracted";
+}
+
 TransferOptions transfer_command_options(const TransferSettings& settings, const Mesh& source, const Mesh& target,
                                          const SkeletonStats& stats_a, const SkeletonStats& stats_b, const Progress& report) {
   TransferOptions to;

@@ -24,7 +24,7 @@ Skeleton skeleton_for(const Mesh& mesh, const std::string& json_path, const std:
 /// Runs `source` and `target` (each obtains one model's skeleton) on two threads when the two
 /// models have at most 400000 vertices together, else one after the other (their extractions'
 /// memory would add up). An extraction keeps a second core busy only while its medial candidate
-/// runs (FAUST 007 and 024: 0.95-1.08 -> 0.63-0.69 s for the two). Rethrows what either threw.
+/// runs (docs/BENCHMARKS.md, "Thresholds: what they rest on"). Rethrows what either threw.
 void obtain_both_skeletons(size_t vertices, const std::function<void()>& source, const std::function<void()>& target);
 
 /// The options of `sdm transfer` a user can set that reach transfer_texture, with the command's defaults.
@@ -35,6 +35,11 @@ struct TransferSettings {
   bool no_refine = false;  // --no-refine
   bool source_skeleton_given = false, target_skeleton_given = false;  // --source-skeleton, --target-skeleton
 };
+
+/// How the transfer found the target's skeleton, as `sdm transfer --json` names it
+/// ("target_skeleton"): the correspondence's kind ("carried", "bent", "registered"), else
+/// "given" (--target-skeleton) or "extracted".
+const char* target_skeleton_name(CorrespondenceKind kind, bool given);
 
 /// The TransferOptions `sdm transfer` runs transfer_texture with: atlas size and margin, the
 /// --match pairs, the source's skeleton carried over only onto a target whose skeleton was

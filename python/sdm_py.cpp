@@ -272,7 +272,7 @@ py::dict transfer(const RowMatrix3d& Vs, const RowMatrix3i& Fs, const RowMatrix3
   d["atlas"] = atlas;
   d["fit_rms"] = r.fit_rms;
   d["fit_p99"] = r.fit_p99;
-  d["registered"] = r.registered;
+  d["registered"] = r.kind == sdm::CorrespondenceKind::registered;
   return d;
 }
 

@@ -59,7 +59,7 @@ inline void print_chain_errors(const sdm::Mesh& a, const sdm::Mesh& b, const sdm
 
 // The target with uv along a colour ramp by its error (blue 0 %, green 2 %, red 4 % and more):
 // PREFIXk.obj with PREFIXk.png, k counting the calls; `sdm render` draws it.
-inline void write_error_colours(const sdm::Mesh& a, const sdm::Mesh& b, const sdm::BodyRegistration& r, const std::string& prefix) {
+inline void write_error_colors(const sdm::Mesh& a, const sdm::Mesh& b, const sdm::BodyRegistration& r, const std::string& prefix) {
   const std::vector<double> err = vertex_errors(a, b, r);
   sdm::Mesh t = b;
   t.request_halfedge_texcoords2D();

@@ -1,40 +1,26 @@
 // `sdm correspond` and correspond() (libstm/correspondence/correspond, DECISIONS 5): the transfer's
 // dense correspondence without a texture or GL. A new tessellation of the ypsilon gets, per vertex,
 // a point of the source on the surface under it; a bent and thickened ypsilon gets its points on the
-// same branch; a target of another branching is refused with nothing written.
+// same branch; a target of another branching is refused with nothing written, also where the other
+// extraction candidates cannot be extracted; recognised_kind takes no NaN for a fit.
+#include "libstm/core/errors.h"
 #include "libstm/correspondence/correspond.h"
 #include "libstm/mesh/mesh_geometry.h"
 #include "libstm/mesh/primitives.h"
 #include "libstm/skeleton/extract_skeleton.h"
 #include "libstm/transfer/transfer_texture.h"
+#include "correspondence_points.h"
 #include "synthetic_shapes.h"
 #include "test_util.h"
 
 #include <catch2/catch.hpp>
 
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <sstream>
-
-namespace {
-
-// Per line of a correspondence file, the source point's position.
-std::vector<Eigen::Vector3d> read_points(const std::string& path, const sdm::Mesh& source) {
-  std::ifstream in(path);
-  std::vector<Eigen::Vector3d> out;
-  std::string line;
-  while (std::getline(in, line)) {
-    if (line.empty() || line[0] == '#') continue;
-    std::istringstream s(line);
-    sdm::SourcePoint p;
-    s >> p.face >> p.barycentric[0] >> p.barycentric[1] >> p.barycentric[2];
-    out.push_back(sdm::position_of(source, p));
-  }
-  return out;
-}
-
-}  // namespace
 
 TEST_CASE("correspond onto a new tessellation of the ypsilon carries the skeleton and lays every point under its vertex", "[correspond]") {
   const sdm::Mesh a = sdm::make_primitive("ypsilon", 1200);
@@ -62,7 +48,7 @@ TEST_CASE("sdm correspond writes one source point per target vertex, and refuses
   const nlohmann::json j = test_util::last_json(res);
   CHECK(j["kind"] == "carried");
   CHECK(j["target_vertices"] == b.n_vertices());
-  const std::vector<Eigen::Vector3d> at = read_points(dir / "c.txt", a);
+  const std::vector<Eigen::Vector3d> at = test_util::read_points(dir / "c.txt", a);
   REQUIRE(at.size() == b.n_vertices());
   double worst = 0;
   for (auto v : b.vertices()) worst = std::max(worst, (at[size_t(v.idx())] - sdm::point(b, v)).norm());
@@ -78,4 +64,44 @@ TEST_CASE("sdm correspond writes one source point per target vertex, and refuses
   res = test_util::run_sdm("correspond " + (dir / "a.off") + " " + (dir / "b.off") + " -o " + (dir / "c.obj"));
   CHECK(res.exit_code == 2);
   CHECK(res.output.find(".txt or .json") != std::string::npos);
+}
+
+TEST_CASE("recognised_kind: a measure that is not a number makes the target neither carried nor bent", "[correspond]") {
+  const sdm::CorrespondOptions opt;
+  sdm::Registration moved;
+  moved.rms = 0.008, moved.p99 = 0.015;  // under twice same_shape_rms: the same shape if bending explains little
+  sdm::SkeletonFit bent;
+  bent.rms = 0.007, bent.p99 = 0.02, bent.end_spread = 1;  // 0.008 <= 1.5 x 0.007: carried
+  CHECK(sdm::recognised_kind(moved, &bent, opt) == sdm::CorrespondenceKind::carried);
+  CHECK(sdm::recognised_kind(moved, nullptr, opt) == sdm::CorrespondenceKind::skeleton_only);  // not bent yet
+  bent.rms = NAN;  // 0.008 <= 1.5 x NaN fails: not the same shape, nor bent
+  CHECK(sdm::recognised_kind(moved, &bent, opt) == sdm::CorrespondenceKind::skeleton_only);
+  moved.rms = NAN, bent.rms = 0.003, bent.p99 = 0.01;  // a close bent fit stands without the moved one
+  CHECK(sdm::recognised_kind(moved, &bent, opt) == sdm::CorrespondenceKind::bent);
+  bent.p99 = NAN;
+  CHECK(sdm::recognised_kind(moved, &bent, opt) == sdm::CorrespondenceKind::skeleton_only);
+  moved.rms = 0.004, moved.p99 = 0.01;  // within same_shape_rms and same_shape_p99: carried whatever the bent fit
+  CHECK(sdm::recognised_kind(moved, &bent, opt) == sdm::CorrespondenceKind::carried);
+}
+
+TEST_CASE("an other extraction candidate that cannot be extracted leaves the given skeletons' refusal", "[correspond]") {
+  // The ypsilon (three ends) onto the crossed cylinders (four), both of genus 0: the branchings
+  // differ, so each model's other candidate is asked for; its extraction failing is no candidate.
+  const sdm::Mesh a = sdm::make_primitive("ypsilon", 1200), b = sdm::make_primitive("crossed-cylinders", 1200);
+  const sdm::SkeletonOptions so = sdm::transfer_skeleton_options();
+  sdm::CorrespondOptions opt;
+  int asked = 0;
+  opt.other_candidate = [&](bool) -> std::optional<sdm::Skeleton> {
+    ++asked;
+    throw sdm::InputError("no other candidate here");
+  };
+  try {
+    sdm::correspond(a, sdm::extract_skeleton(a, so), b, sdm::extract_skeleton(b, so), opt);
+    FAIL("another branching was taken");
+  } catch (const sdm::InputError& e) {
+    INFO(e.what());
+    CHECK(std::string(e.what()).find("branchings differ") != std::string::npos);
+    CHECK(std::string(e.what()).find("no other candidate here") == std::string::npos);
+  }
+  CHECK(asked == 2);  // the source's and the target's, each once
 }

@@ -42,7 +42,7 @@ Measured measure(const std::string& name, const sdm::Mesh& a, const sdm::Skeleto
   std::ostringstream o;
   o.precision(3);
   if (std::getenv("SDM_MEASURE_PARTS")) diagnose::print_chain_errors(a, b, r);
-  if (const char* prefix = std::getenv("SDM_MEASURE_COLOURS")) diagnose::write_error_colours(a, b, r, prefix);
+  if (const char* prefix = std::getenv("SDM_MEASURE_COLOURS")) diagnose::write_error_colors(a, b, r, prefix);
   if (std::getenv("SDM_MEASURE_ROTATIONS")) diagnose::print_rotation_errors(a, b, r);
   o << name << ": fit RMS " << 100 * r.rms << " %, p99 " << 100 * r.p99 << " %; correspondence mean " << m.error.mean << " %, p90 "
     << m.error.p90 << " %, beyond 5 %: " << m.error.beyond5 << " % of the vertices";

@@ -6,6 +6,7 @@
 #include "libstm/mesh/load_mesh.h"
 #include "libstm/mesh/mesh_geometry.h"
 #include "libstm/mesh/primitives.h"
+#include "correspondence_points.h"
 #include "synthetic_shapes.h"
 #include "test_util.h"
 
@@ -35,25 +36,6 @@ Eigen::Vector3d nearest_vertex(const sdm::Mesh& mesh, const Eigen::Vector3d& p) 
   for (auto v : mesh.vertices())
     if ((sdm::point(mesh, v) - p).norm() < (best - p).norm()) best = sdm::point(mesh, v);
   return best;
-}
-
-// The position of a correspondence file's line on `source`.
-std::vector<Eigen::Vector3d> read_points(const std::string& path, const sdm::Mesh& source) {
-  std::ifstream in(path);
-  std::vector<Eigen::Vector3d> out;
-  std::string line;
-  while (std::getline(in, line)) {
-    if (line.empty() || line[0] == '#') continue;
-    std::istringstream s(line);
-    int f;
-    double w[3];
-    s >> f >> w[0] >> w[1] >> w[2];
-    Eigen::Vector3d p = Eigen::Vector3d::Zero();
-    int c = 0;
-    for (auto v : source.fv_range(source.face_handle(f))) p += w[c++] * sdm::point(source, v);
-    out.push_back(p);
-  }
-  return out;
 }
 
 }  // namespace
@@ -107,7 +89,7 @@ TEST_CASE("sdm transfer leaves a blob inside either model out with a warning, an
   CHECK(res.output.find("left out of the matching") != std::string::npos);
   // One line per target vertex as read, onto the source as read: the same shape, so every point
   // lands near its target vertex (the blob's within the tube's radius).
-  const std::vector<Eigen::Vector3d> at = read_points(dir / "c.txt", a_blob);
+  const std::vector<Eigen::Vector3d> at = test_util::read_points(dir / "c.txt", a_blob);
   REQUIRE(at.size() == b_blob.n_vertices());
   double worst = 0;
   for (auto v : b_blob.vertices())

@@ -45,7 +45,7 @@ const Body kBodies[] = {{"tr_reg_007.off", {411, 2445, 5905, 3216, 6617}},
                         {"8_man_02.off", {2982, 962, 228, 4617, 513}}};
 const char* kPart[5] = {"head", "left hand", "right hand", "left foot", "right foot"};
 const double kRadius[5] = {0.10, 0.07, 0.07, 0.07, 0.07};  // band radii, fractions of the diagonal
-const Eigen::Vector3f kColour[5] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}, {1, 1, 0}, {1, 0, 1}};
+const Eigen::Vector3f kColor[5] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}, {1, 1, 0}, {1, 0, 1}};
 
 // Distance along edges from vertex `from`, as a fraction of the diagonal.
 std::vector<double> geodesic(const sdm::Mesh& m, int from) {
@@ -80,13 +80,13 @@ Bands transfer_bands(const Body& src, const Body& tgt, const std::string& target
       a.set_point(v, p);
     }
   }
-  std::vector<Eigen::Vector3f> colour(a.n_vertices(), Eigen::Vector3f(0.5f, 0.5f, 0.5f));
+  std::vector<Eigen::Vector3f> color(a.n_vertices(), Eigen::Vector3f(0.5f, 0.5f, 0.5f));
   for (int k = 0; k < 5; ++k) {
     const std::vector<double> g = geodesic(a, src.landmark[k]);
     for (size_t v = 0; v < g.size(); ++v)
-      if (g[v] < kRadius[k]) colour[v] = kColour[k];
+      if (g[v] < kRadius[k]) color[v] = kColor[k];
   }
-  sdm::write_colored_ply(a, colour, dir / "source.ply");
+  sdm::write_colored_ply(a, color, dir / "source.ply");
   if (const char* dump = std::getenv("SDM_TEST_DUMP"))  // the painted source, to run sdm transfer on by hand
     std::filesystem::copy_file(dir / "source.ply", std::string(dump) + "/bands_" + src.file + ".ply",
                                std::filesystem::copy_options::overwrite_existing);
@@ -107,7 +107,7 @@ Bands transfer_bands(const Body& src, const Body& tgt, const std::string& target
     double band = 0, on = 0, core = 0, core_band = 0;
     const double reach = k == 0 ? tgt.head_part : 1.6 * kRadius[k];
     for (size_t v = 0; v < got.size(); ++v) {
-      const bool in_band = (got[v] - kColour[k]).cwiseAbs().maxCoeff() < 0.25f;
+      const bool in_band = (got[v] - kColor[k]).cwiseAbs().maxCoeff() < 0.25f;
       band += in_band * area[v], on += (in_band && g[v] < reach) * area[v];
       if (g[v] < 0.5 * kRadius[k]) core += area[v], core_band += in_band * area[v];
     }

@@ -41,23 +41,23 @@ using synth::mean_edge;
 using synth::remeshed;
 
 // A smooth colour over space (a few periods across the models), in [0, 1].
-Eigen::Vector3d smooth_colour(const Eigen::Vector3d& p) {
+Eigen::Vector3d smooth_color(const Eigen::Vector3d& p) {
   return {0.5 + 0.35 * std::sin(3.1 * p.x() + 1.3 * p.z()), 0.5 + 0.35 * std::cos(2.7 * p.y() - 0.9 * p.x()),
           0.5 + 0.35 * std::sin(2.3 * p.z() + 1.9 * p.y() + 0.5)};
 }
 
 // The same plus a pure red band across the right arm (axial distance 0.6 to 0.8 along it).
-Eigen::Vector3d band_colour(const Eigen::Vector3d& p) {
+Eigen::Vector3d band_color(const Eigen::Vector3d& p) {
   const double s = p.dot(kArm), off = (p - s * kArm).norm();
   if (s > 0.6 && s < 0.8 && off < 0.5) return {1, 0, 0};
-  Eigen::Vector3d c = smooth_colour(p);
+  Eigen::Vector3d c = smooth_color(p);
   c.x() *= 0.6;  // keep the rest of the model clearly not red
   return c;
 }
 
-// Gives `mesh` uv (its own STM) and returns a texture in which colour(p) is painted: the atlas of
+// Gives `mesh` uv (its own STM) and returns a texture in which color(p) is painted: the atlas of
 // surface positions is rendered and every texel coloured from its position.
-sdm::Image bake_texture(sdm::GlContext& gl, sdm::Mesh& mesh, const sdm::Skeleton& sk, Eigen::Vector3d (*colour)(const Eigen::Vector3d&)) {
+sdm::Image bake_texture(sdm::GlContext& gl, sdm::Mesh& mesh, const sdm::Skeleton& sk, Eigen::Vector3d (*color)(const Eigen::Vector3d&)) {
   sdm::LayoutOptions lo;
   lo.size = 1024;
   lo.margin = 6;
@@ -73,7 +73,7 @@ sdm::Image bake_texture(sdm::GlContext& gl, sdm::Mesh& mesh, const sdm::Skeleton
   for (int y = 0; y < pos.height; ++y)
     for (int x = 0; x < pos.width; ++x) {
       const float* q = pos.at(x, y);
-      const Eigen::Vector3d c = colour(Eigen::Vector3d(q[0], q[1], q[2]));
+      const Eigen::Vector3d c = color(Eigen::Vector3d(q[0], q[1], q[2]));
       for (int k = 0; k < 3; ++k) tex.at(x, y)[k] = uint8_t(std::lround(255 * std::clamp(c[k], 0.0, 1.0)));
     }
   mesh = sdm::stm_coordinates(mesh, layout).mesh;
@@ -217,7 +217,7 @@ sdm::Skeleton ypsilon_skeleton(const sdm::Mesh& mesh, std::array<int, 3> per_arm
 // with carry true the transfer may replace it by the source's carried over, as `sdm transfer` does.
 std::vector<double> transfer_round(sdm::GlContext& gl, sdm::Mesh a, const sdm::Skeleton& sa, const sdm::Mesh& b, const sdm::Skeleton& sb,
                                   sdm::TextureTransfer* out = nullptr, bool carry = false, const std::string& dump_name = "ypsilon_transfer_view") {
-  const sdm::Image tex = bake_texture(gl, a, sa, smooth_colour);
+  const sdm::Image tex = bake_texture(gl, a, sa, smooth_color);
   sdm::TransferOptions to;
   to.size = 1024;
   to.carry_same_shape = carry;
@@ -238,7 +238,7 @@ TEST_CASE("transfer onto a new tessellation of the ypsilon with extracted skelet
   const sdm::Skeleton sa = extracted(a), sb = extracted(b);
   sdm::TextureTransfer r;
   const std::vector<double> p = transfer_round(gl, a, sa, b, sb, &r, true);
-  CHECK(r.carried);
+  CHECK(r.kind == sdm::CorrespondenceKind::carried);
   CHECK(r.registration.rms < 0.002);
   // Both skeletons share one graph; every shared node owns vertices in both models.
   CHECK(r.skeletons.a.edges == r.skeletons.b.edges);
@@ -264,11 +264,11 @@ TEST_CASE("transfer onto a turned, scaled and retessellated ypsilon carries the 
   T.translation = {3, -1, 2};
   const sdm::Mesh b = synth::moved(remeshed(a, 0.8), [&](const Eigen::Vector3d& p) { return T(p); });
   const sdm::Skeleton sa = extracted(a), sb = extracted(b);
-  const sdm::Image tex = bake_texture(gl, a, sa, smooth_colour);
+  const sdm::Image tex = bake_texture(gl, a, sa, smooth_color);
   sdm::TransferOptions to;
   to.size = 1024;
   const sdm::TextureTransfer r = sdm::transfer_texture(gl, a, tex, sa, b, sb, to);
-  CHECK(r.carried);
+  CHECK(r.kind == sdm::CorrespondenceKind::carried);
   CHECK(std::abs(r.registration.transform.scale / T.scale - 1) < 0.005);
   const sdm::Mesh back = synth::moved(r.target, [&](const Eigen::Vector3d& p) { return T.inverse()(p); });
   const std::vector<double> p = compare_views(gl, a, tex, back, r.atlas, "ypsilon_turned_view");
@@ -286,7 +286,7 @@ TEST_CASE("transfer onto the remesh of a coarse genus-2 mesh carries the skeleto
   REQUIRE(b.n_vertices() != a.n_vertices());
   sdm::TextureTransfer r;
   const std::vector<double> p = transfer_round(gl, a, extracted(a), b, extracted(b), &r, true, "double_torus_view");
-  CHECK(r.carried);
+  CHECK(r.kind == sdm::CorrespondenceKind::carried);
   CHECK(r.skeletons.b.cycles() == 2);
   WARN("double torus onto its remesh: moved " << 100 * r.registration.rms << " %, bent " << 100 * r.fit_rms << " % (RMS), PSNR per view"
                                              << views_text(p));
@@ -356,7 +356,7 @@ TEST_CASE("transfer onto a new tessellation of Spot with hand-made skeletons rep
   to.size = 2048;
   to.carry_same_shape = false;  // the hand-made target skeleton as it is
   const sdm::TextureTransfer r = sdm::transfer_texture(gl, a, tex, sa, b, sb, to);
-  CHECK(!r.carried);
+  CHECK(r.kind != sdm::CorrespondenceKind::carried);
   CHECK(r.skeletons.a.edges == r.skeletons.b.edges);
   CHECK(r.skeletons.a.edges.size() >= sb.edges.size());
   const std::vector<double> p = compare_views(gl, a, tex, r.target, r.atlas, "spot_transfer_view");
@@ -380,7 +380,7 @@ TEST_CASE("transfer onto a new tessellation of Spot with extracted skeletons rep
   sdm::TransferOptions to;
   to.size = 2048;
   const sdm::TextureTransfer r = sdm::transfer_texture(gl, a, tex, sa, b, sb, to);
-  CHECK(r.carried);
+  CHECK(r.kind == sdm::CorrespondenceKind::carried);
   CHECK(r.registration.rms < 0.002);
   CHECK(r.skeletons.a.edges == r.skeletons.b.edges);
   CHECK(r.skeletons.pruned_a.size() + r.skeletons.pruned_b.size() == 0);
@@ -456,7 +456,7 @@ void check_band(bool extracted) {
   sdm::GlContext gl;
   sdm::Mesh a = sdm::make_primitive("ypsilon", 2000);
   const sdm::Skeleton sa = extracted ? sdm::extract_skeleton(a, sdm::transfer_skeleton_options()) : ypsilon_skeleton(a, {2, 2, 2});
-  const sdm::Image tex = bake_texture(gl, a, sa, band_colour);
+  const sdm::Image tex = bake_texture(gl, a, sa, band_color);
   // Target: the right arm bent 50 degrees out of the plane and 40 % thicker, then tessellated anew. Faces of
   // the bent copy are labelled "arm" when their undeformed centroid lies past 0.3 along the arm;
   // the remeshed target's faces take the label of the nearest face of the bent copy.
@@ -483,9 +483,9 @@ void check_band(bool extracted) {
   to.carry_same_shape = extracted;  // hand-made skeletons as they are; extracted ones as `sdm transfer` takes them
   const sdm::TextureTransfer r = sdm::transfer_texture(gl, a, tex, sa, b, sb, to);
   if (extracted) {
-    CHECK(r.fitted);
+    CHECK(r.kind == sdm::CorrespondenceKind::bent);
     WARN("bent target: registered to " << 100 * r.registration.rms << " % (RMS), bent to " << 100 * r.fit_rms << " % (RMS), "
-                                       << 100 * r.fit_p99 << " % (99th percentile): " << (r.fitted ? "source's skeleton bent" : "extracted skeleton"));
+                                       << 100 * r.fit_p99 << " % (99th percentile): " << (r.kind == sdm::CorrespondenceKind::bent ? "source's skeleton bent" : "extracted skeleton"));
   }
 
   // Label texture: white on the left half, black on the right; arm faces sample the white half.
@@ -562,7 +562,7 @@ namespace {
 std::string write_textured_ypsilon(sdm::GlContext& gl, const test_util::TempDir& dir, sdm::Mesh* mesh = nullptr,
                                    sdm::Image* texture = nullptr) {
   sdm::Mesh a = sdm::make_primitive("ypsilon", 1200);
-  const sdm::Image tex = bake_texture(gl, a, ypsilon_skeleton(a, {2, 2, 2}), smooth_colour);
+  const sdm::Image tex = bake_texture(gl, a, ypsilon_skeleton(a, {2, 2, 2}), smooth_color);
   sdm::write_png(tex, dir / "source.png");
   sdm::write_mesh(a, dir / "source.obj", dir / "source.png");
   if (mesh) *mesh = a;
@@ -642,9 +642,9 @@ size_t files_in(const test_util::TempDir& dir) {
 
 }  // namespace
 
-// A textured source (the ypsilon with smooth_colour baked into its STM texture) onto its remesh:
+// A textured source (the ypsilon with smooth_color baked into its STM texture) onto its remesh:
 // the target's vertex colours are the texture at each vertex's source point, so they follow
-// smooth_colour at the target's own positions, to the baked texture's and the registration's
+// smooth_color at the target's own positions, to the baked texture's and the registration's
 // accuracy and the 8-bit steps.
 TEST_CASE("sdm transfer --vertex-colors writes the target's vertices coloured from the source's texture", "[transfer_texture]") {
   sdm::GlContext gl;
@@ -669,7 +669,7 @@ TEST_CASE("sdm transfer --vertex-colors writes the target's vertices coloured fr
   double worst = 0, sum = 0;
   size_t far = 0;
   for (auto v : out.vertices()) {
-    const double e = (colors[v.idx()].cast<double>() - smooth_colour(sdm::point(out, v))).cwiseAbs().maxCoeff();
+    const double e = (colors[v.idx()].cast<double>() - smooth_color(sdm::point(out, v))).cwiseAbs().maxCoeff();
     worst = std::max(worst, e), sum += e;
     far += e > 8.0 / 255;
   }

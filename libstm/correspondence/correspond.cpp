@@ -28,12 +28,26 @@ const char* other_candidates_named(bool source, bool target) {
   return source && target ? "source and the target" : source ? "source" : "target";
 }
 
+CorrespondenceKind recognised_kind(const Registration& moved, const SkeletonFit* bent, const CorrespondOptions& opt) {
+  // Every test is a comparison that a NaN fails: a measure that is not a number takes nothing.
+  if (moved.rms <= opt.same_shape_rms && moved.p99 <= opt.same_shape_p99) return CorrespondenceKind::carried;
+  if (!bent) return CorrespondenceKind::skeleton_only;
+  // When bending explains little of the distance, the target is the source's shape and the
+  // distance is the tessellations' (a coarse polyhedron and its remesh, which cuts its corners:
+  // the double torus of the tests, 0.51 % moved as a whole, 0.40 % bent); moved as a whole,
+  // the source lines up with it exactly, where the bent fit slides.
+  if (moved.rms <= 2 * opt.same_shape_rms && moved.p99 <= opt.same_shape_p99 && moved.rms <= 1.5 * bent->rms)
+    return CorrespondenceKind::carried;
+  if (bent->rms <= opt.fit_rms && bent->p99 <= opt.fit_p99 && bent->end_spread >= opt.fit_spread) return CorrespondenceKind::bent;
+  return CorrespondenceKind::skeleton_only;
+}
+
 namespace {
 
-// What the stages found so far: the diagnostics, whether the target was carried, bent or
-// registered, and the matched skeletons.
+// What the stages found so far: the diagnostics, what the target was found to be, and the matched
+// skeletons.
 struct Work : CorrespondenceDiagnostics {
-  bool carried = false, fitted = false, registered = false;
+  CorrespondenceKind kind = CorrespondenceKind::skeleton_only;
   SharedSkeletons skeletons;
 };
 
@@ -91,40 +105,36 @@ SkeletonFit bend_source(const Mesh& source, const Skeleton& skeleton_a, const Me
   return best;
 }
 
-// Is the target the source's shape (carried), the source in another pose (fitted), or neither
-// (CorrespondOptions::carry_same_shape)? Fills r.registration, r.carried, r.fitted, r.fit_rms and
-// r.fit_p99; returns the target's skeleton (skeleton_b when neither).
+// Is the target the source's shape (carried), the source in another pose (bent), or neither
+// (CorrespondOptions::carry_same_shape; recognised_kind)? Fills r.registration, r.kind, r.fit_rms
+// and r.fit_p99; returns the target's skeleton (skeleton_b when neither).
 TargetSkeleton recognise_target(const Mesh& source, const Skeleton& skeleton_a, const Mesh& target, const Skeleton& skeleton_b,
                                 const CorrespondOptions& opt, Work& r) {
   report_progress(opt.progress, "registering the source onto the target");
   r.registration = register_source(source, skeleton_a, target, skeleton_b, opt.split_ratio);
   const Registration& g = r.registration;
-  r.carried = g.rms <= opt.same_shape_rms && g.p99 <= opt.same_shape_p99;
+  r.kind = recognised_kind(g, nullptr, opt);
+  const bool carried = r.kind == CorrespondenceKind::carried;
   report_progress(opt.progress, "registered: RMS " + std::to_string(100 * g.rms) + " %, 99th percentile " + std::to_string(100 * g.p99) +
                                     " % of the diagonal, scale " + std::to_string(g.transform.scale) +
-                                    (r.carried ? ": the same shape, the source's skeleton carried over" : ""));
+                                    (carried ? ": the same shape, the source's skeleton carried over" : ""));
   SkeletonFit best;
-  if (!r.carried) {
+  if (!carried) {
     report_progress(opt.progress, "bending the source's skeleton onto the target");
     best = bend_source(source, skeleton_a, target, skeleton_b, g.transform);
     r.fit_rms = best.rms, r.fit_p99 = best.p99;
-    // When bending explains little of the distance, the target is the source's shape and the
-    // distance is the tessellations' (a coarse polyhedron and its remesh, which cuts its corners:
-    // the double torus of the tests, 0.51 % moved as a whole, 0.40 % bent); moved as a whole,
-    // the source lines up with it exactly, where the bent fit slides.
-    r.carried = g.rms <= 2 * opt.same_shape_rms && g.p99 <= opt.same_shape_p99 && g.rms <= 1.5 * best.rms;
-    r.fitted = !r.carried && best.rms <= opt.fit_rms && best.p99 <= opt.fit_p99 && best.end_spread >= opt.fit_spread;
+    r.kind = recognised_kind(g, &best, opt);
     report_progress(opt.progress, "bent: RMS " + std::to_string(100 * best.rms) + " %, 99th percentile " + std::to_string(100 * best.p99) +
                                       " % of the diagonal" +
-                                      (r.carried    ? ": little better than moved as a whole, so the same shape: the source's skeleton carried over"
-                                       : r.fitted ? ": the source's skeleton bent onto the target"
-                                                  : ": not close enough"));
+                                      (r.kind == CorrespondenceKind::carried ? ": little better than moved as a whole, so the same shape: the source's skeleton carried over"
+                                       : r.kind == CorrespondenceKind::bent  ? ": the source's skeleton bent onto the target"
+                                                                             : ": not close enough"));
   }
   TargetSkeleton t{skeleton_b, {}, {}};
-  if (r.carried) {
+  if (r.kind == CorrespondenceKind::carried) {
     t.skeleton = carry_skeleton(source, skeleton_a, target, g.transform);
     for (auto v : source.vertices()) t.placed.push_back(g.transform(point(source, v)));
-  } else if (r.fitted) {
+  } else if (r.kind == CorrespondenceKind::bent) {
     t.skeleton = std::move(best.skeleton), t.node_rotation = std::move(best.node_rotation), t.placed = std::move(best.bent);
   }
   return t;
@@ -231,7 +241,7 @@ bool registration_taken(const BodyRegistration& reg, const CorrespondOptions& op
 // end: judge_correspondence).
 void take_registered(BodyRegistration reg, const CorrespondOptions& opt, Work& r, TargetSkeleton& tb) {
   r.skeletons = std::move(reg.skeletons);
-  r.fit_rms = reg.rms, r.fit_p99 = reg.p99, r.registered = true;
+  r.fit_rms = reg.rms, r.fit_p99 = reg.p99, r.kind = CorrespondenceKind::registered;
   r.candidate_rms = std::move(reg.candidate_rms), r.branch_fit = std::move(reg.branch_fit);
   r.candidate_twist = std::move(reg.candidate_twist), r.candidate_distortion = std::move(reg.candidate_distortion);
   r.candidate_attachment = std::move(reg.candidate_attachment), r.candidate_bend = std::move(reg.candidate_bend);
@@ -269,9 +279,13 @@ std::optional<BodyRegistration> register_other_candidates(const Mesh& source, co
   auto candidate = [&](bool is_target) -> const Skeleton* {
     if (!asked[is_target]) {
       asked[is_target] = true;
-      report_progress(opt.progress, std::string(why) + ": extracting the " +
-                                        (is_target ? "target" : "source") + "'s other candidate");
-      other[is_target] = opt.other_candidate(is_target);
+      const std::string whose = is_target ? "target" : "source";
+      report_progress(opt.progress, std::string(why) + ": extracting the " + whose + "'s other candidate");
+      try {  // a candidate that cannot be extracted is no candidate: the given pair's verdict stands
+        other[is_target] = opt.other_candidate(is_target);
+      } catch (const InputError& e) {
+        report_progress(opt.progress, "the " + whose + "'s other candidate could not be extracted: " + e.what());
+      }
     }
     return other[is_target] ? &*other[is_target] : nullptr;
   };
@@ -338,7 +352,7 @@ TargetSkeleton recognise_or_register(const Mesh& source, const Skeleton& skeleto
     const bool unmatched = !body || lengths_disagree(body->skeletons, opt);
     const bool taken = !unmatched && registration_taken(*body, opt);
     const bool marginal = taken && (body->attachment > opt.marginal_attachment || body->distortion > opt.marginal_distortion);
-    if ((!taken || marginal) && !r.carried && !r.fitted && opt.other_candidate && opt.fixed.empty()) {
+    if ((!taken || marginal) && r.kind == CorrespondenceKind::skeleton_only && opt.other_candidate && opt.fixed.empty()) {
       const char* why = marginal    ? "the registration is marginal (limbs meet the core far apart, or the proportions differ)"
                         : unmatched ? "the skeletons' branchings differ or disagree"
                                     : "the registration would be refused";
@@ -358,13 +372,13 @@ TargetSkeleton recognise_or_register(const Mesh& source, const Skeleton& skeleto
   // RMS, its raised right leg crumpled at the knee and the foot's texture up the shin; registered as
   // another body 0.297 %, every part in place). The closer of the two is kept, if the registration
   // would be taken as it is.
-  if (r.fitted && body && body->rms < r.fit_rms && registration_taken(*body, opt)) {
+  if (r.kind == CorrespondenceKind::bent && body && body->rms < r.fit_rms && registration_taken(*body, opt)) {
     report_progress(opt.progress, "registered as another body, the source fits closer (RMS " + std::to_string(100 * body->rms) +
                                       " % against " + std::to_string(100 * r.fit_rms) + " % bent): taken instead");
-    r.fitted = false;
+    r.kind = CorrespondenceKind::skeleton_only;
     tb = TargetSkeleton{skeleton_b, {}, {}};
   }
-  if (r.carried || r.fitted) {
+  if (r.kind == CorrespondenceKind::carried || r.kind == CorrespondenceKind::bent) {
     // One graph on both sides: every junction and end is its own counterpart.
     const std::vector<int> deg = skeleton_a.degrees();
     for (size_t x = 0; x < deg.size(); ++x)
@@ -382,17 +396,14 @@ Correspondence correspond(const Mesh& source, const Skeleton& skeleton_a, const 
   std::optional<BodyRegistration> body;
   TargetSkeleton tb = recognise_or_register(source, skeleton_a, target, skeleton_b, opt, r, fixed, body);
   // Neither the source's shape nor the source bent along its own skeleton: another body.
-  if (!r.carried && !r.fitted && body) {
+  if (r.kind == CorrespondenceKind::skeleton_only && body) {
     take_registered(std::move(*body), opt, r, tb);
   } else {
     report_progress(opt.progress, "matching the skeletons' branches");
     r.skeletons = share_or_explain(source, skeleton_a, target, tb.skeleton, fixed, opt, r);
   }
   Correspondence c;
-  c.kind = r.carried ? CorrespondenceKind::carried
-           : r.fitted ? CorrespondenceKind::bent
-           : r.registered ? CorrespondenceKind::registered
-                          : CorrespondenceKind::skeleton_only;
+  c.kind = r.kind;
   c.skeletons = std::move(r.skeletons);
   c.diagnostics = std::move(static_cast<CorrespondenceDiagnostics&>(r));
   judge_correspondence(c, opt);

@@ -1,18 +1,19 @@
 #pragma once
-// The dense correspondence between two models with the same skeleton branching, without GL
-// (DECISIONS 5): per target vertex the source point it shows. The target is recognised as the
-// source's shape (its skeleton carried over), the source in another pose (bent along its skeleton),
-// or another body (registered along its matched skeleton, every symmetric candidate match tried:
-// register_bodies), the source points under the placed source are mended where touching parts
-// made them jump, and a registered target's are refined in the Laplace-Beltrami eigenbases
-// (zoomout). One acceptance judge (judge_correspondence) turns what was measured into the refusals.
-// Texture transfer (transfer_texture) draws the atlas through this correspondence; `sdm correspond`
-// writes it.
+/// The dense correspondence between two models with the same skeleton branching, without GL
+/// (DECISIONS 5): per target vertex the source point it shows. The target is recognised as the
+/// source's shape (its skeleton carried over), the source in another pose (bent along its skeleton),
+/// or another body (registered along its matched skeleton, every symmetric candidate match tried:
+/// register_bodies), the source points under the placed source are mended where touching parts
+/// made them jump, and a registered target's are refined in the Laplace-Beltrami eigenbases
+/// (zoomout). One acceptance judge (judge_correspondence) turns what was measured into the refusals.
+/// Texture transfer (transfer_texture) draws the atlas through this correspondence; `sdm correspond`
+/// writes it.
 #include "libstm/core/progress.h"
 #include "libstm/correspondence/register_bodies.h"
 #include "libstm/correspondence/share_skeletons.h"
 #include "libstm/mesh/mesh.h"
 #include "libstm/registration/carry_skeleton.h"
+#include "libstm/registration/fit_skeleton.h"
 #include "libstm/registration/register_surfaces.h"
 #include "libstm/registration/zoomout.h"
 #include "libstm/skeleton/skeleton.h"
@@ -27,79 +28,75 @@
 
 namespace sdm {
 
+/// The correspondence's stages and thresholds. Distances are fractions of the target's bounding-box
+/// diagonal; the measurements behind the thresholds are in docs/BENCHMARKS.md, "Thresholds: what they
+/// rest on".
 struct CorrespondOptions {
-  double split_ratio = 2.0;   // share_skeletons
+  double split_ratio = 2.0;                // share_skeletons
   std::vector<std::pair<int, int>> fixed;  // (source node, target node) key pairs that must match
-  // A target that is the source's shape (registered by register_surfaces with an RMS distance under
-  // same_shape_rms and a 99th percentile under same_shape_p99, fractions of its diagonal; or under
-  // twice that RMS and no more than 1.5 times the bent fit's below) takes the source's skeleton
-  // carried over (carry_skeleton) instead of skeleton_b: two extractions of one shape differ with
-  // the tessellation, in node positions and even in small branches. Not done when `fixed` pairs
-  // are given (they name nodes of skeleton_b).
+  /// A target that is the source's shape (recognised_kind: registered by register_surfaces with an
+  /// RMS distance under same_shape_rms and a 99th percentile under same_shape_p99; or under twice
+  /// that RMS and no more than 1.5 times the bent fit's below) takes the source's skeleton carried
+  /// over (carry_skeleton) instead of skeleton_b: two extractions of one shape differ with the
+  /// tessellation, in node positions and even in small branches. Not done when `fixed` pairs are
+  /// given (they name nodes of skeleton_b).
   bool carry_same_shape = true;
   double same_shape_rms = 0.005, same_shape_p99 = 0.02;
-  // Otherwise (same condition) the source's skeleton is bent onto the target (fit_skeleton): it is
-  // used when the bent source lies within fit_rms (RMS) and fit_p99 (99th percentile) of the target
-  // and no two ends came closer than fit_spread of their distance, unless the registration as another
-  // body below fits closer and would be taken (FAUST 024 and 085, two people: bent 0.36-0.38 %, a
-  // raised leg folded at the knee; registered 0.29-0.30 %). Measured: a turned head, thicker
-  // legs, a bent arm 0.18-0.23 % RMS and 0.8-1.0 %; crossed cylinders bent onto a ypsilon 0.74 %
-  // and 2.4 %. Both meshes must have the same Euler characteristic (genus) for either.
+  /// Otherwise (same condition) the source's skeleton is bent onto the target (fit_skeleton): it is
+  /// used when the bent source lies within fit_rms (RMS) and fit_p99 (99th percentile) of the
+  /// target and no two ends came closer than fit_spread of their distance, unless the registration
+  /// as another body below fits closer and would be taken (a raised leg of another person folds at
+  /// the knee when bent). Both meshes must have the same Euler characteristic (genus) for either.
   double fit_rms = 0.004, fit_p99 = 0.016, fit_spread = 0.5;
-  // Otherwise, a target of another body with the same branching (another person or pose, an animal
-  // of the same kind) is registered: the source bent onto it along its skeleton from each of
-  // `candidates` matches of the extracted skeletons (register_bodies).
-  // A fit worse than registered_rms (RMS) or registered_p99 (99th percentile), fractions of the
-  // target's diagonal, is refused unless `force`. Measured on FAUST bodies: 0.1-0.4 % RMS.
+  /// Otherwise, a target of another body with the same branching (another person or pose, an
+  /// animal of the same kind) is registered: the source bent onto it along its skeleton from each
+  /// of `candidates` matches of the extracted skeletons (register_bodies). A fit worse than
+  /// registered_rms (RMS) or registered_p99 (99th percentile) is refused unless `force`.
   bool register_bodies = true;
   int candidates = 4;
   double registered_rms = 0.01, registered_p99 = 0.04;
-  // A match whose branches disagree in relative length by more than this factor
-  // (length_disagreement) is refused unless `force`: the surfaces then fit closely while the
-  // texture lands on other parts (FAUST 007 -> 085, whose extracted skeleton lacks the head: 25.9;
-  // right matches 1.2-2.0).
+  /// A match whose branches disagree in relative length by more than this factor
+  /// (length_disagreement) is refused unless `force`: the surfaces then fit closely while the
+  /// texture lands on other parts (a skeleton that lost its head).
   double registered_disagreement = 3.0;
-  // A match whose end branches meet the core (a torso) at places further apart on the two models
-  // than this fraction of the target's diagonal (BodyRegistration::attachment, after the best
-  // similarity) is refused unless `force`: limbs are paired with other limbs, which the non-rigid
-  // fit then bends into place (the TOSCA man onto FAUST 024: 9.1 %, the final fit 0.48 % RMS, every
-  // hand and foot on another; right matches of the five shared bodies 1.1-4.3 %). Not measured (0)
-  // where a model's core spans under 3 % of its skeleton (BodyRegistration::attachment).
+  /// A match whose end branches meet the core (a torso) at places further apart on the two models
+  /// than this fraction of the diagonal (BodyRegistration::attachment, after the best similarity)
+  /// is refused unless `force`: limbs are paired with other limbs, which the non-rigid fit then
+  /// bends into place. Not measured (0) where a model's core spans under 3 % of its skeleton.
   double registered_attachment = 0.05;
-  // A registration that would be taken but lays the attachments further apart than this is checked
-  // against the other extraction candidates (other_candidate) like a refused one, and kept unless
-  // another pair fits closer: Homer (alecjacobson/common-3d-test-models), whose medial skeleton
-  // joins his right arm to the belly beside the hips, went onto FAUST 007 and back at 4.7 and
-  // 4.8 %, upside down; right matches of the five shared bodies lie 1.0-3.5 % apart.
+  /// A registration that would be taken but lays the attachments further apart than this is
+  /// checked against the other extraction candidates (other_candidate) like a refused one, and
+  /// kept unless another pair fits closer (a medial skeleton that joins an arm to the belly beside
+  /// the hips lays the texture upside down).
   double marginal_attachment = 0.04;
-  // Likewise a registration that would be taken but changes the distances between the extremities
-  // by more than this share (BodyRegistration::distortion): a body of other proportions, where a
-  // skeleton that hangs a limb from another junction still lays its attachments close. Homer onto
-  // FAUST 085 and the TOSCA bodies onto Homer: 0.30-0.47, upside down or scrambled with attachments
-  // 2.3-3.6 % apart; the 20 pairs of the five shared bodies 0.03-0.20, so they never pay for it.
+  /// Likewise a registration that would be taken but changes the distances between the
+  /// extremities by more than this share (BodyRegistration::distortion): a body of other
+  /// proportions, where a skeleton that hangs a limb from another junction still lays its
+  /// attachments close.
   double marginal_distortion = 0.25;
-  // When the given skeletons' branchings differ beyond small branches, or their matched branches
-  // disagree in length beyond registered_disagreement, so that the target (neither the source's
-  // shape nor the source bent) would be refused, each model's other extraction candidate is tried:
-  // other_candidate(false) for the source, other_candidate(true) for the target (std::nullopt:
-  // none, e.g. a skeleton the user gave). The pairs (a, b'), (a', b), (a', b') are all registered,
-  // and of those whose branchings agree (common_branching) and whose branches agree in length (or
-  // that would be taken, where the given pair's registration would be refused for another reason
-  // or is marginal) the one that fits closest is kept. An extraction keeps one of two
-  // candidates, and either can miss a major branch when the coordinates change in their last bits (FAUST
-  // tr_reg_085 scaled by 1 + 1e-7: no head end from the medial poles, one from the contraction).
-  // Not tried with `fixed` pairs (they name nodes of the given skeletons).
+  /// When the given skeletons' branchings differ beyond small branches, or their matched branches
+  /// disagree in length beyond registered_disagreement, so that the target (neither the source's
+  /// shape nor the source bent) would be refused, each model's other extraction candidate is
+  /// tried: other_candidate(false) for the source, other_candidate(true) for the target
+  /// (std::nullopt: none, e.g. a skeleton the user gave; an InputError thrown: none either, the
+  /// given pair's verdict stands). The pairs (a, b'), (a', b), (a', b') are all registered, and of
+  /// those whose branchings agree (common_branching) and whose branches agree in length (or that
+  /// would be taken, where the given pair's registration would be refused for another reason or is
+  /// marginal) the one that fits closest is kept. An extraction keeps one of two candidates, and
+  /// either can miss a major branch when the coordinates change in their last bits. Not tried with
+  /// `fixed` pairs (they name nodes of the given skeletons).
   std::function<std::optional<Skeleton>(bool target)> other_candidate;
-  // A registered target's correspondence (closest points of the placed source) refined in the
-  // Laplace-Beltrami eigenbases of both models (zoomout; DECISIONS 5, "Spectral refinement"). Not done
-  // for a target carried or bent (the source's shape or pose), where the closest points are right.
+  /// A registered target's correspondence (closest points of the placed source) refined in the
+  /// Laplace-Beltrami eigenbases of both models (zoomout; DECISIONS 5, "Spectral refinement"). Not
+  /// done for a target carried or bent (the source's shape or pose), where the closest points are
+  /// right.
   bool refine = true;
   ZoomOutOptions refinement;
   bool force = false;
   Progress progress;
 };
 
-// What the correspondence found the target to be.
+/// What the correspondence found the target to be.
 enum class CorrespondenceKind {
   skeleton_only,  // matched by the skeletons alone (the genera differ, or carry_same_shape is off): no points
   carried,        // the source's shape: the source's skeleton carried over
@@ -114,7 +111,14 @@ const char* other_candidates_named(bool source, bool target);
 /// The kind in words: "skeleton only", "carried", "bent", "registered".
 const char* kind_name(CorrespondenceKind kind);
 
-// What the stages measured, for the acceptance judge and the reports.
+/// What the source registered onto the target as a whole (`moved`) and bent along its skeleton
+/// (`bent`; nullptr where it was not bent) say the target is (CorrespondOptions::carry_same_shape,
+/// same_shape_rms, fit_rms): `carried` (the source's shape), `bent` (the source in another pose) or
+/// else `skeleton_only` (another body, or nothing known yet). A measure that is not a number (NaN)
+/// passes no threshold, so it never makes the target carried or bent.
+CorrespondenceKind recognised_kind(const Registration& moved, const SkeletonFit* bent, const CorrespondOptions& opt);
+
+/// What the stages measured, for the acceptance judge and the reports.
 struct CorrespondenceDiagnostics {
   Registration registration;  // source onto target as a whole (when carry_same_shape was tried)
   double fit_rms = INFINITY, fit_p99 = INFINITY;  // bent or registered: the placed source's distances to the target
@@ -149,14 +153,17 @@ struct Correspondence {
 };
 
 /// The correspondence of `target` onto `source` (skeleton_a and skeleton_b extracted from them or
-/// given). Throws InputError where the skeletons' branchings differ (naming what differs and how
-/// far the target is from the source's shape) or judge_correspondence refuses the result.
+/// given).
+/// \pre skeleton_a and skeleton_b have a node for every vertex of source and target.
+/// \throw InputError where the skeletons' branchings differ (naming what differs and how far the
+/// target is from the source's shape) or judge_correspondence refuses the result.
 Correspondence correspond(const Mesh& source, const Skeleton& skeleton_a, const Mesh& target, const Skeleton& skeleton_b,
                           const CorrespondOptions& options = {});
 
-/// The acceptance judge: throws InputError, naming what was measured and how to go on, for a
-/// registered correspondence whose matched branches disagree in length, meet the core at other
-/// places, tie between left and right (or front and back), or fit poorly, unless options.force.
+/// The acceptance judge of a registered correspondence (the others pass), unless options.force.
+/// \throw InputError, naming what was measured and how to go on, where the matched branches
+/// disagree in length, meet the core at other places, tie between left and right (or front and
+/// back), or fit poorly.
 void judge_correspondence(const Correspondence& c, const CorrespondOptions& options);
 
 }  // namespace sdm

@@ -22,9 +22,9 @@ Eigen::Vector3d end_bend(const std::vector<Eigen::Vector3d>& nodes, const std::v
 /// to node k of b). Per end node, the bend of its chain in a, turned by the rotation that best lays
 /// a's core onto b's (the chains' key nodes and the points 15 % along each end chain from them: where
 /// the limbs leave the torso, which a limb's pose hardly moves), against its bend in b: the sum over
-/// the ends of the dot products. Positive when the ends bend alike (FAUST and TOSCA bodies matched
-/// the right way: 0.2-1.8), lower by 0.4-3.6 for the same bodies with left and right swapped
-/// (-1.8-0.3). 0 with fewer than three end chains (the core's rotation is not defined).
+/// the ends of the dot products. Positive when the ends bend alike (bodies matched the right way),
+/// lower for the same bodies with left and right swapped (docs/BENCHMARKS.md, "Thresholds:
+/// what they rest on"). 0 with fewer than three end chains (the core's rotation is not defined).
 double end_bend_agreement(const Skeleton& a, const Skeleton& b);
 
 }  // namespace sdm

@@ -107,8 +107,6 @@ TextureTransfer transfer_texture(GlContext& gl, const Mesh& source, const Image&
   TextureTransfer r;
   static_cast<CorrespondenceDiagnostics&>(r) = std::move(c.diagnostics);
   r.kind = c.kind;
-  r.carried = c.kind == CorrespondenceKind::carried, r.fitted = c.kind == CorrespondenceKind::bent;
-  r.registered = c.kind == CorrespondenceKind::registered;
   r.skeletons = std::move(c.skeletons);
   r.layout_a = source_layout(source, r.skeletons.a, opt);
   r.layout_b = carry_layout(r.layout_a, target, r.skeletons.b, r.skeletons.rotation, c.segment_rotation);
