@@ -59,7 +59,7 @@ TEST_CASE("zoomout reach: variants from the benchmarks' starts", "[.][corr_refin
     if (name.empty() || name.find(only) == std::string::npos) continue;
     const std::string start_file = dir + "/starts/" + name + ".txt";
     if (!std::ifstream(start_file).good()) continue;
-    const sdm::Mesh a = sdm::load_mesh(models + "/" + src), b = sdm::load_mesh(models + "/" + tgt);
+    const sdm::Mesh a = sdm::load_mesh(models + "/" + src).mesh, b = sdm::load_mesh(models + "/" + tgt).mesh;
     const std::vector<sdm::SourcePoint> start = faust::read_correspondence(start_file);
     REQUIRE(start.size() == b.n_vertices());
     std::vector<int> rows, truth = read_indices(models + "/" + gt1);
