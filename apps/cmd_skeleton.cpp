@@ -9,6 +9,16 @@
 #include <memory>
 
 namespace sdm::cli {
+namespace {
+
+// Per part, the candidate the extraction kept, as --method spells it.
+std::vector<std::string> kept_names(const sdm::SkeletonStats& st) {
+  std::vector<std::string> names;
+  for (sdm::SkeletonMethod m : st.kept) names.emplace_back(sdm::to_string(m));
+  return names;
+}
+
+}  // namespace
 
 Command add_skeleton_command(CLI::App& parent) {
   struct Opts {
@@ -45,9 +55,8 @@ Command add_skeleton_command(CLI::App& parent) {
             if (sdm::is_point_cloud_file(o->mesh)) return cloud_skeleton(o->mesh, o->out, o->obj, o->json);
             const sdm::Mesh mesh = load_mesh_min_part(o->mesh);
             if (o->uniform) o->sk.contraction = sdm::uniform_contraction();
-            o->sk.method = o->method == "contraction" ? sdm::SkeletonMethod::contraction
-                           : o->method == "medial"    ? sdm::SkeletonMethod::medial
-                                                      : sdm::SkeletonMethod::automatic;
+            for (sdm::SkeletonMethod m : {sdm::SkeletonMethod::automatic, sdm::SkeletonMethod::contraction, sdm::SkeletonMethod::medial})
+              if (o->method == sdm::to_string(m)) o->sk.method = m;
             sdm::SkeletonStats st;
             const sdm::Skeleton sk = sdm::extract_skeleton(mesh, o->sk, progress, &st);
             sdm::write_skeleton_json(sk, o->out);
@@ -68,7 +77,7 @@ Command add_skeleton_command(CLI::App& parent) {
                                 {"medial_seconds", st.medial_seconds},
                                 {"medial_parts", st.medial_parts},
                                 {"area_ratio", st.area_ratio},
-                                {"kept", st.kept},
+                                {"kept", kept_names(st)},
                                 {"outside_edges", st.outside_edges},
                                 {"filled_loops", st.filled_loops},
                                 {"fill_vertices", st.fill_vertices},

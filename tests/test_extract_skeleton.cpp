@@ -164,8 +164,8 @@ TEST_CASE("torus: one cycle, every vertex mapped, inside", "[skeleton]") {
   CHECK(st.area_ratio >= 0);
   CHECK(st.area_ratio < 1e-3);  // a well-shaped torus contracts to a curve
   REQUIRE(st.kept.size() == 1);
-  CHECK((st.kept[0] == "contraction" || st.kept[0] == "medial"));
-  CHECK(st.medial_parts == (st.kept[0] == "medial" ? 1 : 0));
+  CHECK((st.kept[0] == sdm::SkeletonMethod::contraction || st.kept[0] == sdm::SkeletonMethod::medial));
+  CHECK(st.medial_parts == (st.kept[0] == sdm::SkeletonMethod::medial ? 1 : 0));
 }
 
 TEST_CASE("cylinder and capsule: nodes on the axis, spanning it", "[skeleton]") {

@@ -115,12 +115,12 @@ TEST_CASE("A mesh written as binary PLY reads back through the fast reader as wr
     for (auto v : m.fv_range(fh)) CHECK(soup.triangles[size_t(fh.idx())][c++] == v.idx());
   }
   // Colours written by write_colored_ply come back.
-  std::vector<Eigen::Vector3f> colours(m.n_vertices());
-  for (size_t i = 0; i < colours.size(); ++i) colours[i] = Eigen::Vector3f(float(i % 256) / 255.f, 0.5f, 1.0f);
-  sdm::write_colored_ply(m, colours, dir / "c.ply");
-  const sdm::MeshSoup coloured = sdm::read_mesh_soup(dir / "c.ply");
-  REQUIRE(coloured.colors.size() == m.n_vertices());
-  for (size_t i = 0; i < colours.size(); ++i) CHECK((coloured.colors[i] - colours[i]).norm() < 0.6f / 255.f);
+  std::vector<Eigen::Vector3f> colors(m.n_vertices());
+  for (size_t i = 0; i < colors.size(); ++i) colors[i] = Eigen::Vector3f(float(i % 256) / 255.f, 0.5f, 1.0f);
+  sdm::write_colored_ply(m, colors, dir / "c.ply");
+  const sdm::MeshSoup colored = sdm::read_mesh_soup(dir / "c.ply");
+  REQUIRE(colored.colors.size() == m.n_vertices());
+  for (size_t i = 0; i < colors.size(); ++i) CHECK((colored.colors[i] - colors[i]).norm() < 0.6f / 255.f);
   // A truncated file keeps the checked path's message.
   std::ofstream(dir / "t.ply", std::ios::binary) << bytes.substr(0, bytes.size() / 2);
   CHECK_THROWS_AS(sdm::read_mesh_soup(dir / "t.ply"), sdm::InputError);

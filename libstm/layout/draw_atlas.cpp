@@ -13,7 +13,7 @@ namespace sdm {
 
 namespace {
 
-std::array<std::uint8_t, 3> segment_colour(int s) {
+std::array<std::uint8_t, 3> segment_color(int s) {
   // Golden-ratio hues: neighbouring indices get distant colours.
   const double hue = std::fmod(s * 0.618033988749895, 1.0) * 6;
   const double x = 1 - std::abs(std::fmod(hue, 2.0) - 1);
@@ -51,7 +51,7 @@ std::vector<std::uint8_t> draw_atlas(const Mesh& mesh, const Layout& L, const st
   for (const auto& t : atlas_triangles(mesh, L, face_segment)) {
     const LayoutSegment& g = L.segments[t.segment];
     const auto [ex, ey] = extent(g);
-    auto base = segment_colour(t.segment);
+    auto base = segment_color(t.segment);
     const double shade = 0.8 + 0.2 * double((unsigned(t.face) * 2654435761u) >> 24) / 255.0;
     for (auto& c : base) c = std::uint8_t(c * shade);
     const auto& A = t.atlas[0];
@@ -94,7 +94,7 @@ Image checker_atlas(const Layout& layout, int square) {
   for (size_t s = 0; s < layout.segments.size(); ++s) {
     const LayoutSegment& seg = layout.segments[s];
     const int ex = seg.rotated ? seg.h : seg.w, ey = seg.rotated ? seg.w : seg.h;
-    const auto c = segment_colour(int(s));
+    const auto c = segment_color(int(s));
     for (int y = seg.y - layout.margin; y < seg.y + ey + layout.margin; ++y)
       for (int x = seg.x - layout.margin; x < seg.x + ex + layout.margin; ++x) {
         if (x < 0 || y < 0 || x >= layout.size || y >= layout.size) continue;

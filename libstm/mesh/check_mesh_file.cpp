@@ -156,15 +156,15 @@ void check_off_face(const std::string& path, const std::string& line, long linen
 // values (C) that the magic announces, nothing else. OpenMesh reads vertices token by token, so a
 // line short of its normal ('NOFF' with 3 values, found by libFuzzer) shifted every face after it
 // into counts it reserved gigabytes for.
-void check_off_vertex(const std::string& path, const std::string& line, long lineno, const std::string& magic, int values, bool colour,
+void check_off_vertex(const std::string& path, const std::string& line, long lineno, const std::string& magic, int values, bool has_color,
                       CoordinateCheck& coords) {
   double v[13];  // at most ST + N + 3 + a colour of 4, and one more to see a surplus
   const char* rest = nullptr;
   const int n = parse_numbers(line.c_str(), v, values + 5, &rest);
-  const bool ok = colour ? (n == values + 3 || n == values + 4) : n == values;
+  const bool ok = has_color ? (n == values + 3 || n == values + 4) : n == values;
   if (!ok || std::strspn(rest, " \t\r\n\v\f") != std::strlen(rest))
     throw InputError("mesh " + path + ": the vertex " + at_line(lineno) + " has " + std::to_string(tokens(line).size()) + " values where " +
-                     magic + " has " + std::to_string(values) + (colour ? " and a colour of 3 or 4" : "") + " (x y z" +
+                     magic + " has " + std::to_string(values) + (has_color ? " and a colour of 3 or 4" : "") + " (x y z" +
                      (values >= 6 ? ", a normal" : "") + (values == 5 || values == 8 ? ", texture coordinates" : "") + ")");
   coords.add(v, at_line(lineno));
 }
@@ -222,10 +222,10 @@ void check_off(const std::string& path, const std::string& text) {
                       std::to_string(v) + " vertices and " + std::to_string(f) + " faces");
   };
   const int values = 3 + 3 * (prefix.find('N') != std::string::npos) + 2 * (prefix.rfind("ST", 0) == 0);
-  const bool colour = prefix.find('C') != std::string::npos;
+  const bool has_color = prefix.find('C') != std::string::npos;
   for (long long i = 0; i < nv; ++i) {
     if (!lines.next_data(line)) throw truncated(i, 0);
-    check_off_vertex(path, line, lines.number, magic, values, colour, coords);
+    check_off_vertex(path, line, lines.number, magic, values, has_color, coords);
   }
   coords.finish();
   for (long long f = 0; f < nf; ++f) {

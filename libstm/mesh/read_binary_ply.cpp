@@ -130,9 +130,9 @@ bool parse_header(const std::string& bytes, Header& h) {
       return false;
     }
   }
-  const bool colours = h.rgb[0] != SIZE_MAX || h.rgb[1] != SIZE_MAX || h.rgb[2] != SIZE_MAX;
+  const bool has_colors = h.rgb[0] != SIZE_MAX || h.rgb[1] != SIZE_MAX || h.rgb[2] != SIZE_MAX;
   for (int k = 0; k < 3; ++k)
-    if (h.xyz[k] == SIZE_MAX || (colours && (h.rgb[k] == SIZE_MAX || h.rgb_type[k] != Type::u8))) return false;
+    if (h.xyz[k] == SIZE_MAX || (has_colors && (h.rgb[k] == SIZE_MAX || h.rgb_type[k] != Type::u8))) return false;
   return format && h.vertices >= 0 && h.faces >= 0 && h.count_type != Type::none;
 }
 
@@ -198,9 +198,9 @@ bool read_ascii_body(const std::string& bytes, const Header& h, BinaryPly& out) 
   const size_t nv = size_t(h.vertices), nf = size_t(h.faces);
   // Reserved no further than the text can hold (two characters a value).
   if (double(nv) * double(2 * h.vertex_properties) > double(bytes.size()) || double(nf) * 8 > double(bytes.size())) return false;
-  const bool colours = h.rgb[0] != SIZE_MAX;
+  const bool has_colors = h.rgb[0] != SIZE_MAX;
   out.points.resize(nv);
-  out.colors.assign(colours ? nv : 0, Eigen::Vector3f::Zero());
+  out.colors.assign(has_colors ? nv : 0, Eigen::Vector3f::Zero());
   double values[64];
   for (size_t v = 0; v < nv; ++v) {
     if (!in.next_line()) return false;
@@ -208,7 +208,7 @@ bool read_ascii_body(const std::string& bytes, const Header& h, BinaryPly& out) 
       if (!in.value(h.vertex_type[k], values[k])) return false;
     if (!in.line_done()) return false;
     for (int k = 0; k < 3; ++k) out.points[v][k] = values[h.xyz[k]];
-    if (colours)
+    if (has_colors)
       for (int k = 0; k < 3; ++k) out.colors[v][k] = float(values[h.rgb[k]]) / 255.f;
   }
   std::vector<int> corners;
@@ -237,11 +237,11 @@ bool read_binary_ply(const std::string& bytes, BinaryPly& out) {
   if ((bytes.size() - h.data) / std::max<size_t>(h.vertex_stride, 1) < nv) return false;
   const char* p = bytes.data() + h.data;
   out.points.resize(nv);
-  const bool colours = h.rgb[0] != SIZE_MAX;
-  out.colors.assign(colours ? nv : 0, Eigen::Vector3f::Zero());
+  const bool has_colors = h.rgb[0] != SIZE_MAX;
+  out.colors.assign(has_colors ? nv : 0, Eigen::Vector3f::Zero());
   for (size_t v = 0; v < nv; ++v, p += h.vertex_stride) {
     for (int k = 0; k < 3; ++k) out.points[v][k] = value_at(p + h.xyz[k], h.xyz_type[k], h.swap);
-    if (colours)
+    if (has_colors)
       for (int k = 0; k < 3; ++k) out.colors[v][k] = float(value_at(p + h.rgb[k], Type::u8, false)) / 255.f;
   }
   const char* end = bytes.data() + bytes.size();

@@ -217,9 +217,10 @@ void PartSkeleton::build_candidates() {
 }
 
 SkeletonGraph PartSkeleton::choose(std::vector<int>& owner) {
-  const bool medial = choose_candidate(contraction_, medial_, genus_, opt_) == SkeletonMethod::medial;
+  const SkeletonMethod kept = choose_candidate(contraction_, medial_, genus_, opt_);
+  const bool medial = kept == SkeletonMethod::medial;
   if (medial) ++st_.medial_parts;
-  st_.kept.push_back(medial ? "medial" : "contraction");
+  st_.kept.push_back(kept);
   SkeletonCandidate& best = medial ? medial_ : contraction_;
   SkeletonGraph& g = best.graph;
   split_lone_node(g, XV_, *inside_);

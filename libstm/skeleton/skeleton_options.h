@@ -37,6 +37,9 @@ inline ContractOptions proxy_contraction() {
 /// the paper's method), the medial poles (medial_poles.h), or both with the better one kept.
 enum class SkeletonMethod { automatic, contraction, medial };
 
+/// The method's name as the CLI and the JSON summaries spell it: "auto", "contraction", "medial".
+const char* to_string(SkeletonMethod method);
+
 struct SkeletonOptions {
   SkeletonMethod method = SkeletonMethod::automatic;
   ContractOptions contraction = proxy_contraction();  ///< used on the proxy (cotangent weights)
@@ -80,9 +83,9 @@ struct SkeletonStats {
   int outside_edges = 0;           ///< edges still crossing the surface after refinement (should be 0)
   int medial_parts = 0;            ///< parts whose skeleton came from the medial poles
   /// The contraction's last area ratio (contracted area over the original; largest over the parts,
-  /// -1 when no part was contracted) and, per part, the candidate kept: "contraction" or "medial".
+  /// -1 when no part was contracted) and, per part, the candidate kept (contraction or medial).
   double area_ratio = -1;
-  std::vector<std::string> kept;
+  std::vector<SkeletonMethod> kept;
   double medial_seconds = 0;       ///< computing the poles (summed over the threads that took part)
   int filled_loops = 0;            ///< boundary loops of an open input, closed for the extraction
   int fill_vertices = 0;           ///< vertices the patches added (they map to no output)

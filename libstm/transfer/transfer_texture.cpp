@@ -34,7 +34,7 @@ SkeletonOptions transfer_skeleton_options() {
 
 Skeleton other_transfer_candidate(const Mesh& mesh, const SkeletonStats& stats, const Progress& progress) {
   SkeletonOptions o = transfer_skeleton_options();
-  const bool all_medial = !stats.kept.empty() && std::all_of(stats.kept.begin(), stats.kept.end(), [](const std::string& k) { return k == "medial"; });
+  const bool all_medial = !stats.kept.empty() && std::all_of(stats.kept.begin(), stats.kept.end(), [](SkeletonMethod k) { return k == SkeletonMethod::medial; });
   o.method = all_medial ? SkeletonMethod::contraction : SkeletonMethod::medial;
   return extract_skeleton(mesh, o, progress);
 }
