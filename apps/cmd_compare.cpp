@@ -8,6 +8,15 @@
 #include <memory>
 
 namespace sdm::cli {
+namespace {
+
+// Compare's summary (its --json object) as text.
+void print_compare_text(const nlohmann::json& j) {
+  std::cout << j["other"].get<std::string>() << " against " << j["reference"].get<std::string>() << ": RMS "
+            << 100 * j["rms"].get<double>() << " %, Hausdorff " << 100 * j["hausdorff"].get<double>() << " % of the diagonal\n";
+}
+
+}  // namespace
 
 Command add_compare_command(CLI::App& parent) {
   struct Opts {
@@ -29,12 +38,11 @@ Command add_compare_command(CLI::App& parent) {
             const sdm::Mesh a = load_mesh_min_part(o->reference), b = load_mesh_min_part(o->other);
             const sdm::SurfaceDistance d = sdm::surface_distance(a, b, o->samples);
             const double rms = d.rms / d.diagonal, hd = d.hausdorff / d.diagonal;
-            if (o->json)
-              print_json({{"reference", o->reference}, {"other", o->other}, {"rms", rms}, {"hausdorff", hd},
-                          {"mean", d.mean / d.diagonal}, {"samples", o->samples}});
-            else
-              std::cout << o->other << " against " << o->reference << ": RMS " << 100 * rms << " %, Hausdorff " << 100 * hd
-                        << " % of the diagonal\n";
+            // One summary: --json prints it, the text reads it.
+            const nlohmann::json j = {{"reference", o->reference}, {"other", o->other}, {"rms", rms}, {"hausdorff", hd},
+                                      {"mean", d.mean / d.diagonal}, {"samples", o->samples}};
+            if (o->json) print_json(j);
+            else print_compare_text(j);
             return 0;
           }};
 }

@@ -21,11 +21,14 @@ Command add_convert_command(CLI::App& parent) {
   app->add_flag("--strict", o->strict,
                 "Repair nothing, and also refuse meshes with tolerated findings (degenerate faces, isolated vertices, holes)");
   add_repair_options(app);
-  app->add_flag("--json", o->json, "Print one JSON object: the output and what rounding to a float32 format (STL, glTF) cost");
+  app->add_flag("--json", o->json, "Print one JSON object: the output, its vertex and face counts and what rounding to a float32 format (STL, glTF) cost");
   return {app, [o]() {
-            double rounding = 0;
-            convert(o->mesh, o->out, o->strict, rounding);
-            if (o->json) print_json({{"input", o->mesh}, {"output", o->out}, {"float32_rounding", rounding}});
+            const Converted c = convert(o->mesh, o->out, o->strict);
+            // One summary: --json prints it, the text (a line on stderr) reads it.
+            const nlohmann::json j = {{"input", o->mesh}, {"output", o->out}, {"float32_rounding", c.rounding},
+                                      {"vertices", c.vertices}, {"faces", c.faces}};
+            if (o->json) print_json(j);
+            else print_written(j);
             return 0;
           }};
 }

@@ -13,38 +13,48 @@
 namespace sdm::cli {
 namespace {
 
-void print_findings(const sdm::MeshReport& r) {
-  if (r.findings.empty()) std::cout << "  findings        none\n";
-  for (const auto& f : r.findings)
-    std::cout << "  " << (f.fatal ? "ERROR " : "note  ") << f.count << " " << f.kind << ", e.g. " << f.example
-              << (f.fatal ? "\n        fix: " + f.fix : "") << "\n";
+// The findings of a report (MeshReport::to_json's "findings") as text.
+void print_findings(const nlohmann::json& findings) {
+  if (findings.empty()) std::cout << "  findings        none\n";
+  for (const auto& f : findings) {
+    const bool fatal = f["fatal"].get<bool>();
+    std::cout << "  " << (fatal ? "ERROR " : "note  ") << f["count"] << " " << f["kind"].get<std::string>() << ", e.g. "
+              << f["example"].get<std::string>() << (fatal ? "\n        fix: " + f["fix"].get<std::string>() : "") << "\n";
+  }
 }
 
-void print_text(const std::string& path, const sdm::MeshSoup& soup, const sdm::MeshReport& r, const sdm::RepairReport& repair,
-                const sdm::MeshReport& final_report) {
-  std::cout << path << "\n";
-  std::cout << "  vertices        " << r.vertices << "\n";
-  std::cout << "  faces           " << r.faces << "\n";
-  std::cout << "  edges           " << r.edges << "\n";
-  std::cout << "  parts           " << r.parts << "\n";
+Eigen::Vector3d vector_of(const nlohmann::json& x) { return {x[0].get<double>(), x[1].get<double>(), x[2].get<double>()}; }
+
+// Info's summary (its --json object) as text.
+void print_info_text(const nlohmann::json& j) {
+  std::cout << j["file"].get<std::string>() << "\n";
+  std::cout << "  vertices        " << j["vertices"] << "\n";
+  std::cout << "  faces           " << j["faces"] << "\n";
+  std::cout << "  edges           " << j["edges"] << "\n";
+  std::cout << "  parts           " << j["parts"] << "\n";
   std::cout << "  genus per part ";
-  for (int g : r.genus_per_part) std::cout << ' ' << (g < 0 ? std::string("open") : std::to_string(g));
-  std::cout << "\n  boundary loops  " << r.boundary_loops << "\n";
-  std::cout << std::setprecision(6) << "  bounding box    [" << r.bbox_min.transpose() << "] - [" << r.bbox_max.transpose() << "]\n";
-  std::cout << "  uv              " << (soup.uv.empty() ? "no" : "yes") << "\n";
-  if (!soup.texture.empty()) std::cout << "  texture         " << soup.texture << "\n";
-  print_findings(r);
-  if (repair.changed()) {
+  for (const auto& g : j["genus_per_part"]) std::cout << ' ' << (g.get<int>() < 0 ? std::string("open") : std::to_string(g.get<int>()));
+  std::cout << "\n  boundary loops  " << j["boundary_loops"] << "\n";
+  std::cout << std::setprecision(6) << "  bounding box    [" << vector_of(j["bbox_min"]).transpose() << "] - ["
+            << vector_of(j["bbox_max"]).transpose() << "]\n";
+  std::cout << "  uv              " << (j["uv"].get<bool>() ? "yes" : "no") << "\n";
+  if (!j["texture"].get<std::string>().empty()) std::cout << "  texture         " << j["texture"].get<std::string>() << "\n";
+  print_findings(j["findings"]);
+  const bool changed = j["repair"]["changed"].get<bool>();
+  if (changed) {
     std::cout << "  repair (what every command does before it works on the mesh)\n";
-    for (const auto& s : repair.steps)
-      std::cout << "        " << s.count << " " << s.kind << (s.example.empty() ? "" : ", e.g. " + s.example) << "\n";
-    std::cout << "  repaired        " << final_report.vertices << " vertices, " << final_report.faces << " faces, "
-              << final_report.parts << " parts, " << final_report.boundary_loops << " boundary loops\n";
+    for (const auto& s : j["repair"]["steps"]) {
+      const std::string example = s["example"].get<std::string>();
+      std::cout << "        " << s["count"] << " " << s["kind"].get<std::string>() << (example.empty() ? "" : ", e.g. " + example) << "\n";
+    }
+    const nlohmann::json& fixed = j["repaired"];
+    std::cout << "  repaired        " << fixed["vertices"] << " vertices, " << fixed["faces"] << " faces, " << fixed["parts"] << " parts, "
+              << fixed["boundary_loops"] << " boundary loops\n";
     bool fatal = false;
-    for (const auto& f : final_report.findings) fatal |= f.fatal;
-    if (fatal) print_findings(final_report);
+    for (const auto& f : fixed["findings"]) fatal |= f["fatal"].get<bool>();
+    if (fatal) print_findings(fixed["findings"]);
   }
-  std::cout << "  pipeline        " << (final_report.usable() ? (repair.changed() ? "ok after repair" : "ok") : "refused") << "\n";
+  std::cout << "  pipeline        " << (j["usable"].get<bool>() ? (changed ? "ok after repair" : "ok") : "refused") << "\n";
 }
 
 }  // namespace
@@ -77,18 +87,16 @@ Command add_info_command(CLI::App& parent) {
             const sdm::RepairReport& repair = lr.repair;
             // The file as it is: the report the pipeline goes on with when nothing was repaired.
             const sdm::MeshReport& r = repair.changed() ? lr.as_read : final_report;
-            if (o->json) {
-              auto j = r.to_json();
-              j["file"] = o->mesh;
-              j["uv"] = !soup.uv.empty();
-              j["texture"] = soup.texture;
-              j["repair"] = repair.to_json();
-              if (repair.changed()) j["repaired"] = final_report.to_json();
-              j["usable"] = final_report.usable();
-              print_json(j);
-            } else {
-              print_text(o->mesh, soup, r, repair, final_report);
-            }
+            // One summary: --json prints it, the text reads it.
+            nlohmann::json j = r.to_json();
+            j["file"] = o->mesh;
+            j["uv"] = !soup.uv.empty();
+            j["texture"] = soup.texture;
+            j["repair"] = repair.to_json();
+            if (repair.changed()) j["repaired"] = final_report.to_json();
+            j["usable"] = final_report.usable();
+            if (o->json) print_json(j);
+            else print_info_text(j);
             if (!final_report.usable()) {
               if (!o->json) std::cerr << final_report.refusal(o->mesh) << std::endl;
               return 2;

@@ -93,6 +93,15 @@ nlohmann::json pose_summary(const sdm::Skeleton& rest, const sdm::SkeletonPose& 
   return {{"nodes", nodes}, {"segments", segments}, {"root", pose.node_parent.empty() ? -1 : int(std::find(pose.node_parent.begin(), pose.node_parent.end(), -1) - pose.node_parent.begin())}};
 }
 
+// Pose's summary (its --json object) as text.
+void print_pose_text(const nlohmann::json& j) {
+  const SurfaceTopology top{j["manifold"].get<bool>(), j["boundary_loops"].get<int>()};
+  const double moved = j["max_displacement"].get<double>();
+  std::cout << j["output"].get<std::string>() << ": " << j["vertices"] << " vertices, " << j["faces"] << " faces, " << top.text()
+            << ", largest displacement " << moved << " (" << 100 * moved / j["diagonal"].get<double>() << " % of the diagonal), "
+            << j["seconds"].get<double>() << " s\n";
+}
+
 }  // namespace
 
 Command add_pose_command(CLI::App& parent) {
@@ -159,20 +168,20 @@ Command add_pose_command(CLI::App& parent) {
             if (!o->write_skeleton.empty()) sdm::write_posed_skeleton_json(posed, o->write_skeleton);
             const double diag = sdm::bounding_box_diagonal(mesh);
             const double s = clock.seconds();
-            if (o->json) {
-              nlohmann::json j = pose_summary(rest, sdm::pose_skeleton(rest, posed), diag);
-              j["output"] = o->out;
-              j["vertices"] = mesh.n_vertices();
-              j["faces"] = mesh.n_faces();
-              j["max_displacement"] = moved;
-              j["max_displacement_diagonal"] = diag > 0 ? moved / diag : 0.0;
-              j["closed"] = top.closed();
-              j["seconds"] = s;
-              print_json(j);
-            } else {
-              std::cout << o->out << ": " << mesh.n_vertices() << " vertices, " << mesh.n_faces() << " faces, " << top.text()
-                        << ", largest displacement " << moved << " (" << 100 * moved / diag << " % of the diagonal), " << s << " s\n";
-            }
+            // One summary: --json prints it, the text reads it.
+            nlohmann::json j = pose_summary(rest, sdm::pose_skeleton(rest, posed), diag);
+            j["output"] = o->out;
+            j["vertices"] = mesh.n_vertices();
+            j["faces"] = mesh.n_faces();
+            j["max_displacement"] = moved;
+            j["max_displacement_diagonal"] = diag > 0 ? moved / diag : 0.0;
+            j["diagonal"] = diag;
+            j["closed"] = top.closed();
+            j["manifold"] = top.manifold;
+            j["boundary_loops"] = top.boundary_loops;
+            j["seconds"] = s;
+            if (o->json) print_json(j);
+            else print_pose_text(j);
             return 0;
           }};
 }

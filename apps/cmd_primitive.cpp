@@ -7,6 +7,16 @@
 #include <memory>
 
 namespace sdm::cli {
+namespace {
+
+// Primitive's summary (its --json object) as text.
+void print_primitive_text(const nlohmann::json& j) {
+  std::cout << j["name"].get<std::string>() << " -> " << j["file"].get<std::string>() << "\n";
+  std::cout << "  vertices   " << j["vertices"] << "\n  faces      " << j["faces"] << "\n  genus      " << j["genus"] << "\n";
+  std::cout << "  min angle  " << j["min_angle_degrees"].get<double>() << " degrees\n";
+}
+
+}  // namespace
 
 Command add_primitive_command(CLI::App& parent) {
   struct Opts {
@@ -33,19 +43,11 @@ Command add_primitive_command(CLI::App& parent) {
                        f = static_cast<long>(mesh.n_faces());
             const long genus = (2 - (v - e + f)) / 2;  // every primitive is one closed part
             const double min_angle = sdm::min_triangle_angle_degrees(mesh);
-            if (o->json) {
-              print_json({{"name", o->name},
-                          {"file", o->output},
-                          {"vertices", v},
-                          {"faces", f},
-                          {"edges", e},
-                          {"genus", genus},
-                          {"min_angle_degrees", min_angle}});
-            } else {
-              std::cout << o->name << " -> " << o->output << "\n";
-              std::cout << "  vertices   " << v << "\n  faces      " << f << "\n  genus      " << genus << "\n";
-              std::cout << "  min angle  " << min_angle << " degrees\n";
-            }
+            // One summary: --json prints it, the text reads it.
+            const nlohmann::json j = {{"name", o->name}, {"file", o->output}, {"vertices", v},        {"faces", f},
+                                      {"edges", e},      {"genus", genus},    {"min_angle_degrees", min_angle}};
+            if (o->json) print_json(j);
+            else print_primitive_text(j);
             return 0;
           }};
 }

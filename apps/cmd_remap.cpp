@@ -13,6 +13,17 @@
 #include <memory>
 
 namespace sdm::cli {
+namespace {
+
+// Remap's summary (its --json object) as text.
+void print_remap_text(const nlohmann::json& j) {
+  std::cout << j["atlas"].get<std::string>() << ": " << j["size"] << "^2 atlas, " << j["segments"] << " segments, "
+            << int(100 * j["covered_texels"].get<double>() + 0.5) << " % of texels drawn from the surface\n"
+            << "  layout " << j["layout"].get<std::string>() << (j["layout_written"].get<bool>() ? " (written)" : " (given)") << "\n"
+            << "  texture " << j["texture"].get<std::string>() << "\n";
+}
+
+}  // namespace
 
 Command add_remap_command(CLI::App& parent) {
   struct Opts {
@@ -63,23 +74,19 @@ Command add_remap_command(CLI::App& parent) {
             size_t n = 0;
             for (uint8_t c : covered) n += c ? 1 : 0;
             const double covered_fraction = double(n) / double(covered.size());
-            if (o->json) {
-              print_json({{"atlas", o->output},
-                          {"layout", layout_path},
-                          {"layout_written", got.computed},
-                          {"texture", texture_path},
-                          {"size", layout.size},
-                          {"segments", layout.segments.size()},
-                          {"covered_texels", covered_fraction},
-                          {"coverage", layout.coverage},
-                          {"seconds", {{"skeleton", got.skeleton_seconds}, {"layout", got.layout_seconds}, {"atlas", t_atlas}}},
-                          {"renderer", gl.renderer()}});
-            } else {
-              std::cout << o->output << ": " << layout.size << "^2 atlas, " << layout.segments.size() << " segments, "
-                        << int(100 * covered_fraction + 0.5) << " % of texels drawn from the surface\n"
-                        << "  layout " << layout_path << (got.computed ? " (written)" : " (given)") << "\n"
-                        << "  texture " << texture_path << "\n";
-            }
+            // One summary: --json prints it, the text reads it.
+            const nlohmann::json j = {{"atlas", o->output},
+                                      {"layout", layout_path},
+                                      {"layout_written", got.computed},
+                                      {"texture", texture_path},
+                                      {"size", layout.size},
+                                      {"segments", layout.segments.size()},
+                                      {"covered_texels", covered_fraction},
+                                      {"coverage", layout.coverage},
+                                      {"seconds", {{"skeleton", got.skeleton_seconds}, {"layout", got.layout_seconds}, {"atlas", t_atlas}}},
+                                      {"renderer", gl.renderer()}};
+            if (o->json) print_json(j);
+            else print_remap_text(j);
             return 0;
           }};
 }

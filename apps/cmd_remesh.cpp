@@ -27,6 +27,13 @@ void check_edge_length(const sdm::Mesh& input, double area, double edge, const s
                "use a longer --edge-length or a larger --factor");
 }
 
+// Remesh's summary (its --json object) as text.
+void print_remesh_text(const nlohmann::json& j) {
+  std::cout << j["output"].get<std::string>() << ": " << j["vertices"] << " vertices, " << j["faces"] << " faces (input "
+            << j["input_vertices"] << "), edge length " << j["edge_length"].get<double>() << ", smallest angle "
+            << j["min_angle_degrees"].get<double>() << " degrees\n";
+}
+
 }  // namespace
 
 Command add_remesh_command(CLI::App& parent) {
@@ -34,6 +41,7 @@ Command add_remesh_command(CLI::App& parent) {
     std::string mesh, out, max_memory;
     double edge = 0, factor = 1.0;
     int iterations = 8;
+    bool json = false;
   };
   auto o = std::make_shared<Opts>();
   auto* app = parent.add_subcommand(
@@ -48,6 +56,7 @@ Command add_remesh_command(CLI::App& parent) {
   app->add_option("--iterations", o->iterations, "Remeshing iterations")->capture_default_str()->check(number_in(1, 100));
   add_max_memory_option(app, o->max_memory);
   add_repair_options(app);
+  app->add_flag("--json", o->json, "Print one JSON object instead of text: the output's and the input's counts, the edge length, the smallest angle");
   return {app, [o]() {
             const sdm::Mesh input = load_mesh_min_part(o->mesh);
             const double area = sdm::surface_area(input);
@@ -61,10 +70,20 @@ Command add_remesh_command(CLI::App& parent) {
                                   [&](const Eigen::Vector3d& p) { return bvh.closest_point(p).point; });
             mesh = sdm::spatially_ordered(mesh);  // neighbours near in the file: every later pass reads faster
             sdm::write_mesh(mesh, o->out);
-            note_float32_rounding(mesh, o->out);
-            std::cout << o->out << ": " << mesh.n_vertices() << " vertices, " << mesh.n_faces() << " faces (input "
-                      << input.n_vertices() << "), edge length " << edge << ", smallest angle "
-                      << sdm::min_triangle_angle_degrees(mesh) << " degrees\n";
+            const double rounding = note_float32_rounding(mesh, o->out);
+            // One summary: --json prints it, the text reads it.
+            const nlohmann::json j = {{"input", o->mesh},
+                                      {"output", o->out},
+                                      {"vertices", mesh.n_vertices()},
+                                      {"faces", mesh.n_faces()},
+                                      {"input_vertices", input.n_vertices()},
+                                      {"input_faces", input.n_faces()},
+                                      {"edge_length", edge},
+                                      {"iterations", o->iterations},
+                                      {"min_angle_degrees", sdm::min_triangle_angle_degrees(mesh)},
+                                      {"float32_rounding", rounding}};
+            if (o->json) print_json(j);
+            else print_remesh_text(j);
             return 0;
           }};
 }

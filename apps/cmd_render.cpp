@@ -185,34 +185,41 @@ sdm::Image contact_sheet_of(const RenderArgs& o, const std::vector<sdm::Image>& 
   return cells.size() == 1 ? cells[0] : sdm::contact_sheet(cells, columns);
 }
 
+// Render's summary (its --json object) as text.
+void print_render_text(const nlohmann::json& j) {
+  const std::string texture = j["texture"].get<std::string>();
+  std::cout << j["output"].get<std::string>() << ": " << j["width"] << "x" << j["height"] << ", " << j["covered_pixels"] << " object pixels"
+            << (j.contains("stm") ? ", STM " + texture : (texture.empty() ? "" : ", texture " + texture))
+            << (j["vertex_colors"].get<bool>() ? ", vertex colours" : "") << "\n";
+  if (j.contains("psnr"))
+    std::cout << std::fixed << std::setprecision(2) << "PSNR own uv vs STM: min " << j["psnr"]["min"].get<double>() << " dB, mean "
+              << j["psnr"]["mean"].get<double>() << " dB over " << j["psnr"]["views"].size() << " view(s)\n";
+}
+
+// The summary of a render: printed as JSON (--json) or as text.
 void report_render(const RenderArgs& o, const sdm::GlContext& gl, const sdm::Image& img, const RenderedViews& v,
                    const std::string& texture_path, bool vertex_colors, const ViewUp& up) {
   double min_psnr = std::numeric_limits<double>::infinity(), mean_psnr = 0;
   for (double p : v.psnrs) min_psnr = std::min(min_psnr, p), mean_psnr += p / v.psnrs.size();
-  if (o.json) {
-    nlohmann::json j = {{"output", o.output},
-                        {"width", img.width},
-                        {"height", img.height},
-                        {"views", o.views},
-                        {"texture", o.stm.empty() ? texture_path : o.stm},
-                        {"vertex_colors", vertex_colors},
-                        {"covered_pixels", v.covered},
-                        {"up", up.name},
-                        {"up_from", up.known() ? up.from : "assumed (give --up for a file of another convention)"},
-                        {"renderer", gl.renderer()},
-                        {"gl_version", gl.version()},
-                        {"platform", gl.platform()}};
-    if (!o.stm.empty()) j["layout"] = o.layout;
-    if (o.compare_uv) j["psnr"] = {{"views", v.psnrs}, {"min", min_psnr}, {"mean", mean_psnr}};
-    print_json(j);
-  } else {
-    std::cout << o.output << ": " << img.width << "x" << img.height << ", " << v.covered << " object pixels"
-              << (o.stm.empty() ? (texture_path.empty() ? "" : ", texture " + texture_path) : ", STM " + o.stm)
-              << (vertex_colors ? ", vertex colours" : "") << "\n";
-    if (o.compare_uv)
-      std::cout << std::fixed << std::setprecision(2) << "PSNR own uv vs STM: min " << min_psnr << " dB, mean " << mean_psnr
-                << " dB over " << v.psnrs.size() << " view(s)\n";
+  nlohmann::json j = {{"output", o.output},
+                      {"width", img.width},
+                      {"height", img.height},
+                      {"views", o.views},
+                      {"texture", o.stm.empty() ? texture_path : o.stm},
+                      {"vertex_colors", vertex_colors},
+                      {"covered_pixels", v.covered},
+                      {"up", up.name},
+                      {"up_from", up.known() ? up.from : "assumed (give --up for a file of another convention)"},
+                      {"renderer", gl.renderer()},
+                      {"gl_version", gl.version()},
+                      {"platform", gl.platform()}};
+  if (!o.stm.empty()) {
+    j["stm"] = o.stm;
+    j["layout"] = o.layout;
   }
+  if (o.compare_uv) j["psnr"] = {{"views", v.psnrs}, {"min", min_psnr}, {"mean", mean_psnr}};
+  if (o.json) print_json(j);
+  else print_render_text(j);
 }
 
 int run_render(const RenderArgs& o) {

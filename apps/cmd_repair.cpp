@@ -7,6 +7,15 @@
 #include <memory>
 
 namespace sdm::cli {
+namespace {
+
+// Repair's summary (its --json object) as text, on stderr as its progress.
+void print_repair_text(const nlohmann::json& j) {
+  print_written(j);
+  if (!j["changed"].get<bool>()) progress("nothing to repair");
+}
+
+}  // namespace
 
 Command add_repair_command(CLI::App& parent) {
   struct Opts {
@@ -23,15 +32,14 @@ Command add_repair_command(CLI::App& parent) {
   app->add_flag("--json", o->json, "Print one JSON object: the repairs and the repaired mesh's validation");
   add_weld_tolerance_option(app);
   return {app, [o]() {
-            double rounding = 0;
-            const sdm::LoadReport r = convert(o->mesh, o->out, false, rounding);
-            if (!r.repair.changed()) progress("nothing to repair");
-            if (o->json) {
-              nlohmann::json j = {{"input", o->mesh}, {"output", o->out}, {"changed", r.repair.changed()},
-                                  {"faces_dropped", r.repair.faces_dropped()}, {"validation", r.validation.to_json()},
-                                  {"float32_rounding", rounding}};
-              print_json(j);
-            }
+            const Converted c = convert(o->mesh, o->out, false);
+            const sdm::LoadReport& r = c.report;
+            // One summary: --json prints it, the text reads it.
+            const nlohmann::json j = {{"input", o->mesh}, {"output", o->out}, {"changed", r.repair.changed()},
+                                      {"faces_dropped", r.repair.faces_dropped()}, {"validation", r.validation.to_json()},
+                                      {"float32_rounding", c.rounding}, {"vertices", c.vertices}, {"faces", c.faces}};
+            if (o->json) print_json(j);
+            else print_repair_text(j);
             return 0;
           }};
 }
