@@ -14,8 +14,10 @@ constexpr int kLeafSize = 4;
 // Nodes of a tree over n faces: the build halves ranges until they fit a leaf.
 int subtree_nodes(int n) { return n <= kLeafSize ? 1 : 1 + subtree_nodes(n / 2) + subtree_nodes(n - n / 2); }
 
+// Closed boxes that meet; the six comparisons joined without branches (which way they go is a coin
+// toss near the surface, and a mispredicted branch cost more than the rest of the test).
 bool boxes_meet(const Eigen::Vector3d& alo, const Eigen::Vector3d& ahi, const Eigen::Vector3d& blo, const Eigen::Vector3d& bhi) {
-  return !((alo.array() > bhi.array()).any() || (ahi.array() < blo.array()).any());
+  return !((alo[0] > bhi[0]) | (alo[1] > bhi[1]) | (alo[2] > bhi[2]) | (ahi[0] < blo[0]) | (ahi[1] < blo[1]) | (ahi[2] < blo[2]));
 }
 
 }  // namespace
@@ -127,7 +129,8 @@ void GroupedCrossings::search(int g, int h, const std::vector<Eigen::Vector3d>& 
     if (!boxes_meet(a.lo, a.hi, b.lo, b.hi)) continue;
     if (a.right < 0 && b.right < 0) {
       for (int k = a.begin; k < a.end; ++k)
-        for (int l = b.begin; l < b.end; ++l) test(k, l);
+        if (boxes_meet(lo_[size_t(k)], hi_[size_t(k)], b.lo, b.hi))
+          for (int l = b.begin; l < b.end; ++l) test(k, l);
     } else if (b.right < 0 || (a.right >= 0 && a.end - a.begin >= b.end - b.begin)) {
       stack.push_back({i + 1, j}), stack.push_back({a.right, j});
     } else {
