@@ -4,6 +4,7 @@
 #include "libstm/mesh/self_intersections.h"
 
 #include <algorithm>
+#include <cmath>
 #include <utility>
 
 namespace sdm {
@@ -16,8 +17,19 @@ int subtree_nodes(int n) { return n <= kLeafSize ? 1 : 1 + subtree_nodes(n / 2) 
 
 // Closed boxes that meet; the six comparisons joined without branches (which way they go is a coin
 // toss near the surface, and a mispredicted branch cost more than the rest of the test).
-bool boxes_meet(const Eigen::Vector3d& alo, const Eigen::Vector3d& ahi, const Eigen::Vector3d& blo, const Eigen::Vector3d& bhi) {
+template <class A, class B>
+bool boxes_meet(const A& alo, const A& ahi, const B& blo, const B& bhi) {
   return !((alo[0] > bhi[0]) | (alo[1] > bhi[1]) | (alo[2] > bhi[2]) | (ahi[0] < blo[0]) | (ahi[1] < blo[1]) | (ahi[2] < blo[2]));
+}
+
+// A float at or below x (at or above: up), so that a node's float box holds its faces' boxes.
+float down(double x) {
+  const float f = float(x);
+  return double(f) > x ? std::nextafter(f, -INFINITY) : f;
+}
+float up(double x) {
+  const float f = float(x);
+  return double(f) < x ? std::nextafter(f, INFINITY) : f;
 }
 
 }  // namespace
@@ -81,12 +93,13 @@ void GroupedCrossings::refit(int group, const std::vector<Eigen::Vector3d>& poin
   for (int i = last - 1; i >= first; --i) {  // children after their parent: fitted before it
     Node& node = nodes_[size_t(i)];
     if (node.right < 0) {
-      node.lo = lo_[size_t(node.begin)], node.hi = hi_[size_t(node.begin)];
+      Eigen::Vector3d lo = lo_[size_t(node.begin)], hi = hi_[size_t(node.begin)];
       char flag = 0;
       for (int k = node.begin; k < node.end; ++k) {
-        node.lo = node.lo.cwiseMin(lo_[size_t(k)]), node.hi = node.hi.cwiseMax(hi_[size_t(k)]);
+        lo = lo.cwiseMin(lo_[size_t(k)]), hi = hi.cwiseMax(hi_[size_t(k)]);
         if (!faces.empty()) flag |= faces[size_t(order_[size_t(k)])];
       }
+      for (int c = 0; c < 3; ++c) node.lo[c] = down(lo[c]), node.hi[c] = up(hi[c]);
       flagged_[size_t(i)] = flag;
     } else {
       const Node &l = nodes_[size_t(i) + 1], &r = nodes_[size_t(node.right)];

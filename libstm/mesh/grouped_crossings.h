@@ -30,7 +30,7 @@ class GroupedCrossings {
 
  private:
   struct Node {
-    Eigen::Vector3d lo, hi;
+    Eigen::Vector3f lo, hi;  ///< float, rounded outwards: half the memory the search walks
     int right = -1;          ///< the second child (the first follows the node); -1 for a leaf
     int begin = 0, end = 0;  ///< the node's faces: a range of order_
   };
