@@ -1,7 +1,6 @@
 #include "libsdm/decode/untangle_decoded.h"
 
-#include "libsdm/map/base_mesh_record.h"
-#include "libstm/mesh/self_intersections.h"
+#include "libstm/mesh/grouped_crossings.h"
 
 #include <algorithm>
 #include <memory>
@@ -14,69 +13,46 @@ namespace {
 constexpr int kSmoothRounds = 4;
 constexpr int kRounds = 12;
 
-// Each point's neighbours along the triangles' edges (compressed rows).
+// Each point's neighbours along the triangles' edges (compressed rows, each row sorted): each
+// triangle's corners listed at each other, then each row sorted and its repeats dropped (a sort of
+// all the edges took a twentieth of a level-3 decode).
 struct Neighbours {
   std::vector<int> start, list;
   Neighbours(const Eigen::MatrixX3i& T, size_t n) : start(n + 1, 0) {
-    std::vector<std::pair<int, int>> edges;
-    edges.reserve(size_t(T.rows()) * 6);
+    std::vector<int> count(n + 1, 0);
     for (Eigen::Index t = 0; t < T.rows(); ++t)
-      for (int c = 0; c < 3; ++c) edges.push_back({T(t, c), T(t, (c + 1) % 3)}), edges.push_back({T(t, (c + 1) % 3), T(t, c)});
-    std::sort(edges.begin(), edges.end());
-    edges.erase(std::unique(edges.begin(), edges.end()), edges.end());
-    for (const auto& e : edges) ++start[size_t(e.first) + 1];
-    for (size_t i = 0; i < n; ++i) start[i + 1] += start[i];
-    list.reserve(edges.size());
-    for (const auto& e : edges) list.push_back(e.second);
-  }
-};
-
-Eigen::MatrixX3d as_matrix(const std::vector<Eigen::Vector3d>& p) {
-  Eigen::MatrixX3d V(Eigen::Index(p.size()), 3);
-  for (size_t i = 0; i < p.size(); ++i) V.row(Eigen::Index(i)) = p[i];
-  return V;
-}
-
-// The triangles of each base face, and the base faces sharing a corner with each.
-struct NearbyTriangles {
-  std::vector<std::vector<int>> of_face, around_face;
-  NearbyTriangles(const Eigen::MatrixX3i& T, const std::vector<int>& triangle_face, const Eigen::MatrixX3i& base)
-      : of_face(size_t(base.rows())), around_face(size_t(base.rows())) {
-    for (Eigen::Index t = 0; t < T.rows(); ++t) of_face[size_t(triangle_face[size_t(t)])].push_back(int(t));
-    std::vector<std::vector<int>> at_corner(size_t(base.rows() ? base.maxCoeff() + 1 : 0));
-    for (Eigen::Index f = 0; f < base.rows(); ++f)
-      for (int c = 0; c < 3; ++c) at_corner[size_t(base(f, c))].push_back(int(f));
-    for (Eigen::Index f = 0; f < base.rows(); ++f) {
-      auto& a = around_face[size_t(f)];
-      for (int c = 0; c < 3; ++c) a.insert(a.end(), at_corner[size_t(base(f, c))].begin(), at_corner[size_t(base(f, c))].end());
-      std::sort(a.begin(), a.end());
-      a.erase(std::unique(a.begin(), a.end()), a.end());
+      for (int c = 0; c < 3; ++c) count[size_t(T(t, c)) + 1] += 2;
+    for (size_t i = 0; i < n; ++i) count[i + 1] += count[i];
+    std::vector<int> all(size_t(count[n])), fill(count.begin(), count.end() - 1);
+    for (Eigen::Index t = 0; t < T.rows(); ++t)
+      for (int c = 0; c < 3; ++c) {
+        const size_t v = size_t(T(t, c));
+        all[size_t(fill[v]++)] = T(t, (c + 1) % 3), all[size_t(fill[v]++)] = T(t, (c + 2) % 3);
+      }
+    list.reserve(all.size() / 2);
+    for (size_t v = 0; v < n; ++v) {
+      const auto b = all.begin() + count[v], e = all.begin() + count[v + 1];
+      std::sort(b, e);
+      list.insert(list.end(), b, std::unique(b, e));
+      start[v + 1] = int(list.size());
     }
   }
 };
 
-// The crossing pairs with a triangle flagged in `look` (every pair when it is empty). After the first
-// round only points near folds move, and a fold's pairs lie within base faces sharing a corner: the
-// search then runs over the triangles of the base faces around the flagged ones only.
-std::vector<std::array<int, 2>> local_crossings(const Eigen::MatrixX3d& V, const Eigen::MatrixX3i& T, const std::vector<char>& look,
-                                                const NearbyTriangles& nearby) {
-  if (look.empty()) return crossing_face_pairs(V, T);
-  std::vector<char> face_near(nearby.of_face.size(), 0);
-  for (size_t f = 0; f < nearby.of_face.size(); ++f) {
-    bool flagged = false;
-    for (int t : nearby.of_face[f]) flagged |= look[size_t(t)] != 0;
-    if (flagged)
-      for (int g : nearby.around_face[f]) face_near[size_t(g)] = 1;
+// The base faces that share a corner with each (itself among them): the groups whose decoded faces'
+// pairs are searched (a fold's two faces come from one base face or from two such faces).
+std::vector<std::vector<int>> faces_around(const Eigen::MatrixX3i& base) {
+  std::vector<std::vector<int>> around(size_t(base.rows()));
+  std::vector<std::vector<int>> at_corner(size_t(base.rows() ? base.maxCoeff() + 1 : 0));
+  for (Eigen::Index f = 0; f < base.rows(); ++f)
+    for (int c = 0; c < 3; ++c) at_corner[size_t(base(f, c))].push_back(int(f));
+  for (Eigen::Index f = 0; f < base.rows(); ++f) {
+    auto& a = around[size_t(f)];
+    for (int c = 0; c < 3; ++c) a.insert(a.end(), at_corner[size_t(base(f, c))].begin(), at_corner[size_t(base(f, c))].end());
+    std::sort(a.begin(), a.end());
+    a.erase(std::unique(a.begin(), a.end()), a.end());
   }
-  std::vector<int> some;
-  for (size_t f = 0; f < face_near.size(); ++f)
-    if (face_near[f]) some.insert(some.end(), nearby.of_face[f].begin(), nearby.of_face[f].end());
-  Eigen::MatrixX3i sub(Eigen::Index(some.size()), 3);
-  std::vector<char> sub_look(some.size());
-  for (size_t k = 0; k < some.size(); ++k) sub.row(Eigen::Index(k)) = T.row(some[k]), sub_look[k] = look[size_t(some[k])];
-  std::vector<std::array<int, 2>> out = crossing_face_pairs(V, sub, sub_look);
-  for (auto& p : out) p = {std::min(some[size_t(p[0])], some[size_t(p[1])]), std::max(some[size_t(p[0])], some[size_t(p[1])])};
-  return out;
+  return around;
 }
 
 }  // namespace
@@ -94,11 +70,11 @@ UntangleReport untangle_decoded(std::vector<Eigen::Vector3d>& points, const std:
   std::vector<char> look;  // the triangles whose pairs are looked at (empty: all)
   std::vector<std::array<int, 2>> local;
   std::vector<char> moved_point(n, 0);
-  const NearbyTriangles nearby(triangles, triangle_face, base_triangles);
+  // Pairs within a base face or two sharing a corner, at first all, then those with a face the
+  // last round moved (only points near folds move; grouped_crossings.h).
+  GroupedCrossings crossings(triangles, triangle_face, faces_around(base_triangles), points);
   for (int round = 0; round <= kRounds; ++round) {
-    local.clear();
-    for (const auto& p : local_crossings(as_matrix(points), triangles, look, nearby))
-      if (faces_share_corner(base_triangles, triangle_face[size_t(p[0])], triangle_face[size_t(p[1])])) local.push_back(p);
+    local = crossings.find(points, look);
     if (round == 0) report.crossing = long(local.size());
     if (local.empty() || round == kRounds) break;
     if (!nb) nb = std::make_unique<Neighbours>(triangles, n);

@@ -32,4 +32,9 @@ SelfIntersections find_self_intersections(const Eigen::MatrixX3d& V, const Eigen
 std::vector<std::array<int, 2>> crossing_face_pairs(const Eigen::MatrixX3d& V, const Eigen::MatrixX3i& F,
                                                     const std::vector<char>& faces = {});
 
+/// The test of one pair of crossing_face_pairs: triangles A and B, whose corners are the points a
+/// and b (indices: equal indices are a shared corner).
+bool face_pair_crosses(const std::array<Eigen::Vector3d, 3>& A, const std::array<int, 3>& a, const std::array<Eigen::Vector3d, 3>& B,
+                       const std::array<int, 3>& b);
+
 }  // namespace sdm
