@@ -122,11 +122,11 @@ CorrespondenceKind recognised_kind(const Registration& moved, const SkeletonFit*
 struct CorrespondenceDiagnostics {
   Registration registration;  // source onto target as a whole (when carry_same_shape was tried)
   double fit_rms = INFINITY, fit_p99 = INFINITY;  // bent or registered: the placed source's distances to the target
-  // Registered with a model's other extraction candidate (CorrespondOptions::other_candidate): the
-  // node numbers of `skeletons` then refer to that candidate.
+  /// Registered with a model's other extraction candidate (CorrespondOptions::other_candidate): the
+  /// node numbers of `skeletons` then refer to that candidate.
   bool other_source_candidate = false, other_target_candidate = false;
-  // Another candidate match tied with the chosen one (BodyRegistration::ambiguity): left and right
-  // may be swapped.
+  /// Another candidate match tied with the chosen one (BodyRegistration::ambiguity): left and right
+  /// may be swapped.
   std::string ambiguity;
   std::vector<double> candidate_rms;  // per candidate match, the short registration's RMS (registered)
   std::vector<double> candidate_twist, candidate_distortion, candidate_attachment, candidate_bend;  // and BodyRegistration's other measures
@@ -134,8 +134,8 @@ struct CorrespondenceDiagnostics {
   double attachment = 0;              // registered: BodyRegistration::attachment
   std::vector<BranchFit> branch_fit;  // registered: per branch
   bool refined = false;               // registered and refined (CorrespondOptions::refine)
-  // Registered: the symmetric rival taken through the whole fit (BodyRegistration::rival, 0-based;
-  // -1 none), both full fits' scores, and whether the rival was kept instead.
+  /// Registered: the symmetric rival taken through the whole fit (BodyRegistration::rival, 0-based;
+  /// -1 none), both full fits' scores, and whether the rival was kept instead.
   int rival = -1;
   double final_score = NAN, rival_score = NAN;
   bool switched = false;
@@ -144,10 +144,10 @@ struct CorrespondenceDiagnostics {
 struct Correspondence {
   CorrespondenceKind kind = CorrespondenceKind::skeleton_only;
   SharedSkeletons skeletons;  // the matched skeletons resampled onto one graph
-  // Carried, bent or registered: per target vertex, the source point it shows (source face and
-  // barycentric coordinates), and per target face the source point under its centroid.
+  /// Carried, bent or registered: per target vertex, the source point it shows (source face and
+  /// barycentric coordinates), and per target face the source point under its centroid.
   std::vector<SourcePoint> points, face_points;
-  // Bent: per segment of skeletons.a, the rotation of the source's fitted node nearest it.
+  /// Bent: per segment of skeletons.a, the rotation of the source's fitted node nearest it.
   std::vector<Eigen::Matrix3d> segment_rotation;
   CorrespondenceDiagnostics diagnostics;
 };

@@ -1,6 +1,6 @@
 #pragma once
-// The correspondence as a file (`sdm correspond`, `sdm transfer --correspondence`): per target vertex,
-// in order, the source face and the barycentric coordinates of the source point it shows.
+/// The correspondence as a file (`sdm correspond`, `sdm transfer --correspondence`): per target vertex,
+/// in order, the source face and the barycentric coordinates of the source point it shows.
 #include "libstm/registration/carry_skeleton.h"
 
 #include <string>

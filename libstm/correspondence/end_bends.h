@@ -1,10 +1,10 @@
 #pragma once
-// Front and back from the ends of two skeletons on one graph. A foot bends forward at
-// the ankle, whichever way the leg points, so the ends of a body bend the same way relative to its
-// core on two models matched the right way round, and the other way on a match with left and right
-// swapped: that match can only be laid by turning the core half around (front for back), and its
-// ends then bend backwards. The registration of a mirrored match fits the surfaces about as closely
-// (parts turned around to fit), so this is measured on the skeletons alone.
+/// Front and back from the ends of two skeletons on one graph. A foot bends forward at
+/// the ankle, whichever way the leg points, so the ends of a body bend the same way relative to its
+/// core on two models matched the right way round, and the other way on a match with left and right
+/// swapped: that match can only be laid by turning the core half around (front for back), and its
+/// ends then bend backwards. The registration of a mirrored match fits the surfaces about as closely
+/// (parts turned around to fit), so this is measured on the skeletons alone.
 #include "libstm/skeleton/skeleton.h"
 
 #include <Eigen/Dense>

@@ -1,12 +1,12 @@
 #pragma once
-// Intrinsic features for the spectral refinement of a correspondence between two bodies (zoomout's
-// ZoomOutFeatures): per vertex of each model, the geodesic distance to each end of the matched
-// skeletons (a hand, a foot, the head), at unit area. An end's place is the set of vertices its end
-// node owns (Skeleton::vertex_node of the shared graph), so a few vertices more or less at its
-// border move the distances little. A body slid along itself by the registration (a torso a tenth
-// of sqrt(area) too high) keeps its spectral rows and its closest points, but not its distances to
-// the head and the feet. The geodesic is the shortest path along the edges (Dijkstra from every
-// vertex of the end at once): about 10 % over the exact one on both models alike.
+/// Intrinsic features for the spectral refinement of a correspondence between two bodies (zoomout's
+/// ZoomOutFeatures): per vertex of each model, the geodesic distance to each end of the matched
+/// skeletons (a hand, a foot, the head), at unit area. An end's place is the set of vertices its end
+/// node owns (Skeleton::vertex_node of the shared graph), so a few vertices more or less at its
+/// border move the distances little. A body slid along itself by the registration (a torso a tenth
+/// of sqrt(area) too high) keeps its spectral rows and its closest points, but not its distances to
+/// the head and the feet. The geodesic is the shortest path along the edges (Dijkstra from every
+/// vertex of the end at once): about 10 % over the exact one on both models alike.
 #include "libstm/correspondence/share_skeletons.h"
 #include "libstm/mesh/mesh.h"
 #include "libstm/registration/zoomout.h"

@@ -24,13 +24,13 @@ struct SharedSkeletons {
   SkeletonMatch match;
   std::vector<std::vector<int>> chain_edges;  // per chain of match.a: its edges in the shared graph, in order
   Eigen::Matrix3d rotation = Eigen::Matrix3d::Identity();  // best rotation of a's shared nodes onto b's
-  // common_branching: end nodes of the given skeletons whose short branches were pruned so that the
-  // branchings match, and match.a's / match.b's node numbering -> the given skeletons' nodes.
+  /// common_branching: end nodes of the given skeletons whose short branches were pruned so that the
+  /// branchings match, and match.a's / match.b's node numbering -> the given skeletons' nodes.
   std::vector<int> pruned_a, pruned_b, node_a, node_b;
   std::vector<std::array<int, 3>> slid_a, slid_b;  // CommonBranching::slid_a / slid_b
   double length_disagreement = 1;                  // CommonBranching::length_disagreement
-  // share_skeletons_candidates: a's common branching had a pair of branches exchanged between two
-  // close junctions (exchanged_branches), so its resampled first edges cross from one to the other.
+  /// share_skeletons_candidates: a's common branching had a pair of branches exchanged between two
+  /// close junctions (exchanged_branches), so its resampled first edges cross from one to the other.
   bool exchanged = false;
 };
 

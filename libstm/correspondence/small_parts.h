@@ -1,10 +1,10 @@
 #pragma once
-// Small extra parts (DECISIONS 5, "Small separate parts"): a closed part far smaller than the model it comes
-// with (a blob of six vertices inside a scanned body's pelvis, a floating speck) gets its own
-// skeleton component, and the skeletons' branchings then differ ("connected parts 1 vs 2"), which
-// refused the whole pair. Such parts are left out of the matching: the correspondence is computed
-// between the main parts, and a left-out target vertex takes the source point of the main part's
-// vertex nearest it.
+/// Small extra parts (DECISIONS 5, "Small separate parts"): a closed part far smaller than the model it comes
+/// with (a blob of six vertices inside a scanned body's pelvis, a floating speck) gets its own
+/// skeleton component, and the skeletons' branchings then differ ("connected parts 1 vs 2"), which
+/// refused the whole pair. Such parts are left out of the matching: the correspondence is computed
+/// between the main parts, and a left-out target vertex takes the source point of the main part's
+/// vertex nearest it.
 #include "libstm/core/progress.h"
 #include "libstm/mesh/mesh.h"
 #include "libstm/registration/carry_skeleton.h"
@@ -14,8 +14,8 @@
 
 namespace sdm {
 
-// A part is small when its area is under area_fraction of the largest part's and its bounding box's
-// diagonal under size_fraction of the whole mesh's.
+/// A part is small when its area is under area_fraction of the largest part's and its bounding box's
+/// diagonal under size_fraction of the whole mesh's.
 struct SmallPartOptions {
   double area_fraction = 0.01, size_fraction = 0.2;
 };

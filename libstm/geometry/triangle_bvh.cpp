@@ -253,81 +253,62 @@ TriangleBvh::Closest TriangleBvh::closest_point_near(const Eigen::Vector3d& p, i
   return c.face >= 0 || !(near.distance < max_distance) ? c : near;
 }
 
+template <class TMax, class Leaf>
+void TriangleBvh::walk_ray(const Eigen::Vector3d& o, const Eigen::Vector3d& d, double t_min, TMax t_max, Leaf leaf) const {
+  if (nodes_.empty()) return;
+  const Eigen::Vector3d inv = d.cwiseInverse();
+  int stack[128];
+  int sp = 0;
+  stack[sp++] = 0;
+  while (sp) {
+    const Node& n = nodes_[stack[--sp]];
+    if (!ray_meets_box(o, inv, n.lo, n.hi, t_min, std::min(t_max(), kFar))) continue;
+    if (n.left < 0) {
+      for (int i = n.begin; i < n.end; ++i)
+        if (leaf(tris_[i])) return;
+      continue;
+    }
+    stack[sp++] = n.left;
+    stack[sp++] = n.right;
+  }
+}
+
 TriangleBvh::Hit TriangleBvh::first_hit(const Eigen::Vector3d& o, const Eigen::Vector3d& d, double t_min,
                                         double t_max) const {
   Hit best;
   best.t = t_max;
-  if (nodes_.empty()) return Hit{};
-  const Eigen::Vector3d inv = d.cwiseInverse();
-  int stack[128];
-  int sp = 0;
-  stack[sp++] = 0;
-  while (sp) {
-    const Node& n = nodes_[stack[--sp]];
-    if (!ray_meets_box(o, inv, n.lo, n.hi, t_min, std::min(best.t, kFar))) continue;
-    if (n.left < 0) {
-      for (int i = n.begin; i < n.end; ++i) {
-        const Tri& tr = tris_[i];
-        double t, u, v;
-        if (ray_triangle(o, d, tr.a, tr.b, tr.c, t, u, v) && t > t_min && t < best.t) {
-          best.t = t;
-          best.face = tr.face;
-          best.u = u;
-          best.v = v;
-        }
-      }
-      continue;
+  walk_ray(o, d, t_min, [&] { return best.t; }, [&](const Tri& tr) {
+    double t, u, v;
+    if (ray_triangle(o, d, tr.a, tr.b, tr.c, t, u, v) && t > t_min && t < best.t) {
+      best.t = t;
+      best.face = tr.face;
+      best.u = u;
+      best.v = v;
     }
-    stack[sp++] = n.left;
-    stack[sp++] = n.right;
-  }
-  if (best.face < 0) best.t = INFINITY;
+    return false;
+  });
+  if (best.face < 0) return Hit{};
   return best;
 }
 
 int TriangleBvh::count_hits(const Eigen::Vector3d& o, const Eigen::Vector3d& d) const {
-  if (nodes_.empty()) return 0;
-  const Eigen::Vector3d inv = d.cwiseInverse();
   int hits = 0;
-  int stack[128];
-  int sp = 0;
-  stack[sp++] = 0;
-  while (sp) {
-    const Node& n = nodes_[stack[--sp]];
-    if (!ray_meets_box(o, inv, n.lo, n.hi, 0, kFar)) continue;
-    if (n.left < 0) {
-      for (int i = n.begin; i < n.end; ++i) {
-        double t, u, v;
-        if (ray_triangle(o, d, tris_[i].a, tris_[i].b, tris_[i].c, t, u, v) && t > 0) ++hits;
-      }
-      continue;
-    }
-    stack[sp++] = n.left;
-    stack[sp++] = n.right;
-  }
+  walk_ray(o, d, 0, [] { return kFar; }, [&](const Tri& tr) {
+    double t, u, v;
+    if (ray_triangle(o, d, tr.a, tr.b, tr.c, t, u, v) && t > 0) ++hits;
+    return false;
+  });
   return hits;
 }
 
 bool TriangleBvh::any_hit(const Eigen::Vector3d& o, const Eigen::Vector3d& d, double t_min, double t_max) const {
-  if (nodes_.empty()) return false;
-  const Eigen::Vector3d inv = d.cwiseInverse();
-  int stack[128];
-  int sp = 0;
-  stack[sp++] = 0;
-  while (sp) {
-    const Node& n = nodes_[stack[--sp]];
-    if (!ray_meets_box(o, inv, n.lo, n.hi, t_min, std::min(t_max, kFar))) continue;
-    if (n.left < 0) {
-      for (int i = n.begin; i < n.end; ++i) {
-        double t, u, v;
-        if (ray_triangle(o, d, tris_[i].a, tris_[i].b, tris_[i].c, t, u, v) && t >= t_min && t <= t_max) return true;
-      }
-      continue;
-    }
-    stack[sp++] = n.left;
-    stack[sp++] = n.right;
-  }
-  return false;
+  bool hit = false;
+  walk_ray(o, d, t_min, [t_max] { return t_max; }, [&](const Tri& tr) {
+    double t, u, v;
+    hit = ray_triangle(o, d, tr.a, tr.b, tr.c, t, u, v) && t >= t_min && t <= t_max;
+    return hit;
+  });
+  return hit;
 }
 
 void TriangleBvh::faces_in_box(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi, std::vector<int>& out) const {

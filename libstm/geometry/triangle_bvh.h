@@ -72,6 +72,11 @@ class TriangleBvh {
   };
   template <class Accept>
   Closest nearest(const Eigen::Vector3d& p, double max_distance, Accept accept) const;
+  /// Walks the leaves whose boxes the ray origin + t direction meets for t in [t_min, t_max()]
+  /// (t_max read at every node, so a search can narrow it); `leaf` sees each triangle of a leaf
+  /// reached and returns true to end the walk.
+  template <class TMax, class Leaf>
+  void walk_ray(const Eigen::Vector3d& origin, const Eigen::Vector3d& direction, double t_min, TMax t_max, Leaf leaf) const;
   /// Lower bound of the squared distance from p to the node's triangles.
   static double node_distance2(const Eigen::Vector3d& p, const Node& n);
   struct Tri {

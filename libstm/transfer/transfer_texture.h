@@ -61,8 +61,8 @@ struct TransferOptions : CorrespondOptions {
 /// What the transfer did: the correspondence's diagnostics (CorrespondenceDiagnostics), what the
 /// target was found to be, the shared skeletons and layouts, the atlas and the textured target.
 struct TextureTransfer : CorrespondenceDiagnostics {
-  // carried: the target's skeleton is the source's, carried over; bent: the source's, bent onto
-  // it; registered: another body, the source registered onto it (fit_rms, fit_p99 its figures).
+  /// carried: the target's skeleton is the source's, carried over; bent: the source's, bent onto
+  /// it; registered: another body, the source registered onto it (fit_rms, fit_p99 its figures).
   CorrespondenceKind kind = CorrespondenceKind::skeleton_only;
   SharedSkeletons skeletons;
   Layout layout_a, layout_b;  // the shared STM around each model
@@ -70,8 +70,8 @@ struct TextureTransfer : CorrespondenceDiagnostics {
   Mesh target;                // the target with per-halfedge uv into `atlas`
   double stretch = 0;         // l2_stretch of the target's new uv
   int seam_faces = 0;
-  // Carried, bent or registered: per target vertex, the source point it shows (source face and
-  // barycentric coordinates), through which any per-vertex attribute can be carried.
+  /// Carried, bent or registered: per target vertex, the source point it shows (source face and
+  /// barycentric coordinates), through which any per-vertex attribute can be carried.
   std::vector<SourcePoint> correspondence;
 };
 
