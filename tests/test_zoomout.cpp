@@ -174,8 +174,8 @@ TEST_CASE("zoomout with the discrete solver's energy: the bottle onto itself per
   const auto [mean0, p90_0] = euclidean_error(source, start, truth);
   const auto [mean1, p90_1] = euclidean_error(source, sdm::refine_correspondence(source, target, start, o), truth);
   INFO("mean " << mean0 << " -> " << mean1 << " %, p90 " << p90_0 << " -> " << p90_1 << " %");
-  CHECK(mean1 < 0.2 * mean0);
-  CHECK(p90_1 < 0.3 * p90_0);
+  CHECK(mean1 < 0.1 * mean0);
+  CHECK(p90_1 < 0.1 * p90_0);
 }
 
 TEST_CASE("sdm transfer between FAUST bodies, refined: the geodesic error per pair", "[zoomout][register_bodies]") {
