@@ -16,6 +16,7 @@
 
 #include <catch2/catch.hpp>
 
+#include <algorithm>
 #include <cstdlib>
 #include <filesystem>
 #include <map>
@@ -136,6 +137,45 @@ TEST_CASE("zoomout: a noisy map of the bottle onto its turned remesh comes back 
   INFO("windowed: mean " << mean2 << ", p90 " << p90_2 << " %");
   CHECK(mean2 < 0.3 * mean0);
   CHECK_THROWS_AS(sdm::refine_correspondence(source, target, std::vector<sdm::SourcePoint>(3), o), sdm::InputError);
+}
+
+TEST_CASE("zoomout with the discrete solver's energy: the bottle onto itself permuted and turned comes back", "[zoomout][discrete_map_energy]") {
+  const sdm::Mesh source = sdm::make_primitive("bottle");
+  // The target: the source's vertices in a shuffled order, turned; target vertex i truly is source
+  // vertex perm[i].
+  std::mt19937 rng(11);
+  std::vector<int> perm = identity(source.n_vertices()), inverse(source.n_vertices());
+  std::shuffle(perm.begin(), perm.end(), rng);
+  for (size_t i = 0; i < perm.size(); ++i) inverse[size_t(perm[i])] = int(i);
+  const Eigen::Matrix3d turn = Eigen::AngleAxisd(1.0, Eigen::Vector3d(3, 1, 2).normalized()).toRotationMatrix();
+  sdm::Mesh target;
+  for (int s : perm) {
+    const Eigen::Vector3d p = turn * sdm::point(source, source.vertex_handle(s));
+    target.add_vertex(sdm::Mesh::Point(p.x(), p.y(), p.z()));
+  }
+  for (auto f : source.faces()) {
+    std::vector<sdm::Mesh::VertexHandle> corners;
+    for (auto v : source.fv_range(f)) corners.push_back(target.vertex_handle(inverse[size_t(v.idx())]));
+    target.add_face(corners);
+  }
+  // The start: each true point moved by 3 % of the diagonal at random, back onto the surface.
+  const sdm::TriangleBvh bvh(sdm::vertex_matrix(source), sdm::face_matrix(source));
+  std::normal_distribution<double> noise(0, 0.03 * sdm::bounding_box_diagonal(source) / std::sqrt(3.0));
+  std::vector<sdm::SourcePoint> truth, start;
+  for (int s : perm) {
+    const Eigen::Vector3d p = sdm::point(source, source.vertex_handle(s));
+    truth.push_back(on_face(source, bvh.closest_point(p).face, p));
+    const auto n = bvh.closest_point(p + Eigen::Vector3d(noise(rng), noise(rng), noise(rng)));
+    start.push_back(on_face(source, n.face, n.point));
+  }
+  sdm::ZoomOutOptions o;
+  o.k_start = 10, o.k_end = 60, o.step = 5;
+  o.bijectivity_weight = 3, o.orthogonality_weight = 3, o.commutativity_weight = 1, o.orthogonal = false;
+  const auto [mean0, p90_0] = euclidean_error(source, start, truth);
+  const auto [mean1, p90_1] = euclidean_error(source, sdm::refine_correspondence(source, target, start, o), truth);
+  INFO("mean " << mean0 << " -> " << mean1 << " %, p90 " << p90_0 << " -> " << p90_1 << " %");
+  CHECK(mean1 < 0.1 * mean0);
+  CHECK(p90_1 < 0.1 * p90_0);
 }
 
 TEST_CASE("sdm transfer between FAUST bodies, refined: the geodesic error per pair", "[zoomout][register_bodies]") {

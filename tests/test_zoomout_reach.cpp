@@ -31,7 +31,8 @@ std::vector<int> read_indices(const std::string& path) {
 
 // SDM_RS_DIR: a folder with pairs.txt (or the file SDM_RS_LIST; per line: NAME SOURCE.off TARGET.off vts|pairs GT1 [GT2], the
 // models under SDM_RS_MODELS) and starts/NAME.txt (`sdm correspond --no-refine`); SDM_RS_VARIANTS:
-// "window,window_end,follow,spatial_weight,spatial_weight_end,final_steps;..."; each variant's maps go
+// "window,window_end,follow,spatial_weight,spatial_weight_end,final_steps[,bijectivity_weight,orthogonality_weight,
+// commutativity_weight,orthogonal];..."; each variant's maps go
 // to SDM_RS_DIR/vN/NAME.txt for the judge. SDM_RS_ONLY: a substring of the pairs' names.
 TEST_CASE("zoomout reach: variants from the benchmarks' starts", "[.][corr_refine_sweep]") {
   if (!std::getenv("SDM_RS_DIR")) return;
@@ -44,8 +45,10 @@ TEST_CASE("zoomout reach: variants from the benchmarks' starts", "[.][corr_refin
     std::stringstream all(variants);
     for (std::string v; std::getline(all, v, ';');) {
       sdm::ZoomOutOptions o;
-      std::sscanf(v.c_str(), "%lf,%lf,%lf,%lf,%lf,%d", &o.window, &o.window_end, &o.follow, &o.spatial_weight, &o.spatial_weight_end,
-                  &o.final_steps);
+      int orthogonal = 1;
+      std::sscanf(v.c_str(), "%lf,%lf,%lf,%lf,%lf,%d,%lf,%lf,%lf,%d", &o.window, &o.window_end, &o.follow, &o.spatial_weight,
+                  &o.spatial_weight_end, &o.final_steps, &o.bijectivity_weight, &o.orthogonality_weight, &o.commutativity_weight, &orthogonal);
+      o.orthogonal = orthogonal != 0;
       opts.push_back(o);
     }
   }
@@ -62,20 +65,31 @@ TEST_CASE("zoomout reach: variants from the benchmarks' starts", "[.][corr_refin
     const sdm::Mesh a = sdm::load_mesh(models + "/" + src).mesh, b = sdm::load_mesh(models + "/" + tgt).mesh;
     const std::vector<sdm::SourcePoint> start = faust::read_correspondence(start_file);
     REQUIRE(start.size() == b.n_vertices());
-    std::vector<int> rows, truth = read_indices(models + "/" + gt1);
+    std::vector<int> rows, truth = read_indices(models + "/" + gt1), mirror;
     if (kind == "vts") rows = read_indices(models + "/" + gt2);
     else rows.resize(truth.size()), std::iota(rows.begin(), rows.end(), 0);
+    // The mirror of each true point (FAUST_r, TOSCA_r: SOURCE.sym.vts beside SOURCE.vts).
+    if (kind == "vts" && gt1.size() > 4) mirror = read_indices(models + "/" + gt1.substr(0, gt1.size() - 4) + ".sym.vts");
+    if (mirror.size() != truth.size()) mirror.clear();
+    double mirror_share = -1;  // % of the points nearer their mirror than their truth (of the last error measured)
     auto error = [&](const std::vector<sdm::SourcePoint>& map) {
       std::vector<sdm::SourcePoint> at;
       for (int r : rows) at.push_back(map[size_t(r)]);
-      return sdm::correspondence_error(a, at, truth, 0, 3).geodesic_mean;
+      const sdm::CorrespondenceError e = sdm::correspondence_error(a, at, truth, 0, 3);
+      if (!mirror.empty()) {
+        const sdm::CorrespondenceError m = sdm::correspondence_error(a, at, mirror, 0, 3);
+        size_t nearer = 0;
+        for (size_t i = 0; i < at.size(); ++i) nearer += m.geodesic[i] < e.geodesic[i] ? 1 : 0;
+        mirror_share = 100.0 * double(nearer) / double(at.size());
+      }
+      return e.geodesic_mean;
     };
     sdm::Stopwatch bw;
     sdm::LaplaceBasis ba, bb;
     sdm::run_concurrently([&] { ba = sdm::mesh_laplace_basis(a, 150); }, [&] { bb = sdm::mesh_laplace_basis(b, 150); });
     const double basis_s = bw.lap();
     const double e0 = error(start);
-    std::fprintf(stderr, "%s: start %.2f (bases %.1f s)", name.c_str(), e0, basis_s);
+    std::fprintf(stderr, "%s: start %.2f [mirror %.1f %%] (bases %.1f s)", name.c_str(), e0, mirror_share, basis_s);
     sum[0] += e0, ++count;
     for (size_t v = 0; v < opts.size(); ++v) {
       sdm::Stopwatch sw;
@@ -83,7 +97,7 @@ TEST_CASE("zoomout reach: variants from the benchmarks' starts", "[.][corr_refin
       const double s = sw.lap(), e = error(map);
       std::filesystem::create_directories(dir + "/v" + std::to_string(v));
       std::ofstream(dir + "/v" + std::to_string(v) + "/" + name + ".txt") << sdm::correspondence_text(map, false);
-      std::fprintf(stderr, " | v%zu %.2f (%.1f s)", v, e, s);
+      std::fprintf(stderr, " | v%zu %.2f [mirror %.1f %%] (%.1f s)", v, e, mirror_share, s);
       sum[v + 1] += e;
     }
     std::fprintf(stderr, "\n");

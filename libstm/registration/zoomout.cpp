@@ -3,6 +3,7 @@
 #include "libstm/core/errors.h"
 #include "libstm/core/parallel.h"
 #include "libstm/mesh/mesh_geometry.h"
+#include "libstm/registration/discrete_map_energy.h"
 
 #include <algorithm>
 #include <cmath>
@@ -66,17 +67,20 @@ std::vector<std::vector<int>> search_windows(const std::vector<Eigen::Vector3d>&
 // rules most candidates out (nearest_rows).
 // Intrinsic features (ZoomOutFeatures: a few columns per vertex, already weighted) follow the
 // spatial part.
-RowMatrix embedding(const RowMatrix& phi, int k, const Eigen::MatrixXf& C, const std::vector<Eigen::Vector3d>& spatial, double w,
-                    const RowMatrix& features = {}) {
+RowMatrix with_position(const RowMatrix& spectral, const std::vector<Eigen::Vector3d>& spatial, double w, const RowMatrix& features = {}) {
   const int d = w > 0 ? 3 : 0;
-  const Eigen::Index m = features.rows() == phi.rows() ? features.cols() : 0;
-  RowMatrix e(phi.rows(), k + d + m);
-  if (C.size()) e.rightCols(k) = phi.leftCols(k) * C;
-  else e.rightCols(k) = phi.leftCols(k);
+  const Eigen::Index m = features.rows() == spectral.rows() ? features.cols() : 0, k = spectral.cols();
+  RowMatrix e(spectral.rows(), k + d + m);
+  e.rightCols(k) = spectral;
   if (w > 0)
     for (Eigen::Index i = 0; i < e.rows(); ++i) e.row(i).head(3) = (w * spatial[size_t(i)]).cast<float>().transpose();
   if (m) e.middleCols(d, m) = features;
   return e;
+}
+
+RowMatrix embedding(const RowMatrix& phi, int k, const Eigen::MatrixXf& C, const std::vector<Eigen::Vector3d>& spatial, double w,
+                    const RowMatrix& features = {}) {
+  return with_position(C.size() ? RowMatrix(phi.leftCols(k) * C) : RowMatrix(phi.leftCols(k)), spatial, w, features);
 }
 
 // A vertex as a source point: a face around it, weight 1 at its corner.
@@ -176,6 +180,39 @@ SourcePoint nearest_point_around(const Mesh& source, int s, const Eigen::RowVect
   return best_point;
 }
 
+// The step's functional maps: C12 = Phi_T^+ Pi Phi_S from the map and (with s2t) C21 = Phi_S^+
+// Pi' Phi_T from the source's map. `apart` (the discrete solver's pair, Ren et al. 2021) keeps them
+// apart; else C12 is their mean (C21^T beside C12) and C21 = C12^T. Each made orthogonal (U V^T of its
+// SVD: an isometry's functional map) with `orthogonal`.
+std::pair<Eigen::MatrixXf, Eigen::MatrixXf> step_maps(const Mesh& source, const std::vector<SourcePoint>& map, const std::vector<int>& s2t,
+                                                      const RowMatrix& phi_s, const RowMatrix& phi_t, const Eigen::VectorXf& mass_s,
+                                                      const Eigen::VectorXf& mass_t, int k, bool apart, bool orthogonal) {
+  const auto nearest_orthogonal = [&](Eigen::MatrixXf& C) {
+    if (!orthogonal) return;
+    const Eigen::BDCSVD<Eigen::MatrixXf> svd(C, Eigen::ComputeThinU | Eigen::ComputeThinV);
+    C = svd.matrixU() * svd.matrixV().transpose();
+  };
+  Eigen::MatrixXf C12 = phi_t.leftCols(k).transpose() * (mass_t.asDiagonal() * pulled_back(source, map, phi_s, k)), C21;
+  if (!s2t.empty()) {
+    RowMatrix g(Eigen::Index(s2t.size()), k);
+    for (size_t s = 0; s < s2t.size(); ++s) g.row(Eigen::Index(s)) = phi_t.row(s2t[s]).head(k);
+    C21 = phi_s.leftCols(k).transpose() * (mass_s.asDiagonal() * g);
+    if (!apart) C12 = 0.5f * (C12 + C21.transpose());
+  }
+  nearest_orthogonal(C12);
+  if (C21.size() && apart) nearest_orthogonal(C21);
+  else C21 = C12.transpose();
+  return {C12, C21};
+}
+
+// The spectral part of the rows for mapping Q's vertices onto D's: Phi_Q C_qd against Phi_D, or with
+// `discrete`, the discrete solver's stacked rows (discrete_map_energy.h).
+DiscreteMapRows spectral_rows(const RowMatrix& phi_q, const Eigen::VectorXf& lambda_q, const RowMatrix& phi_d, const Eigen::VectorXf& lambda_d,
+                              const Eigen::MatrixXf& c_qd, const Eigen::MatrixXf& c_dq, int k, const DiscreteMapWeights* discrete) {
+  if (!discrete) return {RowMatrix(phi_q.leftCols(k) * c_qd), RowMatrix(phi_d.leftCols(k))};
+  return discrete_map_rows(phi_q.leftCols(k), lambda_q.head(k), phi_d.leftCols(k), lambda_d.head(k), c_qd, c_dq, *discrete);
+}
+
 void check_zoomout_input(const Mesh& source, const LaplaceBasis& sb, const Mesh& target, const LaplaceBasis& tb,
                          const std::vector<SourcePoint>& start, const ZoomOutOptions& o) {
   if (start.size() != target.n_vertices())
@@ -204,6 +241,12 @@ std::vector<SourcePoint> zoomout(const Mesh& source, const LaplaceBasis& source_
   const RowMatrix phi_s = unit_functions(source_basis, k_end), phi_t = unit_functions(target_basis, k_end);
   const Eigen::VectorXf mass_t = (target_basis.mass / target_basis.mass.sum()).cast<float>(), mass_s = (source_basis.mass / source_basis.mass.sum()).cast<float>();
   const double source_scale = std::sqrt(source_basis.mass.sum());
+  // The eigenvalues at unit area, and the discrete solver's weights when it is on.
+  const Eigen::VectorXf lambda_s = (source_basis.values.head(k_end) * source_basis.mass.sum()).cast<float>(),
+                        lambda_t = (target_basis.values.head(k_end) * target_basis.mass.sum()).cast<float>();
+  const DiscreteMapWeights discrete_weights{1, o.bijectivity_weight, o.orthogonality_weight, o.commutativity_weight};
+  const DiscreteMapWeights* discrete =
+      o.bijectivity_weight > 0 || o.orthogonality_weight > 0 || o.commutativity_weight > 0 ? &discrete_weights : nullptr;
   // Spatial coordinates on the source: the start's points for the target's vertices (with `follow`,
   // each step's map's).
   std::vector<Eigen::Vector3d> start_points, source_points;
@@ -245,29 +288,20 @@ std::vector<SourcePoint> zoomout(const Mesh& source, const LaplaceBasis& source_
     const double fw_end = o.feature_weight_end >= 0 ? o.feature_weight_end : o.feature_weight;
     const float fw = float((1 - at) * o.feature_weight + at * fw_end);
     const RowMatrix f_s = featured ? RowMatrix(fw * unit_f_s) : RowMatrix(), f_t = featured ? RowMatrix(fw * unit_f_t) : RowMatrix();
-    // C = Phi_T^T M_T Pi Phi_S (k x k), then Pi Phi_S ~ Phi_T C row by row; with the map the other
-    // way too, C averaged with (Phi_S^T M_S Pi' Phi_T)^T.
-    Eigen::MatrixXf C = phi_t.leftCols(k).transpose() * (mass_t.asDiagonal() * pulled_back(source, map, phi_s, k));
-    if (o.bidirectional) {
-      RowMatrix g(Eigen::Index(s2t.size()), k);
-      for (size_t s = 0; s < s2t.size(); ++s) g.row(Eigen::Index(s)) = phi_t.row(s2t[s]).head(k);
-      C = 0.5f * (C + (phi_s.leftCols(k).transpose() * (mass_s.asDiagonal() * g)).transpose());
-    }
-    // The nearest orthogonal matrix (an isometry's functional map), U V^T of C's SVD.
-    if (o.orthogonal) {
-      const Eigen::BDCSVD<Eigen::MatrixXf> svd(C, Eigen::ComputeThinU | Eigen::ComputeThinV);
-      C = svd.matrixU() * svd.matrixV().transpose();
-    }
-    const RowMatrix queries = embedding(phi_t, k, C, anchors, w, f_t), database = embedding(phi_s, k, {}, source_points, w, f_s);
+    // C = Phi_T^T M_T Pi Phi_S (k x k), then Pi Phi_S ~ Phi_T C row by row (step_maps).
+    const auto [C, C21] = step_maps(source, map, s2t, phi_s, phi_t, mass_s, mass_t, k, discrete != nullptr, o.orthogonal);
+    const DiscreteMapRows rows = spectral_rows(phi_t, lambda_t, phi_s, lambda_s, C, C21, k, discrete);
+    const RowMatrix queries = with_position(rows.queries, anchors, w, f_t), database = with_position(rows.database, source_points, w, f_s);
     const std::vector<int> nearest = nearest_rows(queries, database, t_windows, o.threads);
     if (i + 1 == sizes.size()) {
       parallel_for(nt, 256, [&](int t) { map[size_t(t)] = nearest_point_around(source, nearest[size_t(t)], queries.row(t), database); }, o.threads);
       return map;
     }
     for (int t = 0; t < nt; ++t) map[size_t(t)] = vertex_point(source, nearest[size_t(t)]);
-    if (o.bidirectional)
-      s2t = nearest_rows(embedding(phi_s, k, C.transpose(), source_points, w, f_s), embedding(phi_t, k, {}, anchors, w, f_t), s_windows,
-                         o.threads);
+    if (o.bidirectional) {
+      const DiscreteMapRows back = spectral_rows(phi_s, lambda_s, phi_t, lambda_t, C21, C, k, discrete);
+      s2t = nearest_rows(with_position(back.queries, source_points, w, f_s), with_position(back.database, anchors, w, f_t), s_windows, o.threads);
+    }
   }
   return map;
 }

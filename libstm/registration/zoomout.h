@@ -52,6 +52,13 @@ struct ZoomOutOptions {
   /// help some pairs and hurt others (docs/BENCHMARKS.md, "End distances in the spectral refinement").
   double feature_weight = 0;
   double feature_weight_end = -1;  ///< the weight at k_end (linear in k between; < 0: feature_weight throughout)
+  /// The pointwise map of each step from the energy of the discrete solver of Ren, Melzi, Wonka and
+  /// Ovsjanikov 2021 (libstm/registration/discrete_map_energy.h): the weights of bijectivity
+  /// (C12 C21 = I), orthogonality (C12 C12^T = I) and Laplacian commutativity beside properness (1),
+  /// all in one nearest-neighbour search in both directions. Any above 0: C12 and C21 each from its own
+  /// direction's map (not averaged). All 0 (the default): ZoomOut's step alone (BENCHMARKS, "The
+  /// discrete solver's energy in the refinement").
+  double bijectivity_weight = 0, orthogonality_weight = 0, commutativity_weight = 0;
   int threads = 0;  ///< 0: one per hardware thread; the result does not depend on it
 };
 
