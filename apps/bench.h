@@ -3,6 +3,7 @@
 // and prints a table, or one JSON object with --json. Figures, not pass/fail: speed is measured here
 // and written to docs/BENCHMARKS.md, never asserted by tests.
 #include <algorithm>
+#include <cmath>
 #include <cstddef>
 #include <functional>
 #include <nlohmann/json.hpp>
@@ -21,6 +22,7 @@ struct BenchOptions {
   bool turned_scaled = false, no_refine = false;  // --transfer: the FAUST targets turned and scaled; without the refinement
   std::vector<std::string> load;      // --load: meshes whose reading stages are timed
   std::vector<std::string> pipeline;  // --pipeline: meshes taken through every stage
+  std::vector<std::string> commands;  // --commands: meshes taken through the four commands as processes
 };
 
 struct PaperRow {
@@ -60,5 +62,15 @@ int run_transfer_bench(const BenchOptions& o);
 int run_load_bench(const BenchOptions& o);
 // --pipeline: meshes through every stage: bench_pipeline.cpp.
 int run_pipeline_bench(const BenchOptions& o);
+// One mesh through the stages in this process (load, skeleton, layout at `size`, encode, decode at
+// level 3), the fastest of `repeat` runs of each, in seconds: bench_pipeline.cpp.
+struct PipelineTimes {
+  double load = INFINITY, skeleton = INFINITY, layout = INFINITY, encode = INFINITY, decode3 = INFINITY;
+  size_t vertices = 0, decode3_faces = 0;
+};
+PipelineTimes time_pipeline(const std::string& path, int size, int repeat);
+// --commands: meshes through skeleton, stm, encode and decode as processes, beside the stages in
+// this process: bench_commands.cpp.
+int run_commands_bench(const BenchOptions& o);
 
 }  // namespace sdm::cli

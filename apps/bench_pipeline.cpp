@@ -15,35 +15,40 @@
 
 namespace sdm::cli {
 
+PipelineTimes time_pipeline(const std::string& path, int size, int repeat) {
+  PipelineTimes t;
+  for (int i = 0; i < repeat; ++i) {
+    Stopwatch sw;
+    const Mesh mesh = load_mesh(path).mesh;
+    keep_fastest(t.load, sw.lap());
+    const Skeleton sk = extract_skeleton(mesh);
+    keep_fastest(t.skeleton, sw.lap());
+    LayoutOptions lo;
+    lo.size = size;
+    const Layout L = compute_layout(mesh, sk, lo);
+    keep_fastest(t.layout, sw.lap());
+    EncodeOptions eo;
+    eo.fill_unread = false;  // as `sdm encode` writes a file
+    const SdmImage im = encode_sdm(mesh, L, eo);
+    keep_fastest(t.encode, sw.lap());
+    DecodeOptions d;
+    d.level = 3;
+    t.decode3_faces = decode_sdm(im, d).n_faces();
+    keep_fastest(t.decode3, sw.lap());
+    t.vertices = mesh.n_vertices();
+  }
+  return t;
+}
+
 namespace {
 
 // One file through every stage, the fastest of `repeat` runs of each.
 nlohmann::json pipeline_row(const std::string& path, int repeat, int size) {
-  double load = INFINITY, skeleton = INFINITY, layout = INFINITY, encode = INFINITY, decode = INFINITY;
-  size_t vertices = 0, faces = 0;
-  for (int i = 0; i < repeat; ++i) {
-    Stopwatch sw;
-    const Mesh mesh = load_mesh(path).mesh;
-    keep_fastest(load, sw.lap());
-    const Skeleton sk = extract_skeleton(mesh);
-    keep_fastest(skeleton, sw.lap());
-    LayoutOptions lo;
-    lo.size = size;
-    const Layout L = compute_layout(mesh, sk, lo);
-    keep_fastest(layout, sw.lap());
-    EncodeOptions eo;
-    eo.fill_unread = false;  // as `sdm encode` writes a file
-    const SdmImage im = encode_sdm(mesh, L, eo);
-    keep_fastest(encode, sw.lap());
-    DecodeOptions d;
-    d.level = 3;
-    faces = decode_sdm(im, d).n_faces();
-    keep_fastest(decode, sw.lap());
-    vertices = mesh.n_vertices();
-  }
-  return {{"file", path}, {"vertices", vertices}, {"load_s", load}, {"skeleton_s", skeleton}, {"layout_s", layout},
-          {"encode_s", encode}, {"decode3_s", decode}, {"decode3_faces", faces}, {"decode3_faces_per_s", double(faces) / decode},
-          {"skeleton_to_decode_s", skeleton + layout + encode + decode}};
+  const PipelineTimes t = time_pipeline(path, size, repeat);
+  return {{"file", path}, {"vertices", t.vertices}, {"load_s", t.load}, {"skeleton_s", t.skeleton}, {"layout_s", t.layout},
+          {"encode_s", t.encode}, {"decode3_s", t.decode3}, {"decode3_faces", t.decode3_faces},
+          {"decode3_faces_per_s", double(t.decode3_faces) / t.decode3},
+          {"skeleton_to_decode_s", t.skeleton + t.layout + t.encode + t.decode3}};
 }
 
 }  // namespace

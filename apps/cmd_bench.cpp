@@ -1,6 +1,6 @@
 // sdm bench: per-stage timings beside the paper's Table I, coverage beside its Table II, SDM
-// encode/decode times, and a large real mesh; with --solvers, --transfer, --load, --pipeline or
-// --pose, one other measurement (apps/bench.h names the file of each).
+// encode/decode times, and a large real mesh; with --solvers, --transfer, --load, --pipeline,
+// --commands or --pose, one other measurement (apps/bench.h names the file of each).
 #include "apps/bench.h"
 #include "apps/bench_pose.h"
 #include "apps/cli_common.h"
@@ -35,6 +35,9 @@ Command add_bench_command(CLI::App& parent) {
   app->add_option("--load", o->load, "Time the loading stages (read, validate, build) of these meshes instead");
   app->add_option("--pipeline", o->pipeline,
                   "Take these meshes through every stage instead (load, skeleton, layout and encode at --size, decode at level 3)");
+  app->add_option("--commands", o->commands,
+                  "Run skeleton, stm (--size), encode and decode (level 3) on these meshes as processes instead, each command "
+                  "the 'sdm' beside this program (wall and CPU seconds), beside the same stages in one process");
   app->add_option("--pose", o->pose,
                   "Pose SOURCE like TARGET instead (pairs of meshes with the same connectivity, e.g. FAUST 001 007): per node of "
                   "SOURCE's SDM skeleton the Kabsch motion of its vertices, the map decoded and posed, against linear blend skinning");
@@ -42,6 +45,7 @@ Command add_bench_command(CLI::App& parent) {
   return {app, [o]() {
             if (!o->pose.empty()) return run_pose_bench(o->pose, o->size, o->json, machine_line());
             if (!o->pipeline.empty()) return run_pipeline_bench(*o);
+            if (!o->commands.empty()) return run_commands_bench(*o);
             return o->solvers ? run_solvers(*o) : o->transfer ? run_transfer_bench(*o) : !o->load.empty() ? run_load_bench(*o) : run_stages(*o);
           }};
 }

@@ -101,9 +101,11 @@ Command add_encode_command(CLI::App& parent) {
             const double encode_s = clock.lap();
             progress("  checking the map (decoded at level 3)");
             const double diag = sdm::bounding_box_diagonal(mesh);
-            sdm::DecodeTrace trace;
-            const sdm::SurfaceCoverage carried = check_carried(
-                mesh, sdm::decode_sdm(sdm::as_stored(im, precision), sdm::DecodeOptions{}, &trace), diag, o->q.min_carried, o->q.strict);
+            // The map as stored, decoded as 'sdm decode' does (its points and triangles; the
+            // halfedge mesh 'sdm decode' builds of them for writing is not needed to measure them).
+            const sdm::DecodedSurface decoded = sdm::decode_surface(sdm::as_stored(im, precision));
+            const sdm::UntangleReport& folds = decoded.untangle;
+            const sdm::SurfaceCoverage carried = check_carried(mesh, decoded, diag, o->q.min_carried, o->q.strict);
             const double check_s = clock.lap();
             sdm::write_sdm_exr(im, o->out, precision);
             if (!o->png.empty()) sdm::write_png(false_color(im), o->png);
@@ -114,8 +116,8 @@ Command add_encode_command(CLI::App& parent) {
                 {"filled", st.filled}, {"base_faces", st.base_faces}, {"flat_faces", st.flat_faces}, {"layout_seconds", layout_s},
                 {"encode_seconds", encode_s}, {"check_seconds", check_s}, {"carried", carried.share},
                 {"carried_rms", carried.rms / diag}, {"self_intersections", crossings.pairs},
-                {"decode_folds", {{"level", 3}, {"untangled", trace.untangle.crossing - trace.untangle.left},
-                                  {"left", trace.untangle.left}, {"segments", trace.untangle.left_segments}}}};
+                {"decode_folds", {{"level", 3}, {"untangled", folds.crossing - folds.left},
+                                  {"left", folds.left}, {"segments", folds.left_segments}}}};
             if (o->json) print_json(j);
             else print_encode_text(j);
             return 0;

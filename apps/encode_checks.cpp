@@ -27,8 +27,10 @@ sdm::SelfIntersections check_self_intersections(const sdm::Mesh& mesh, bool stri
   return x;
 }
 
-sdm::SurfaceCoverage check_carried(const sdm::Mesh& input, const sdm::Mesh& decoded, double diag, double floor, bool strict) {
-  sdm::SurfaceCoverage c = sdm::surface_coverage(input, decoded, kCarriedTolerance * diag);
+namespace {
+
+// Warns of (or, under --strict, refuses) a coverage under `floor`.
+sdm::SurfaceCoverage carried_or_warn(const sdm::SurfaceCoverage& c, double diag, double floor, bool strict) {
   if (c.share >= floor) return c;
   std::ostringstream what;
   what << "the map carries only " << std::round(1000 * c.share) / 10 << " % of the surface within "
@@ -39,6 +41,18 @@ sdm::SurfaceCoverage check_carried(const sdm::Mesh& input, const sdm::Mesh& deco
   if (strict) throw sdm::InputError(what.str() + "; " + fix);
   progress("warning: " + what.str() + ": " + fix + " (--strict refuses such output)");
   return c;
+}
+
+}  // namespace
+
+sdm::SurfaceCoverage check_carried(const sdm::Mesh& input, const sdm::Mesh& decoded, double diag, double floor, bool strict) {
+  return carried_or_warn(sdm::surface_coverage(input, decoded, kCarriedTolerance * diag), diag, floor, strict);
+}
+
+sdm::SurfaceCoverage check_carried(const sdm::Mesh& input, const sdm::DecodedSurface& decoded, double diag, double floor, bool strict) {
+  Eigen::MatrixX3d points(Eigen::Index(decoded.points.size()), 3);
+  for (size_t i = 0; i < decoded.points.size(); ++i) points.row(Eigen::Index(i)) = decoded.points[i].transpose();
+  return carried_or_warn(sdm::surface_coverage(input, points, decoded.triangles, kCarriedTolerance * diag), diag, floor, strict);
 }
 
 void add_face_error_option(CLI::App* app, double& error) {

@@ -3,6 +3,7 @@
 // gate of a map (the input's self-intersections, the share of the surface the decoded map carries,
 // the encoder's check of its own faces).
 #include "apps/cli_common.h"
+#include "libsdm/decode/decode_sdm.h"
 #include "libsdm/encode/encode_sdm.h"
 #include "libstm/mesh/mesh.h"
 #include "libstm/mesh/self_intersections.h"
@@ -31,6 +32,9 @@ sdm::SelfIntersections check_self_intersections(const sdm::Mesh& mesh, bool stri
 // refusal under --strict.
 constexpr double kCarriedTolerance = 0.01;
 sdm::SurfaceCoverage check_carried(const sdm::Mesh& input, const sdm::Mesh& decoded, double diag, double floor, bool strict);
+// The same against the decoder's points and triangles (decode_surface: what decode_sdm's mesh is
+// made of, without its halfedge connectivity, which the check does not read).
+sdm::SurfaceCoverage check_carried(const sdm::Mesh& input, const sdm::DecodedSurface& decoded, double diag, double floor, bool strict);
 
 // The encoder's check of its own map (EncodeOptions::flat_above; refine_above three times it).
 void add_face_error_option(CLI::App* app, double& error);

@@ -38,14 +38,25 @@ int hand_over(char** argv) {
   return 1;
 }
 
+std::filesystem::path front_program(const char* argv0) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  const fs::path self = fs::read_symlink("/proc/self/exe", ec);
+  const fs::path program = ec ? fs::path(argv0) : self;
+  if (program.filename() != "sdm-full") return program;
+  const fs::path folder = program.parent_path();
+  for (const fs::path& front : {folder / "sdm", folder / SDM_FRONT_RELATIVE / "sdm"})
+    if (fs::exists(front, ec)) return front.lexically_normal();
+  return program;
+}
+
 int hand_over_to_batch(int argc, char** argv) {
   namespace fs = std::filesystem;
   std::error_code ec;
   const fs::path self = fs::read_symlink("/proc/self/exe", ec);
   const fs::path folder = ec ? fs::path(argv[0]).parent_path() : self.parent_path();
   // The commands run by `sdm`, the front (it starts faster), also when sdm-full was asked.
-  const fs::path program = ec ? fs::path(argv[0]) : self;
-  const fs::path front = program.filename() == "sdm-full" && fs::exists(folder / "sdm", ec) ? folder / "sdm" : program;
+  const fs::path front = front_program(argv[0]);
   const fs::path places[] = {folder / "python" / "sdm_batch.py", folder / SDM_BATCH_RELATIVE / "sdm_batch.py"};
   for (const fs::path& script : places) {
     if (!fs::exists(script, ec)) continue;

@@ -4,6 +4,7 @@
 // `sdm-full`, which has them all. The light commands then start without loading OpenEXR,
 // OpenSubdiv and GL, about 3 ms of every start (docs/BENCHMARKS.md, "Starting fast"); the others
 // pay one more exec (under 1 ms) on runs of a second or more.
+#include <filesystem>
 #include <string>
 #include <vector>
 
@@ -18,6 +19,10 @@ bool runs_here(const std::vector<std::string>& commands, int argc, char** argv);
 // tree) or in SDM_FULL_RELATIVE from its folder (the installed tree, libexec/sdm). Returns only
 // when it cannot (1, with a message naming where it looked).
 int hand_over(char** argv);
+
+// The `sdm` program users run: this one, or, from sdm-full, the `sdm` beside it (the build tree)
+// or in SDM_FRONT_RELATIVE from its folder (bin, from libexec/sdm); sdm-full itself when neither is.
+std::filesystem::path front_program(const char* argv0);
 
 // `sdm batch ARGS`: replaces this process with Python running sdm_batch.py (python/sdm_batch.py:
 // models as tasks on Dask) with `--sdm THIS_PROGRAM ARGS`: the script beside this program

@@ -75,8 +75,13 @@ SurfaceDistance surface_distance(const Mesh& a, const Mesh& b, int samples) {
 }
 
 SurfaceCoverage surface_coverage(const Mesh& reference, const Mesh& carrier, double tolerance) {
+  return surface_coverage(reference, vertex_matrix(carrier), face_matrix(carrier), tolerance);
+}
+
+SurfaceCoverage surface_coverage(const Mesh& reference, const Eigen::MatrixX3d& points, const Eigen::MatrixX3i& triangles,
+                                 double tolerance) {
   SurfaceCoverage c;
-  const TriangleBvh bvh(vertex_matrix(carrier), face_matrix(carrier));
+  const TriangleBvh bvh(points, triangles);
   const std::vector<double> area = vertex_areas(reference);
   const std::vector<TriangleBvh::Closest> closest = closest_points(bvh, vertex_matrix(reference));  // summed in vertex order
   double total = 0, within = 0, sq = 0;

@@ -35,5 +35,9 @@ struct SurfaceCoverage {
   Eigen::Vector3d worst_point = Eigen::Vector3d::Zero();  ///< the reference vertex farthest away
 };
 SurfaceCoverage surface_coverage(const Mesh& reference, const Mesh& carrier, double tolerance);
+/// The same against a carrier given as triangles (rows of corner indices into `points`), as a
+/// decoder makes it, without building a halfedge mesh of it.
+SurfaceCoverage surface_coverage(const Mesh& reference, const Eigen::MatrixX3d& points, const Eigen::MatrixX3i& triangles,
+                                 double tolerance);
 
 }  // namespace sdm
