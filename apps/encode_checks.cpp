@@ -50,9 +50,7 @@ sdm::SurfaceCoverage check_carried(const sdm::Mesh& input, const sdm::Mesh& deco
 }
 
 sdm::SurfaceCoverage check_carried(const sdm::Mesh& input, const sdm::DecodedSurface& decoded, double diag, double floor, bool strict) {
-  Eigen::MatrixX3d points(Eigen::Index(decoded.points.size()), 3);
-  for (size_t i = 0; i < decoded.points.size(); ++i) points.row(Eigen::Index(i)) = decoded.points[i].transpose();
-  return carried_or_warn(sdm::surface_coverage(input, points, decoded.triangles, kCarriedTolerance * diag), diag, floor, strict);
+  return carried_or_warn(sdm::surface_coverage(input, sdm::point_matrix(decoded), decoded.triangles, kCarriedTolerance * diag), diag, floor, strict);
 }
 
 void add_face_error_option(CLI::App* app, double& error) {

@@ -13,6 +13,16 @@
 // SDM_FULL_RELATIVE: libexec/sdm relative to bin, from CMake's install directories (CMakeLists.txt).
 
 namespace sdm::cli {
+namespace {
+
+// This program's file: /proc/self/exe, or argv[0] where that cannot be read.
+std::filesystem::path this_program(const char* argv0) {
+  std::error_code ec;
+  const std::filesystem::path self = std::filesystem::read_symlink("/proc/self/exe", ec);
+  return ec ? std::filesystem::path(argv0) : self;
+}
+
+}  // namespace
 
 bool runs_here(const std::vector<std::string>& commands, int argc, char** argv) {
   if (argc < 2) return false;
@@ -22,9 +32,7 @@ bool runs_here(const std::vector<std::string>& commands, int argc, char** argv) 
 
 int hand_over(char** argv) {
   namespace fs = std::filesystem;
-  std::error_code ec;
-  const fs::path self = fs::read_symlink("/proc/self/exe", ec);
-  const fs::path folder = ec ? fs::path(argv[0]).parent_path() : self.parent_path();
+  const fs::path folder = this_program(argv[0]).parent_path();
   const fs::path places[] = {folder / "sdm-full", folder / SDM_FULL_RELATIVE / "sdm-full"};
   for (const fs::path& full : places) {
     if (::access(full.c_str(), X_OK) != 0) continue;
@@ -41,8 +49,7 @@ int hand_over(char** argv) {
 std::filesystem::path front_program(const char* argv0) {
   namespace fs = std::filesystem;
   std::error_code ec;
-  const fs::path self = fs::read_symlink("/proc/self/exe", ec);
-  const fs::path program = ec ? fs::path(argv0) : self;
+  const fs::path program = this_program(argv0);
   if (program.filename() != "sdm-full") return program;
   const fs::path folder = program.parent_path();
   for (const fs::path& front : {folder / "sdm", folder / SDM_FRONT_RELATIVE / "sdm"})
@@ -53,8 +60,7 @@ std::filesystem::path front_program(const char* argv0) {
 int hand_over_to_batch(int argc, char** argv) {
   namespace fs = std::filesystem;
   std::error_code ec;
-  const fs::path self = fs::read_symlink("/proc/self/exe", ec);
-  const fs::path folder = ec ? fs::path(argv[0]).parent_path() : self.parent_path();
+  const fs::path folder = this_program(argv[0]).parent_path();
   // The commands run by `sdm`, the front (it starts faster), also when sdm-full was asked.
   const fs::path front = front_program(argv[0]);
   const fs::path places[] = {folder / "python" / "sdm_batch.py", folder / SDM_BATCH_RELATIVE / "sdm_batch.py"};

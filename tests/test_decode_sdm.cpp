@@ -300,8 +300,7 @@ TEST_CASE("Decoding some base faces places their points as the whole decode does
   CHECK(part.triangles.rows() == 64 * Eigen::Index(some.size()));
   for (int f : part.triangle_face) CHECK(std::binary_search(some.begin(), some.end(), f));
   // Every point of the part is a point of the whole (the BVH of the whole's triangles: distance 0).
-  Eigen::MatrixX3d P(Eigen::Index(all.points.size()), 3);
-  for (size_t i = 0; i < all.points.size(); ++i) P.row(Eigen::Index(i)) = all.points[i].transpose();
+  const Eigen::MatrixX3d P = point_matrix(all);
   const TriangleBvh whole(P, all.triangles);
   const double diag = bounding_box_diagonal(mesh);
   double worst = 0;
@@ -330,8 +329,7 @@ TEST_CASE("Encode's check of the decoder's triangles measures what the decoded m
   const DecodedSurface surface = decode_surface(image);
   REQUIRE(surface.points.size() == decoded.n_vertices());
   REQUIRE(size_t(surface.triangles.rows()) == decoded.n_faces());
-  Eigen::MatrixX3d P(Eigen::Index(surface.points.size()), 3);
-  for (size_t i = 0; i < surface.points.size(); ++i) P.row(Eigen::Index(i)) = surface.points[i].transpose();
+  const Eigen::MatrixX3d P = point_matrix(surface);
   CHECK(P == vertex_matrix(decoded));
   CHECK(surface.triangles == face_matrix(decoded));
   const double tolerance = 0.001 * bounding_box_diagonal(mesh);

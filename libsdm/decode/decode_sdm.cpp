@@ -412,6 +412,12 @@ DecodedSurface decode_surface(const SdmImage& image, const DecodeOptions& option
   return decode_surface_beside(image, options, faces, {});
 }
 
+Eigen::MatrixX3d point_matrix(const DecodedSurface& surface) {
+  Eigen::MatrixX3d P(Eigen::Index(surface.points.size()), 3);
+  for (size_t i = 0; i < surface.points.size(); ++i) P.row(Eigen::Index(i)) = surface.points[i].transpose();
+  return P;
+}
+
 Mesh decode_sdm(const SdmImage& image, const DecodeOptions& options, DecodeTrace* trace) {
   // The connectivity depends on the triangles alone: it is built while the points are placed, and
   // the points are set once they are (the placement keeps both cores busy, so the gain is small:

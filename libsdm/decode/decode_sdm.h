@@ -44,6 +44,8 @@ struct DecodedSurface {
   UntangleReport untangle;  ///< the folds untangled at rest (untangle_decoded.h)
 };
 DecodedSurface decode_surface(const SdmImage& image, const DecodeOptions& options = {}, const std::vector<int>& faces = {});
+/// The surface's points as rows (for the queries that take a vertex matrix: surface_coverage, TriangleBvh).
+Eigen::MatrixX3d point_matrix(const DecodedSurface& surface);
 
 /// What decode_sdm makes with these options, before it runs: the triangles (4^L per base face of a
 /// segment at level L) and the peak memory of decoding them and writing the result, at 450 bytes a
