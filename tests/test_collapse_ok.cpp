@@ -1,10 +1,13 @@
 // collapse_ok answers what OpenMesh's is_collapse_ok answers, on every halfedge of closed and open
 // meshes and while a mesh is being collapsed (deleted elements, boundary vertices, valence-3
 // vertices), so the isotropic remesh that uses it collapses exactly the same edges.
+#include "libstm/geometry/triangle_bvh.h"
 #include "libstm/mesh/collapse_ok.h"
+#include "libstm/mesh/isotropic_remesh.h"
 #include "libstm/mesh/load_mesh.h"
 #include "libstm/mesh/mesh.h"
 #include "libstm/mesh/primitives.h"
+#include "libstm/mesh/validate_mesh.h"
 #include "tests/test_util.h"
 
 #include <catch2/catch.hpp>
@@ -92,4 +95,37 @@ TEST_CASE("collapse_ok on the smallest open meshes", "[collapse_ok]") {
   quad.request_vertex_status(), quad.request_edge_status(), quad.request_face_status();
   CHECK_FALSE(collapse_ok(quad, quad.find_halfedge(p, r)));  // both ends on the boundary, the edge not
   CHECK(disagreements(quad) == 0);
+}
+
+TEST_CASE("no collapse folds a tetrahedron flat: a small separate part stays closed", "[collapse_ok]") {
+  // The link condition lets every edge of a tetrahedron go; the result would be two faces on the
+  // same three corners.
+  Mesh tet;
+  const auto a = tet.add_vertex({0, 0, 0}), b = tet.add_vertex({1, 0, 0}), c = tet.add_vertex({0, 1, 0}), d = tet.add_vertex({0, 0, 1});
+  tet.add_face(a, c, b), tet.add_face(a, b, d), tet.add_face(a, d, c), tet.add_face(b, c, d);
+  tet.request_vertex_status(), tet.request_edge_status(), tet.request_face_status();
+  for (auto h : tet.halfedges()) CHECK(collapse_ok(tet, h));
+  for (auto h : tet.halfedges()) CHECK(collapses_tetrahedron(tet, h));
+  // A capsule with a copy fifty times smaller beside it, remeshed at an edge length longer than the
+  // small copy: both parts stay closed 2-manifolds of genus 0, the small one four faces at least.
+  const Mesh big = make_primitive("capsule");
+  Mesh m = big;
+  const int n = int(big.n_vertices());
+  for (auto v : big.vertices()) m.add_vertex(big.point(v) * 0.02f + Mesh::Point(5, 0, 0));
+  for (auto f : big.faces()) {
+    std::vector<Mesh::VertexHandle> corners;
+    for (auto v : big.fv_range(f)) corners.push_back(Mesh::VertexHandle(v.idx() + n));
+    m.add_face(corners);
+  }
+  for (auto h : m.halfedges()) CHECK_FALSE(collapses_tetrahedron(m, h));
+  double longest = 0;
+  for (auto e : big.edges()) longest = std::max(longest, double(big.calc_edge_length(e)));
+  const TriangleBvh surface(vertex_matrix(m), face_matrix(m));
+  isotropic_remesh(m, 2 * longest, 5, [&](const Eigen::Vector3d& p) { return surface.closest_point(p).point; });
+  const MeshReport r = validate_mesh(mesh_to_soup(m));
+  CHECK(r.usable());
+  CHECK(r.genus_per_part == std::vector<int>{0, 0});
+  for (const Finding& f : r.findings) CHECK(f.id == "parts");  // no duplicated faces among them
+  REQUIRE(r.faces_per_part.size() == 2);
+  CHECK(std::min(r.faces_per_part[0], r.faces_per_part[1]) >= 4);
 }

@@ -309,10 +309,11 @@ constexpr int kMultipleChoiceFactor = 3;
 // The mesh the decimater runs on: sdm's mesh with the link condition answered by collapse_ok. The
 // decimater, a template over the mesh, calls mesh_.is_collapse_ok for every candidate collapse it
 // weighs, which this hides; OpenMesh 9's own allocates and looks a property up by name on each
-// call (half of the heap's time: DECISIONS 6, "The remesh's link condition"). The same answers.
+// call (half of the heap's time: DECISIONS 6, "The remesh's link condition"). The same answers,
+// and no tetrahedron folded flat (collapse_ok.h): a small separate part stays a closed part.
 struct DecimationMesh : Mesh {
   explicit DecimationMesh(const Mesh& m) : Mesh(m) {}
-  bool is_collapse_ok(HalfedgeHandle h) const { return collapse_ok(*this, h); }
+  bool is_collapse_ok(HalfedgeHandle h) const { return collapse_ok(*this, h) && !collapses_tetrahedron(*this, h); }
 };
 
 // Decimates m to target_vertices with quadrics, no normal flips and collapses only between

@@ -40,4 +40,9 @@ bool collapse_ok(const Mesh& mesh, Mesh::HalfedgeHandle v0v1) {
   return !(mesh.is_boundary(v0) && mesh.is_boundary(v1) && !mesh.is_boundary(v0v1) && !mesh.is_boundary(v1v0));
 }
 
+bool collapses_tetrahedron(const Mesh& mesh, Mesh::HalfedgeHandle v0v1) {
+  const auto v0 = mesh.from_vertex_handle(v0v1), v1 = mesh.to_vertex_handle(v0v1);
+  return mesh.valence(v0) == 3 && mesh.valence(v1) == 3 && !mesh.is_boundary(v0) && !mesh.is_boundary(v1);
+}
+
 }  // namespace sdm

@@ -15,4 +15,12 @@ namespace sdm {
 /// on the boundary but the edge does not.
 bool collapse_ok(const Mesh& mesh, Mesh::HalfedgeHandle v0v1);
 
+/// Whether collapsing v0v1 would fold a tetrahedron (a closed part of four faces) into two faces on
+/// the same three corners, a part with no inside that is no 2-manifold: the link condition lets it
+/// through (the ends share exactly the two far corners), so the collapses of the remesh and of the
+/// base mesh ask this too. Both ends of a tetrahedron's edge have valence 3 and no boundary, and no
+/// other edge's have: a closed vertex of valence 3 has three faces around it, and its neighbour's
+/// three faces then close on the fourth.
+bool collapses_tetrahedron(const Mesh& mesh, Mesh::HalfedgeHandle v0v1);
+
 }  // namespace sdm

@@ -52,11 +52,11 @@ void split_long_edges(Mesh& mesh, double high) {
   }
 }
 
-// Collapsing h moves from(h) onto to(h). Refused when it would break the link condition, create
-// an edge longer than `high` (with `relaxed`: longer than both `high` and 1.1 times v0's longest
-// edge), or fold a triangle.
+// Collapsing h moves from(h) onto to(h). Refused when it would break the link condition, fold a
+// tetrahedron flat (a small separate part), create an edge longer than `high` (with `relaxed`:
+// longer than both `high` and 1.1 times v0's longest edge), or fold a triangle.
 bool collapse_allowed(Mesh& mesh, Mesh::HalfedgeHandle h, double high2, bool relaxed = false) {
-  if (!collapse_ok(mesh, h)) return false;
+  if (!collapse_ok(mesh, h) || collapses_tetrahedron(mesh, h)) return false;
   auto v0 = mesh.from_vertex_handle(h), v1 = mesh.to_vertex_handle(h);
   Vec p0 = P(mesh, v0), p1 = P(mesh, v1);
   if (relaxed)
