@@ -8,10 +8,12 @@
 #include "libstm/render/gl_context.h"
 #include "libstm/core/image.h"
 #include "libstm/mesh/mesh.h"
+#include "libstm/mesh/point_cloud.h"
 #include "libstm/render/render_mesh.h"
 #include "libstm/layout/layout_json.h"
 #include "libstm/render/render_skeleton.h"
 #include "libstm/render/render_stm.h"
+#include "libstm/render/splat_mesh.h"
 #include "libstm/mesh/validate_mesh.h"
 
 #include <cmath>
@@ -33,7 +35,7 @@ struct RenderArgs {
 };
 
 void declare_render_options(CLI::App* app, RenderArgs* o) {
-  app->add_option("mesh", o->mesh, "Input mesh (.obj, .off, .ply, .stl, .glb, .gltf)")->required();
+  app->add_option("mesh", o->mesh, "Input mesh (.obj, .off, .ply, .stl, .glb, .gltf), or point cloud (.xyz, .pcd, PLY or OFF without faces)")->required();
   app->add_option("-o,--output", o->output, "Output image (.png)")->required();
   add_image_side_option(app, "--width", o->width, "Image width in pixels");
   add_image_side_option(app, "--height", o->height, "Image height in pixels");
@@ -118,6 +120,21 @@ sdm::Mesh load_any_mesh(const std::string& path, std::string* material_texture, 
   return mesh;
 }
 
+// A point cloud drawn as oriented disks (splat_mesh.h), normals estimated where the file has none,
+// in the cloud's colours when it has them; `points` receives the number of points drawn.
+sdm::Mesh load_cloud_splats(const RenderArgs& o, std::vector<Eigen::Vector3f>* colors, long* points) {
+  if (!o.stm.empty() || o.checker || !o.texture.empty() || o.compare_uv)
+    throw sdm::InputError("'" + o.mesh + "' is a point cloud: it is drawn as points (with --skeleton, its skeleton over them); "
+                          "--stm, --checker, --texture and --compare-uv draw a mesh's maps (decode the cloud's map and render that)");
+  sdm::CloudReport report;
+  const sdm::PointCloud cloud = sdm::load_point_cloud(o.mesh, &report, true);
+  if (report.normals_estimated) progress(o.mesh + ": normals estimated from the points' neighbours");
+  sdm::Splats splats = sdm::splat_mesh(cloud.points, cloud.normals, o.no_texture ? std::vector<Eigen::Vector3f>{} : cloud.colors);
+  *colors = std::move(splats.colors);
+  *points = report.points;
+  return std::move(splats.mesh);
+}
+
 // The texture drawn with the mesh's own uv: --texture, else the material's; none with --no-texture.
 // Drawn from the STM, the mesh's own uv and texture only serve the --compare-uv picture.
 std::string own_texture_path(const RenderArgs& o, const std::string& material_texture) {
@@ -190,7 +207,8 @@ void print_render_text(const nlohmann::json& j) {
   const std::string texture = j["texture"].get<std::string>();
   std::cout << j["output"].get<std::string>() << ": " << j["width"] << "x" << j["height"] << ", " << j["covered_pixels"] << " object pixels"
             << (j.contains("stm") ? ", STM " + texture : (texture.empty() ? "" : ", texture " + texture))
-            << (j["vertex_colors"].get<bool>() ? ", vertex colours" : "") << "\n";
+            << (j["vertex_colors"].get<bool>() ? ", vertex colours" : "")
+            << (j.contains("points") ? ", " + std::to_string(j["points"].get<long>()) + " points as disks" : "") << "\n";
   if (j.contains("psnr"))
     std::cout << std::fixed << std::setprecision(2) << "PSNR own uv vs STM: min " << j["psnr"]["min"].get<double>() << " dB, mean "
               << j["psnr"]["mean"].get<double>() << " dB over " << j["psnr"]["views"].size() << " view(s)\n";
@@ -198,7 +216,7 @@ void print_render_text(const nlohmann::json& j) {
 
 // The summary of a render: printed as JSON (--json) or as text.
 void report_render(const RenderArgs& o, const sdm::GlContext& gl, const sdm::Image& img, const RenderedViews& v,
-                   const std::string& texture_path, bool vertex_colors, const ViewUp& up) {
+                   const std::string& texture_path, bool vertex_colors, const ViewUp& up, long points) {
   double min_psnr = std::numeric_limits<double>::infinity(), mean_psnr = 0;
   for (double p : v.psnrs) min_psnr = std::min(min_psnr, p), mean_psnr += p / v.psnrs.size();
   nlohmann::json j = {{"output", o.output},
@@ -218,6 +236,7 @@ void report_render(const RenderArgs& o, const sdm::GlContext& gl, const sdm::Ima
     j["layout"] = o.layout;
   }
   if (o.compare_uv) j["psnr"] = {{"views", v.psnrs}, {"min", min_psnr}, {"mean", mean_psnr}};
+  if (points) j["points"] = points;
   if (o.json) print_json(j);
   else print_render_text(j);
 }
@@ -228,7 +247,9 @@ int run_render(const RenderArgs& o) {
   std::string material_texture;
   sdm::Image embedded;
   std::vector<Eigen::Vector3f> colors;
-  const sdm::Mesh mesh = load_any_mesh(o.mesh, &material_texture, &embedded, &colors);
+  long points = 0;  // of a point cloud
+  const sdm::Mesh mesh = sdm::is_point_cloud_file(o.mesh) ? load_cloud_splats(o, &colors, &points)
+                                                          : load_any_mesh(o.mesh, &material_texture, &embedded, &colors);
   const std::string texture_path = own_texture_path(o, material_texture);
   sdm::Image texture;
   if (!texture_path.empty()) {
@@ -260,7 +281,7 @@ int run_render(const RenderArgs& o) {
   const RenderedViews views = render_views(o, gl, mesh, ro, from_stm ? &layout : nullptr, atlas);
   const sdm::Image img = contact_sheet_of(o, views.cells);
   sdm::write_png(img, o.output);
-  report_render(o, gl, img, views, texture_path, draw_colors, up);
+  report_render(o, gl, img, views, texture_path, draw_colors, up, points);
   return 0;
 }
 
@@ -277,7 +298,9 @@ Command add_render_command(CLI::App& parent) {
                 "STM coordinates computed in the shaders from positions and the layout only (any uv is ignored);\n"
                 "--compare-uv then also draws it with its own uv and texture, writes both side by side (own uv\n"
                 "left, STM right) and prints the PSNR between them over the object's pixels.\n"
-                "--views N draws a turntable (N azimuths, 360/N degrees apart) as one contact sheet.");
+                "--views N draws a turntable (N azimuths, 360/N degrees apart) as one contact sheet.\n"
+                "A point cloud is drawn as one small disk per point, square to its normal (estimated when the file\n"
+                "has none), with --skeleton its skeleton over them.");
   declare_render_options(app, o.get());
   return {app, [o]() { return run_render(*o); }};
 }

@@ -594,3 +594,45 @@ TEST_CASE("sdm render --up shows a Z-up (or -Y-up) file as its Y-up original; a 
   CHECK(bad.output.find("--up 'w'") != std::string::npos);
   CHECK(!std::filesystem::exists(dir / "w.png"));
 }
+
+TEST_CASE("sdm render draws a point cloud as disks: a sampled sphere's silhouette, analytic and without holes", "[render]") {
+  const fs::path dir = temp_dir("cloud");
+  // 4000 points on the unit sphere (a Fibonacci spiral), without normals (.xyz: estimated) and with
+  // them (PLY). Seen orthographically, the bounding sphere of the box [-1, 1]^3 (radius sqrt 3)
+  // fills the image, so the sphere's outline is a disc of radius (side / 2) / sqrt 3.
+  const int n = 4000;
+  std::ofstream xyz(dir / "sphere.xyz"), ply(dir / "sphere.ply");
+  ply << "ply\nformat ascii 1.0\nelement vertex " << n
+      << "\nproperty float x\nproperty float y\nproperty float z\nproperty float nx\nproperty float ny\nproperty float nz\nend_header\n";
+  for (int i = 0; i < n; ++i) {
+    const double z = 1 - (2 * i + 1.0) / n, r = std::sqrt(1 - z * z), a = i * M_PI * (3 - std::sqrt(5.0));
+    const Eigen::Vector3d p(r * std::cos(a), r * std::sin(a), z);
+    xyz << p.x() << " " << p.y() << " " << p.z() << "\n";
+    ply << p.x() << " " << p.y() << " " << p.z() << " " << p.x() << " " << p.y() << " " << p.z() << "\n";
+  }
+  xyz.close(), ply.close();
+  const int side = 300;
+  const double radius_px = side / 2.0 / std::sqrt(3.0);
+  for (const char* name : {"sphere.xyz", "sphere.ply"}) {
+    INFO(name);
+    const std::string out = (dir / (std::string(name) + ".png")).string();
+    REQUIRE(run("render " + (dir / name).string() + " --orthographic --unlit --width 300 --height 300 -o " + out) == 0);
+    const sdm::Image img = sdm::read_png(out);
+    long covered = 0, holes = 0, outside = 0;
+    for (int y = 0; y < side; ++y)
+      for (int x = 0; x < side; ++x) {
+        const bool object = img.at(x, y)[0] != 255;
+        const double d = std::hypot(x + 0.5 - side / 2.0, y + 0.5 - side / 2.0);
+        covered += object;
+        holes += !object && d < 0.97 * radius_px;
+        outside += object && d > 1.03 * radius_px;
+      }
+    CHECK(holes == 0);
+    CHECK(outside == 0);
+    CHECK(std::abs(double(covered) / (M_PI * radius_px * radius_px) - 1) < 0.03);
+  }
+  // The maps of a mesh are not drawn on points.
+  CHECK(run("render " + (dir / "sphere.xyz").string() + " --checker --layout none.json -o " + (dir / "x.png").string()) == 2);
+  CHECK(!fs::exists(dir / "x.png"));
+  fs::remove_all(dir);
+}
