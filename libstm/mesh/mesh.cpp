@@ -326,7 +326,7 @@ MeshSoup read_mesh_soup(const std::string& path) {
   if (fs::file_size(path, ec) == 0) throw InputError("cannot read mesh " + path + ": the file is empty");
   if (is_point_cloud_file(path)) {  // point_cloud.h; its reader names what is wrong with it first
     read_point_cloud(path);
-    throw InputError("cannot read mesh " + path + ": it is a point cloud (points, no faces), which `sdm skeleton`, `info`, `stm`, `encode` and `roundtrip` take. Fix: give this command a mesh with faces");
+    throw InputError("cannot read mesh " + path + ": it is a point cloud (points, no faces), which `sdm skeleton`, `info`, `stm`, `encode`, `roundtrip` and `render` take. Fix: give this command a mesh with faces");
   }
   const std::string ext = lower_extension(path);
   if (ext == ".glb" || ext == ".gltf") {
