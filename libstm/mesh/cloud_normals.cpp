@@ -4,6 +4,7 @@
 #include "libstm/geometry/point_kdtree.h"
 #include "libstm/mesh/point_cloud.h"
 
+#include <algorithm>
 #include <queue>
 
 namespace sdm {
@@ -12,20 +13,31 @@ std::vector<Eigen::Vector3d> estimate_normals(const std::vector<Eigen::Vector3d>
   const int n = int(points.size());
   const PointKdTree tree(points);
   std::vector<Eigen::Vector3d> normal(points.size(), Eigen::Vector3d::UnitZ());
-  std::vector<std::vector<int>> near(points.size());
+  // Each point's k + 1 nearest (itself among them) side by side: near[i * kn, i * kn + count[i]).
+  const int kn = std::max(1, k + 1);
+  std::vector<int> near(size_t(n) * size_t(kn)), count(size_t(n), 0);
   parallel_for(n, 512, [&](int i) {
-    near[size_t(i)] = tree.nearest(points[size_t(i)], k + 1);
+    int* own = near.data() + size_t(i) * size_t(kn);
+    std::vector<double> d2(static_cast<size_t>(kn));
+    const int m = count[size_t(i)] = tree.nearest(points[size_t(i)], kn, own, d2.data());
     Eigen::Vector3d mean = Eigen::Vector3d::Zero();
-    for (int j : near[size_t(i)]) mean += points[size_t(j)];
-    mean /= double(near[size_t(i)].size());
+    for (int a = 0; a < m; ++a) mean += points[size_t(own[a])];
+    mean /= double(m);
     Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();
-    for (int j : near[size_t(i)]) cov += (points[size_t(j)] - mean) * (points[size_t(j)] - mean).transpose();
+    for (int a = 0; a < m; ++a) cov += (points[size_t(own[a])] - mean) * (points[size_t(own[a])] - mean).transpose();
     normal[size_t(i)] = Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(cov).eigenvectors().col(0);
   });
-  std::vector<std::vector<int>> adj(points.size());  // the kNN graph, both ways
+  // The kNN graph, both ways, in one array: adj[first[v], first[v + 1]) (each list in the order
+  // the pairs are met: i ascending, then i's neighbours nearest first).
+  std::vector<int> first(size_t(n) + 1, 0);
   for (int i = 0; i < n; ++i)
-    for (int j : near[size_t(i)])
-      if (j != i) adj[size_t(i)].push_back(j), adj[size_t(j)].push_back(i);
+    for (int a = 0; a < count[size_t(i)]; ++a)
+      if (const int j = near[size_t(i) * size_t(kn) + size_t(a)]; j != i) ++first[size_t(i) + 1], ++first[size_t(j) + 1];
+  for (int i = 0; i < n; ++i) first[size_t(i) + 1] += first[size_t(i)];
+  std::vector<int> adj(static_cast<size_t>(first[size_t(n)])), fill(first.begin(), first.end() - 1);
+  for (int i = 0; i < n; ++i)
+    for (int a = 0; a < count[size_t(i)]; ++a)
+      if (const int j = near[size_t(i) * size_t(kn) + size_t(a)]; j != i) adj[size_t(fill[size_t(i)]++)] = j, adj[size_t(fill[size_t(j)]++)] = i;
   // Prim's tree from the highest point of each part (its normal turned up), each normal turned to
   // agree with its parent's; the cost 1 - |n_i . n_j| walks along flat regions first.
   std::vector<char> done(size_t(n), 0);
@@ -42,8 +54,8 @@ std::vector<Eigen::Vector3d> estimate_normals(const std::vector<Eigen::Vector3d>
       flood.pop_back();
       members.push_back(v);
       if (points[size_t(v)].z() > points[size_t(root)].z()) root = v;
-      for (int w : adj[size_t(v)])
-        if (part[size_t(w)] < 0) part[size_t(w)] = int(roots.size()), flood.push_back(w);
+      for (int e = first[size_t(v)]; e < first[size_t(v) + 1]; ++e)
+        if (const int w = adj[size_t(e)]; part[size_t(w)] < 0) part[size_t(w)] = int(roots.size()), flood.push_back(w);
     }
     roots.push_back(root);
     if (normal[size_t(root)].z() < 0) normal[size_t(root)] = -normal[size_t(root)];
@@ -55,8 +67,8 @@ std::vector<Eigen::Vector3d> estimate_normals(const std::vector<Eigen::Vector3d>
       if (done[size_t(v)]) continue;
       done[size_t(v)] = 1;
       if (normal[size_t(v)].dot(normal[size_t(parent)]) < 0) normal[size_t(v)] = -normal[size_t(v)];
-      for (int w : adj[size_t(v)])
-        if (!done[size_t(w)]) heap.push({1.0 - std::abs(normal[size_t(v)].dot(normal[size_t(w)])), {w, v}});
+      for (int e = first[size_t(v)]; e < first[size_t(v) + 1]; ++e)
+        if (const int w = adj[size_t(e)]; !done[size_t(w)]) heap.push({1.0 - std::abs(normal[size_t(v)].dot(normal[size_t(w)])), {w, v}});
     }
     // The part as a whole faces away from its centroid.
     Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
