@@ -13,14 +13,18 @@ PointSetSurface::PointSetSurface(const std::vector<Eigen::Vector3d>& points, con
                                  const PointSetSurfaceOptions& options)
     : points_(points), normals_(normals), options_(options) {
   if (points.size() != normals.size()) throw InputError("a point set surface needs one normal per point");
+  if (options.neighbours < 1 || options.neighbours > kMaxNeighbours || options.spacing_rank < 1 || options.spacing_rank >= kMaxNeighbours)
+    throw InputError("a point set surface weighs 1 to " + std::to_string(kMaxNeighbours) + " neighbours");
   if (points.size() < size_t(std::max(options.neighbours, options.spacing_rank) + 1))
     throw InputError("a point set surface needs more than " + std::to_string(std::max(options.neighbours, options.spacing_rank)) + " points");
   tree_ = std::make_unique<PointKdTree>(points);
   spacing_.assign(points.size(), 0.0);
+  const int rank = options_.spacing_rank + 1;
   parallel_for(int(points.size()), 1024, [&](int i) {
-    std::vector<double> d2;
-    tree_->nearest(points[size_t(i)], options_.spacing_rank + 1, &d2);
-    spacing_[size_t(i)] = std::sqrt(d2.back());
+    int index[kMaxNeighbours];
+    double d2[kMaxNeighbours];
+    const int m = tree_->nearest(points[size_t(i)], rank, index, d2);
+    spacing_[size_t(i)] = std::sqrt(d2[m - 1]);
   });
   std::vector<double> sorted = spacing_;
   std::nth_element(sorted.begin(), sorted.begin() + long(sorted.size() / 2), sorted.end());
@@ -30,19 +34,20 @@ PointSetSurface::PointSetSurface(const std::vector<Eigen::Vector3d>& points, con
 PointSetSurface::~PointSetSurface() = default;
 
 PointSetSurface::Sample PointSetSurface::at(const Eigen::Vector3d& x) const {
-  std::vector<double> d2;
-  const std::vector<int> near = tree_->nearest(x, options_.neighbours, &d2);
+  int near[kMaxNeighbours];
+  double d2[kMaxNeighbours];
+  const int m = tree_->nearest(x, options_.neighbours, near, d2);
   Sample s;
-  if (near.empty() || std::sqrt(d2[0]) > options_.reach * spacing_[size_t(near[0])]) return s;
+  if (m == 0 || std::sqrt(d2[0]) > options_.reach * spacing_[size_t(near[0])]) return s;
   double mean_spacing = 0;
-  for (int j : near) mean_spacing += spacing_[size_t(j)];
-  mean_spacing /= double(near.size());
+  for (int k = 0; k < m; ++k) mean_spacing += spacing_[size_t(near[k])];
+  mean_spacing /= double(m);
   const double h2 = std::pow(options_.width * mean_spacing, 2);
   // Weights relative to the nearest point's, so that a query far from every point (but within the
   // support of a sparse one) does not underflow.
   double weight = 0, value = 0;
   Eigen::Vector3d normal = Eigen::Vector3d::Zero();
-  for (size_t k = 0; k < near.size(); ++k) {
+  for (int k = 0; k < m; ++k) {
     const double w = std::exp(-(d2[k] - d2[0]) / h2);
     const size_t j = size_t(near[k]);
     weight += w;
@@ -67,9 +72,9 @@ Eigen::Vector3d PointSetSurface::project(const Eigen::Vector3d& x, int steps) co
 }
 
 bool PointSetSurface::supported(const Eigen::Vector3d& x) const {
-  std::vector<double> d2;
-  const std::vector<int> near = tree_->nearest(x, 1, &d2);
-  return !near.empty() && std::sqrt(d2[0]) <= options_.reach * spacing_[size_t(near[0])];
+  double d2 = 0;
+  const int near = tree_->nearest_one(x, &d2);
+  return near >= 0 && std::sqrt(d2) <= options_.reach * spacing_[size_t(near)];
 }
 
 }  // namespace sdm

@@ -15,7 +15,7 @@ namespace sdm {
 class PointKdTree;
 
 struct PointSetSurfaceOptions {
-  int neighbours = 20;    ///< points weighted at a query (the k nearest)
+  int neighbours = 20;    ///< points weighted at a query (the k nearest; at most PointSetSurface::kMaxNeighbours)
   double width = 2.0;     ///< Gaussian width h as a multiple of the neighbours' mean local spacing
   double reach = 4.0;     ///< a query is in the support when its nearest point lies within reach local spacings
   int spacing_rank = 6;   ///< a point's local spacing: the distance to its spacing_rank-th nearest other point
@@ -23,6 +23,7 @@ struct PointSetSurfaceOptions {
 
 class PointSetSurface {
  public:
+  static constexpr int kMaxNeighbours = 64;  ///< the most neighbours a query weighs (and spacing_rank + 1)
   /// `points` distinct, `normals` one unit vector per point, oriented consistently (estimate_normals);
   /// both kept by reference and must outlive the surface.
   PointSetSurface(const std::vector<Eigen::Vector3d>& points, const std::vector<Eigen::Vector3d>& normals,

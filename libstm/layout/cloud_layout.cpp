@@ -13,8 +13,7 @@ Skeleton skeleton_for_surface(const Skeleton& skeleton, const std::vector<Eigen:
   const int nv = int(mesh.n_vertices());
   s.vertex_node.assign(size_t(nv), 0);
   parallel_for(nv, 1024, [&](int v) {
-    const std::vector<int> near = tree.nearest(point(mesh, mesh.vertex_handle(v)), 1);
-    s.vertex_node[size_t(v)] = skeleton.vertex_node[size_t(near[0])];
+    s.vertex_node[size_t(v)] = skeleton.vertex_node[size_t(tree.nearest_one(point(mesh, mesh.vertex_handle(v))))];
   });
   std::vector<int> owned(s.nodes.size(), 0);
   for (int n : s.vertex_node) ++owned[size_t(n)];

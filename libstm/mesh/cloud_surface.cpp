@@ -141,9 +141,9 @@ int keep_near_points(std::vector<std::array<int, 3>>& triangles, const std::vect
                      const PointSetSurface& surface, double within) {
   std::vector<char> near(points.size(), 1);
   parallel_for(int(points.size()), 1024, [&](int i) {
-    std::vector<double> d2;
-    const std::vector<int> k = surface.tree().nearest(points[size_t(i)], 1, &d2);
-    near[size_t(i)] = !k.empty() && std::sqrt(d2[0]) <= within * surface.spacing(k[0]);
+    double d2 = 0;
+    const int k = surface.tree().nearest_one(points[size_t(i)], &d2);
+    near[size_t(i)] = k >= 0 && std::sqrt(d2) <= within * surface.spacing(k);
   });
   const size_t before = triangles.size();
   triangles.erase(std::remove_if(triangles.begin(), triangles.end(),
