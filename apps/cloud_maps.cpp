@@ -60,9 +60,17 @@ nlohmann::json scene_json(const CloudScene& sc) {
           {"layout_seconds", l.layout_seconds}};
 }
 
-bool closed(const Mesh& m) {
+// What a decoded surface is: closed (usable, no boundary) and its handles (the genus of its parts).
+struct DecodedShape {
+  bool closed = false;
+  int genus = 0;
+};
+
+DecodedShape decoded_shape(const Mesh& m) {
   const MeshReport r = validate_mesh(mesh_to_soup(m));
-  return r.usable() && r.boundary_loops == 0;
+  DecodedShape d{r.usable() && r.boundary_loops == 0, 0};
+  for (int g : r.genus_per_part) d.genus += g;
+  return d;
 }
 
 }  // namespace
@@ -107,14 +115,21 @@ int cloud_roundtrip(const CloudMapArgs& a) {
   const Mesh out = decode_sdm(im, d);
   if (!a.out.empty()) write_mesh(out, a.out);
   const PointDistances pd = points_to_mesh(sc.cloud.points, out);
+  const DecodedShape shape = decoded_shape(out);
+  const int cycles = sc.layout.point_skeleton.cycles();
+  // Handles the skeleton has not: sheets of the scan closer than the traced surface's cell, bridged.
+  if (shape.genus > cycles)
+    progress("warning: the decoded surface has " + std::to_string(shape.genus) + " handle(s), the skeleton " + std::to_string(cycles) +
+             " cycle(s): the extra ones bridge sheets of the points closer than the surface's cell (" +
+             std::to_string(sc.layout.surface_stats.cell) + "), e.g. fingers or parts that touch");
   nlohmann::json j = scene_json(sc);
   j.update({{"cloud", a.cloud}, {"size", a.size}, {"lod", a.lod}, {"reached", reach.share()}, {"faces", out.n_faces()},
-            {"closed", closed(out)}, {"points_rms", pd.rms / sc.diagonal}, {"points_max", pd.max / sc.diagonal},
-            {"seconds", clock.seconds()}});
+            {"closed", shape.closed}, {"genus", shape.genus}, {"skeleton_cycles", cycles}, {"points_rms", pd.rms / sc.diagonal},
+            {"points_max", pd.max / sc.diagonal}, {"seconds", clock.seconds()}});
   std::ostringstream text;
   text << a.cloud << " at " << a.size << ", level " << a.lod << ": points to decoded surface RMS " << 100 * pd.rms / sc.diagonal
        << " %, max " << 100 * pd.max / sc.diagonal << " % of the diagonal; " << out.n_faces() << " faces, "
-       << (j["closed"].get<bool>() ? "closed" : "NOT closed") << "; the points reach " << std::round(1000 * reach.share()) / 10
+       << (shape.closed ? "closed" : "NOT closed") << ", genus " << shape.genus << "; the points reach " << std::round(1000 * reach.share()) / 10
        << " % of the texels\n";
   double rms = pd.rms / sc.diagonal;
   if (!a.reference.empty()) {

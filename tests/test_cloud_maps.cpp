@@ -182,6 +182,9 @@ TEST_CASE("cloud maps: sdm encode and roundtrip take a cloud; --reference measur
   REQUIRE(r.exit_code == 0);
   j = test_util::last_json(r);
   CHECK(j["closed"] == true);
+  CHECK(j["genus"] == 0);  // a capsule: no handle in the decode, no cycle in the skeleton, no warning
+  CHECK(j["skeleton_cycles"] == 0);
+  CHECK(r.output.find("warning") == std::string::npos);
   const double diag = std::sqrt(2.0 + 9.0);
   CHECK(j["points_rms"].get<double>() < 0.002);
   CHECK(j["points_max"].get<double>() * diag < 0.03 * 0.5);
