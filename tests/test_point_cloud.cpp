@@ -49,6 +49,20 @@ std::vector<Vec3> sample_torus(int n, double R, double r, unsigned seed = 11) {
   return p;
 }
 
+// Points uniform by area on a torus around z (major radius R, minor r), as a scan samples it:
+// the outer side, farther from the axis, takes more of them.
+std::vector<Vec3> sample_torus_by_area(int n, double R, double r, unsigned seed = 13) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> u(0, 1);
+  std::vector<Vec3> p;
+  while (int(p.size()) < n) {
+    const double a = 2 * M_PI * u(rng), b = 2 * M_PI * u(rng);
+    if (u(rng) * (R + r) >= R + r * std::cos(b)) continue;
+    p.emplace_back((R + r * std::cos(b)) * std::cos(a), (R + r * std::cos(b)) * std::sin(a), r * std::sin(b));
+  }
+  return p;
+}
+
 std::string xyz_text(const std::vector<Vec3>& p, const std::vector<Vec3>* n = nullptr) {
   std::string s;
   char line[256];
@@ -241,6 +255,26 @@ TEST_CASE("point clouds: a torus's skeleton is one cycle around its hole", "[poi
   for (size_t a = 0; a < s.nodes.size(); ++a) {
     CHECK(std::abs(std::hypot(s.nodes[a].x(), s.nodes[a].y()) - R) < 0.05 * R);
     CHECK(std::abs(radii[a] - r) < 0.05 * r);
+  }
+}
+
+TEST_CASE("point clouds: a torus whose hole is narrower than its tube keeps its cycle", "[point_cloud]") {
+  // Hole radius R - r = 0.6 r. The contraction draws the fat ring towards its hole (its contracted
+  // cycle is shorter than 2 pi r), but the centroids of its nodes' points lie on a circle of about
+  // R + r^2 / 2R = 1.9 r (points uniform by area), wider than the 1.5 r at which the hole closes,
+  // and the disc of that circle crosses the hole's wall.
+  const double R = 1.6, r = 1.0;
+  const std::vector<Vec3> p = sample_torus_by_area(8000, R, r);
+  const sdm::Skeleton s = sdm::point_cloud_skeleton(p);
+  CHECK(s.components() == 1);
+  CHECK(s.cycles() == 1);
+  CHECK(s.end_nodes() == 0);
+  // The cycle goes around the hole: every node (the centre of its points, an arc of the ring)
+  // lies beyond the hole's wall and within the tube's outer side.
+  for (const Vec3& q : s.nodes) {
+    const double rho = std::hypot(q.x(), q.y());
+    CHECK(rho > R - r);
+    CHECK(rho < R + r);
   }
 }
 

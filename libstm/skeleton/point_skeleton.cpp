@@ -15,11 +15,9 @@ namespace sdm {
 
 namespace {
 
-// An even subsample of about `target` points: greedy covering by balls in file order, the radius
-// from the mean spacing (a surface's sample count falls with the square of the spacing).
-std::vector<int> even_subsample(const std::vector<Eigen::Vector3d>& points, int target, const PointKdTree& tree) {
-  const int n = int(points.size());
-  const int stride = std::max(1, n / 2000);
+// The mean distance from a point to its nearest other point, over about 2000 of them.
+double mean_spacing(const std::vector<Eigen::Vector3d>& points, const PointKdTree& tree) {
+  const int n = int(points.size()), stride = std::max(1, n / 2000);
   double spacing = 0;
   int measured = 0;
   for (int i = 0; i < n; i += stride, ++measured) {
@@ -27,7 +25,14 @@ std::vector<int> even_subsample(const std::vector<Eigen::Vector3d>& points, int 
     tree.nearest(points[size_t(i)], 2, &sq);
     spacing += std::sqrt(sq.back());
   }
-  double r = spacing / measured * std::sqrt(double(n) / target);
+  return spacing / std::max(measured, 1);
+}
+
+// An even subsample of about `target` points: greedy covering by balls in file order, the radius
+// from the mean spacing (a surface's sample count falls with the square of the spacing).
+std::vector<int> even_subsample(const std::vector<Eigen::Vector3d>& points, int target, const PointKdTree& tree) {
+  const int n = int(points.size());
+  double r = mean_spacing(points, tree) * std::sqrt(double(n) / target);
   std::vector<int> samples;
   for (int attempt = 0; attempt < 4; ++attempt) {
     samples.clear();
@@ -141,6 +146,39 @@ std::vector<double> cluster_radii(const SkeletonGraph& g, const std::vector<Eige
   return r;
 }
 
+// Per node, the centroid of its samples' points (not of their contracted places: the contraction
+// draws a fat ring towards its hole).
+std::vector<Eigen::Vector3d> point_centres(const SkeletonGraph& g, const std::vector<Eigen::Vector3d>& points, const std::vector<int>& samples) {
+  std::vector<Eigen::Vector3d> c(g.pos.size(), Eigen::Vector3d::Zero());
+  for (size_t a = 0; a < g.pos.size(); ++a) {
+    for (int v : g.verts[a]) c[a] += points[size_t(samples[size_t(v)])];
+    c[a] /= double(std::max<size_t>(g.verts[a].size(), 1));
+  }
+  return c;
+}
+
+// Per node, the mean distance from its samples' points to the nearest of its edges drawn between
+// `centre`s (to its centre when it has none): the radius of the tube around the graph.
+std::vector<double> tube_radii(const SkeletonGraph& g, const std::vector<Eigen::Vector3d>& centre, const std::vector<Eigen::Vector3d>& points,
+                               const std::vector<int>& samples) {
+  const auto adj = g.adjacency();
+  std::vector<double> r(g.pos.size(), 0.0);
+  for (size_t a = 0; a < g.pos.size(); ++a) {
+    for (int v : g.verts[a]) {
+      const Eigen::Vector3d p = points[size_t(samples[size_t(v)])] - centre[a];
+      double best = p.norm();
+      for (int b : adj[a]) {
+        const Eigen::Vector3d u = centre[size_t(b)] - centre[a];
+        const double t = std::clamp(p.dot(u) / std::max(u.squaredNorm(), 1e-300), 0.0, 1.0);
+        best = std::min(best, (p - t * u).norm());
+      }
+      r[a] += best;
+    }
+    r[a] /= double(std::max<size_t>(g.verts[a].size(), 1));
+  }
+  return r;
+}
+
 // Shortest path length from a to b over `adj` (infinity when none), and the nodes on it.
 double shortest_path(const SkeletonGraph& g, const std::vector<std::vector<int>>& adj, int a, int b, std::vector<int>& path) {
   std::vector<double> dist(g.pos.size(), std::numeric_limits<double>::infinity());
@@ -163,9 +201,39 @@ double shortest_path(const SkeletonGraph& g, const std::vector<std::vector<int>>
   return dist[size_t(b)];
 }
 
+// Whether the disc a cycle spans (the fan from the mean of its points `ring` to them) passes
+// within `near` of a point away from its rim: a hole's cycle runs around the hole, so its disc
+// crosses the hole's wall; a cycle around a tube, or in the web a flat part contracts into, spans
+// the inside of the volume, away from every point.
+bool spans_wall(const std::vector<Eigen::Vector3d>& ring, const PointKdTree& tree, double near) {
+  Eigen::Vector3d o = Eigen::Vector3d::Zero();
+  for (const auto& p : ring) o += p / double(ring.size());
+  std::vector<double> d2;
+  for (size_t k = 0; k < ring.size(); ++k) {
+    const Eigen::Vector3d& a = ring[k];
+    const Eigen::Vector3d& b = ring[(k + 1) % ring.size()];
+    const int across = std::max(1, int(std::ceil((b - a).norm() / near))), out = std::max(1, int(std::ceil((a - o).norm() / near)));
+    for (int i = 0; i <= across; ++i)
+      for (int j = out / 10 + 1; j < out - out / 5; ++j) {
+        const Eigen::Vector3d x = o + double(j) / out * (a + double(i) / across * (b - a) - o);
+        if (!tree.nearest(x, 1, &d2).empty() && d2[0] < near * near) return true;
+      }
+  }
+  return false;
+}
+
 // Keeps a spanning forest (shortest edges first) and, of the other edges, those closing a cycle
-// longer than 2 pi times the mean radius of its nodes: a hole wider than the tube around it.
-int keep_wide_cycles(SkeletonGraph& g, const std::vector<double>& radius) {
+// around a hole wider than the tube around it: longer than 2 pi times the mean radius of its
+// nodes at the contracted places (the clusters' centroids); or, where the contraction drew a fat
+// ring towards its hole (a torus whose hole is narrower than its tube), measured at the centroids
+// of the nodes' points, when the cycle's disc crosses the points (spans_wall) and the ring of
+// centroids is wider than 1.5 tube radii: the centroid of a torus's section (points uniform by
+// area) lies r^2 / 2R outside its core circle of radius R, at 1.5 r when the hole closes (R = r).
+int keep_wide_cycles(SkeletonGraph& g, const std::vector<Eigen::Vector3d>& points, const std::vector<int>& samples, const PointKdTree& tree,
+                     double spacing) {
+  const std::vector<double> radius = cluster_radii(g, points, samples);
+  const std::vector<Eigen::Vector3d> centre = point_centres(g, points, samples);
+  const std::vector<double> tube = tube_radii(g, centre, points, samples);
   std::vector<std::pair<int, int>> edges(g.edges.begin(), g.edges.end());
   auto length = [&](const std::pair<int, int>& e) { return (g.pos[size_t(e.first)] - g.pos[size_t(e.second)]).norm(); };
   std::stable_sort(edges.begin(), edges.end(), [&](const auto& x, const auto& y) { return length(x) < length(y); });
@@ -181,10 +249,15 @@ int keep_wide_cycles(SkeletonGraph& g, const std::vector<double>& radius) {
   std::vector<int> path;
   for (const auto& [a, b] : rest) {
     const double around = shortest_path(g, adj, a, b, path) + length({a, b});
-    double r = 0;
-    for (int v : path) r += radius[size_t(v)];
-    r /= double(std::max<size_t>(path.size(), 1));
-    if (around > 2 * M_PI * r) kept.insert({a, b}), adj[size_t(a)].push_back(b), adj[size_t(b)].push_back(a);
+    double r = 0, r_points = 0, around_points = (centre[size_t(a)] - centre[size_t(b)]).norm();
+    std::vector<Eigen::Vector3d> ring;
+    for (size_t k = 0; k < path.size(); ++k) {
+      r += radius[size_t(path[k])], r_points += tube[size_t(path[k])], ring.push_back(centre[size_t(path[k])]);
+      if (k > 0) around_points += (centre[size_t(path[k])] - centre[size_t(path[k - 1])]).norm();
+    }
+    r /= double(std::max<size_t>(path.size(), 1)), r_points /= double(std::max<size_t>(path.size(), 1));
+    const bool wide = around > 2 * M_PI * r || (around_points > 3 * M_PI * r_points && spans_wall(ring, tree, 2 * spacing));
+    if (wide) kept.insert({a, b}), adj[size_t(a)].push_back(b), adj[size_t(b)].push_back(a);
     else ++dropped;
   }
   g.edges = kept;
@@ -285,7 +358,7 @@ Skeleton point_cloud_skeleton(const std::vector<Eigen::Vector3d>& points, const 
   SkeletonGraph g = graph_of(node_of, count, cr.positions, cr.rings);
   st.sampling_seconds = clock.lap();
   st.collapsed_triangles = collapse_triangles(g, cr.positions);
-  st.dropped_cycles = keep_wide_cycles(g, cluster_radii(g, points, samples));
+  st.dropped_cycles = keep_wide_cycles(g, points, samples, tree, mean_spacing(points, tree));
   st.pruned_branches = prune_short_branches(g, cr.positions, points, samples, opt.prune_radius);
   st.graph_seconds = clock.lap();
   Skeleton sk;

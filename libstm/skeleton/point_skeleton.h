@@ -6,7 +6,9 @@
 /// collapsed along their shortest edge. Two clean-ups follow, the roles of the mesh path's surgery
 /// and refinement: a cycle is kept only when it is longer than the circumference of the tube around
 /// it (a handle encloses a hole wider than its own section; the web of nodes a flat part contracts
-/// into does not), and end branches shorter than their junction's radius are merged into it.
+/// into does not), measured at the contracted places or, for a fat ring the contraction drew
+/// towards its hole, at its points' centroids with its disc crossing the points; and end branches
+/// shorter than their junction's radius are merged into it.
 #include "libstm/core/progress.h"
 #include "libstm/skeleton/contract_points.h"
 #include "libstm/skeleton/skeleton.h"
