@@ -73,3 +73,15 @@ TEST_CASE("point k-d tree: nearest and within agree with a brute-force search, t
   CHECK(empty.nearest_one({0, 0, 0}) == -1);
   CHECK(empty.within({0, 0, 0}, 1.0).empty());
 }
+
+TEST_CASE("point k-d tree: a cloud's spacing is its grid's step, over all points or every stride-th", "[point_cloud][kdtree]") {
+  std::vector<Eigen::Vector3d> grid;
+  for (int i = 0; i < 10; ++i)
+    for (int j = 0; j < 10; ++j)
+      for (int k = 0; k < 10; ++k) grid.push_back(0.25 * Eigen::Vector3d(i, j, k));
+  const sdm::PointKdTree tree(grid);
+  CHECK(std::abs(sdm::mean_nearest_distance(grid, tree) - 0.25) < 1e-12);
+  CHECK(std::abs(sdm::mean_nearest_distance(grid, tree, 7) - 0.25) < 1e-12);
+  const std::vector<Eigen::Vector3d> one{Eigen::Vector3d(1, 2, 3)};
+  CHECK(sdm::mean_nearest_distance(one, sdm::PointKdTree(one)) == 0.0);
+}

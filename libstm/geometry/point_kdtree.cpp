@@ -1,6 +1,9 @@
 #include "libstm/geometry/point_kdtree.h"
 
+#include "libstm/core/parallel.h"
+
 #include <algorithm>
+#include <cmath>
 #include <numeric>
 #include <utility>
 
@@ -112,6 +115,18 @@ std::vector<int> PointKdTree::within(const Eigen::Vector3d& q, double radius) co
     if (d + radius >= 0) stack[top++] = n.right;
   }
   return out;
+}
+
+double mean_nearest_distance(const std::vector<Eigen::Vector3d>& points, const PointKdTree& tree, int stride) {
+  stride = std::max(stride, 1);
+  const int measured = (int(points.size()) + stride - 1) / stride;
+  std::vector<double> d(size_t(std::max(measured, 0)), 0.0);
+  parallel_for(measured, 1024, [&](int k) {
+    int index[2];
+    double squared[2];
+    if (tree.nearest(points[size_t(k) * size_t(stride)], 2, index, squared) == 2) d[size_t(k)] = std::sqrt(squared[1]);
+  });
+  return std::accumulate(d.begin(), d.end(), 0.0) / double(std::max(measured, 1));
 }
 
 }  // namespace sdm

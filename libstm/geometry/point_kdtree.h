@@ -37,4 +37,8 @@ class PointKdTree {
   std::vector<Node> nodes_;
 };
 
+/// The mean distance from a point of `points` (those `tree` was built over) to its nearest other
+/// point, over every `stride`-th point from the first (0 for a single point): a cloud's spacing.
+double mean_nearest_distance(const std::vector<Eigen::Vector3d>& points, const PointKdTree& tree, int stride = 1);
+
 }  // namespace sdm

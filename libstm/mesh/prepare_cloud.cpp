@@ -1,6 +1,5 @@
 // Merging a cloud's duplicates, measuring it and refusing what no skeleton comes from (point_cloud.h).
 #include "libstm/core/errors.h"
-#include "libstm/core/parallel.h"
 #include "libstm/geometry/point_kdtree.h"
 #include "libstm/mesh/point_cloud.h"
 
@@ -58,17 +57,6 @@ Eigen::Vector3d principal_extents(const std::vector<Eigen::Vector3d>& points) {
   return {std::sqrt(std::max(ev[2], 0.0)), std::sqrt(std::max(ev[1], 0.0)), std::sqrt(std::max(ev[0], 0.0))};
 }
 
-double mean_spacing(const std::vector<Eigen::Vector3d>& points) {
-  const PointKdTree tree(points);
-  std::vector<double> d(points.size(), 0.0);
-  parallel_for(int(points.size()), 1024, [&](int i) {
-    std::vector<double> sq;
-    tree.nearest(points[size_t(i)], 2, &sq);
-    d[size_t(i)] = sq.size() == 2 ? std::sqrt(sq[1]) : 0.0;
-  });
-  return std::accumulate(d.begin(), d.end(), 0.0) / double(std::max<size_t>(d.size(), 1));
-}
-
 }  // namespace
 
 CloudReport prepare_cloud(PointCloud& cloud, const std::string& what, std::vector<int>* index_of) {
@@ -100,7 +88,7 @@ CloudReport prepare_cloud(PointCloud& cloud, const std::string& what, std::vecto
   if (!(r.extents[2] > 1e-3 * r.extents[0]))
     throw InputError("point cloud " + what + ": its " + counted + " lie on a plane (principal extents " + number(r.extents[0]) + ", " +
                      number(r.extents[1]) + ", " + number(r.extents[2]) + "); a skeleton needs a solid's surface");
-  r.mean_spacing = mean_spacing(cloud.points);
+  r.mean_spacing = mean_nearest_distance(cloud.points, PointKdTree(cloud.points));
   return r;
 }
 

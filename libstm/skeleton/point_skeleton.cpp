@@ -15,24 +15,17 @@ namespace sdm {
 
 namespace {
 
-// The mean distance from a point to its nearest other point, over about 2000 of them.
-double mean_spacing(const std::vector<Eigen::Vector3d>& points, const PointKdTree& tree) {
-  const int n = int(points.size()), stride = std::max(1, n / 2000);
-  double spacing = 0;
-  int measured = 0;
-  for (int i = 0; i < n; i += stride, ++measured) {
-    std::vector<double> sq;
-    tree.nearest(points[size_t(i)], 2, &sq);
-    spacing += std::sqrt(sq.back());
-  }
-  return spacing / std::max(measured, 1);
+// A cloud's spacing for the skeleton's scales: the mean distance from a point to its nearest
+// other point, over about 2000 of them.
+double sampled_spacing(const std::vector<Eigen::Vector3d>& points, const PointKdTree& tree) {
+  return mean_nearest_distance(points, tree, std::max(1, int(points.size()) / 2000));
 }
 
 // An even subsample of about `target` points: greedy covering by balls in file order, the radius
-// from the mean spacing (a surface's sample count falls with the square of the spacing).
-std::vector<int> even_subsample(const std::vector<Eigen::Vector3d>& points, int target, const PointKdTree& tree) {
+// from the mean `spacing` (a surface's sample count falls with the square of the spacing).
+std::vector<int> even_subsample(const std::vector<Eigen::Vector3d>& points, int target, const PointKdTree& tree, double spacing) {
   const int n = int(points.size());
-  double r = mean_spacing(points, tree) * std::sqrt(double(n) / target);
+  double r = spacing * std::sqrt(double(n) / target);
   std::vector<int> samples;
   for (int attempt = 0; attempt < 4; ++attempt) {
     samples.clear();
@@ -208,7 +201,6 @@ double shortest_path(const SkeletonGraph& g, const std::vector<std::vector<int>>
 bool spans_wall(const std::vector<Eigen::Vector3d>& ring, const PointKdTree& tree, double near) {
   Eigen::Vector3d o = Eigen::Vector3d::Zero();
   for (const auto& p : ring) o += p / double(ring.size());
-  std::vector<double> d2;
   for (size_t k = 0; k < ring.size(); ++k) {
     const Eigen::Vector3d& a = ring[k];
     const Eigen::Vector3d& b = ring[(k + 1) % ring.size()];
@@ -216,7 +208,8 @@ bool spans_wall(const std::vector<Eigen::Vector3d>& ring, const PointKdTree& tre
     for (int i = 0; i <= across; ++i)
       for (int j = out / 10 + 1; j < out - out / 5; ++j) {
         const Eigen::Vector3d x = o + double(j) / out * (a + double(i) / across * (b - a) - o);
-        if (!tree.nearest(x, 1, &d2).empty() && d2[0] < near * near) return true;
+        double d2 = 0;
+        if (tree.nearest_one(x, &d2) >= 0 && d2 < near * near) return true;
       }
   }
   return false;
@@ -339,8 +332,9 @@ Skeleton point_cloud_skeleton(const std::vector<Eigen::Vector3d>& points, const 
   PointSkeletonStats st;
   const int n = int(points.size());
   const PointKdTree tree(points);
+  const double spacing = sampled_spacing(points, tree);
   std::vector<int> samples;
-  if (opt.max_samples > 0 && n > opt.max_samples) samples = even_subsample(points, opt.max_samples, tree);
+  if (opt.max_samples > 0 && n > opt.max_samples) samples = even_subsample(points, opt.max_samples, tree, spacing);
   else for (int i = 0; i < n; ++i) samples.push_back(i);
   std::vector<Eigen::Vector3d> sampled;
   for (int i : samples) sampled.push_back(points[size_t(i)]);
@@ -358,7 +352,7 @@ Skeleton point_cloud_skeleton(const std::vector<Eigen::Vector3d>& points, const 
   SkeletonGraph g = graph_of(node_of, count, cr.positions, cr.rings);
   st.sampling_seconds = clock.lap();
   st.collapsed_triangles = collapse_triangles(g, cr.positions);
-  st.dropped_cycles = keep_wide_cycles(g, points, samples, tree, mean_spacing(points, tree));
+  st.dropped_cycles = keep_wide_cycles(g, points, samples, tree, spacing);
   st.pruned_branches = prune_short_branches(g, cr.positions, points, samples, opt.prune_radius);
   st.graph_seconds = clock.lap();
   Skeleton sk;
@@ -372,7 +366,7 @@ Skeleton point_cloud_skeleton(const std::vector<Eigen::Vector3d>& points, const 
     for (int i = 0; i < n; ++i) sk.vertex_node[size_t(i)] = node_of_sample[size_t(i)];
   } else {
     const PointKdTree sample_tree(sampled);
-    for (int i = 0; i < n; ++i) sk.vertex_node[size_t(i)] = node_of_sample[size_t(sample_tree.nearest(points[size_t(i)], 1)[0])];
+    for (int i = 0; i < n; ++i) sk.vertex_node[size_t(i)] = node_of_sample[size_t(sample_tree.nearest_one(points[size_t(i)]))];
   }
   place_nodes(sk, points);
   st.seconds = total.seconds();
