@@ -2,6 +2,7 @@
 
 #include "apps/cli_common.h"
 #include "apps/commands.h"
+#include "apps/decoded_mesh.h"
 #include "libsdm/decode/decode_sdm.h"
 #include "libsdm/encode/encode_cloud.h"
 #include "libstm/core/stopwatch.h"
@@ -60,19 +61,6 @@ nlohmann::json scene_json(const CloudScene& sc) {
           {"layout_seconds", l.layout_seconds}};
 }
 
-// What a decoded surface is: closed (usable, no boundary) and its handles (the genus of its parts).
-struct DecodedShape {
-  bool closed = false;
-  int genus = 0;
-};
-
-DecodedShape decoded_shape(const Mesh& m) {
-  const MeshReport r = validate_mesh(mesh_to_soup(m));
-  DecodedShape d{r.usable() && r.boundary_loops == 0, 0};
-  for (int g : r.genus_per_part) d.genus += g;
-  return d;
-}
-
 }  // namespace
 
 int cloud_encode(const CloudMapArgs& a) {
@@ -115,7 +103,7 @@ int cloud_roundtrip(const CloudMapArgs& a) {
   const Mesh out = decode_sdm(im, d);
   if (!a.out.empty()) write_mesh(out, a.out);
   const PointDistances pd = points_to_mesh(sc.cloud.points, out);
-  const DecodedShape shape = decoded_shape(out);
+  const SurfaceTopology shape = topology_of(out);
   const int cycles = sc.layout.point_skeleton.cycles();
   // Handles the skeleton has not: sheets of the scan closer than the traced surface's cell, bridged.
   if (shape.genus > cycles)
@@ -124,12 +112,12 @@ int cloud_roundtrip(const CloudMapArgs& a) {
              std::to_string(sc.layout.surface_stats.cell) + "), e.g. fingers or parts that touch");
   nlohmann::json j = scene_json(sc);
   j.update({{"cloud", a.cloud}, {"size", a.size}, {"lod", a.lod}, {"reached", reach.share()}, {"faces", out.n_faces()},
-            {"closed", shape.closed}, {"genus", shape.genus}, {"skeleton_cycles", cycles}, {"points_rms", pd.rms / sc.diagonal},
+            {"closed", shape.closed()}, {"genus", shape.genus}, {"skeleton_cycles", cycles}, {"points_rms", pd.rms / sc.diagonal},
             {"points_max", pd.max / sc.diagonal}, {"seconds", clock.seconds()}});
   std::ostringstream text;
   text << a.cloud << " at " << a.size << ", level " << a.lod << ": points to decoded surface RMS " << 100 * pd.rms / sc.diagonal
        << " %, max " << 100 * pd.max / sc.diagonal << " % of the diagonal; " << out.n_faces() << " faces, "
-       << (shape.closed ? "closed" : "NOT closed") << ", genus " << shape.genus << "; the points reach " << std::round(1000 * reach.share()) / 10
+       << (shape.closed() ? "closed" : "NOT closed") << ", genus " << shape.genus << "; the points reach " << std::round(1000 * reach.share()) / 10
        << " % of the texels\n";
   double rms = pd.rms / sc.diagonal;
   if (!a.reference.empty()) {

@@ -95,7 +95,7 @@ nlohmann::json pose_summary(const sdm::Skeleton& rest, const sdm::SkeletonPose& 
 
 // Pose's summary (its --json object) as text.
 void print_pose_text(const nlohmann::json& j) {
-  const SurfaceTopology top{j["manifold"].get<bool>(), j["boundary_loops"].get<int>()};
+  const SurfaceTopology top{j["manifold"].get<bool>(), j["boundary_loops"].get<int>(), 0};  // pose reports no genus
   const double moved = j["max_displacement"].get<double>();
   std::cout << j["output"].get<std::string>() << ": " << j["vertices"] << " vertices, " << j["faces"] << " faces, " << top.text()
             << ", largest displacement " << moved << " (" << 100 * moved / j["diagonal"].get<double>() << " % of the diagonal), "

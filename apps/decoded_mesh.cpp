@@ -13,7 +13,9 @@ namespace sdm::cli {
 
 SurfaceTopology topology_of(const sdm::Mesh& m) {
   const sdm::MeshReport r = sdm::validate_mesh(sdm::mesh_to_soup(m));
-  return {r.usable(), r.boundary_loops};
+  SurfaceTopology t{r.usable(), r.boundary_loops, 0};
+  for (int g : r.genus_per_part) t.genus += g;
+  return t;
 }
 
 void check_decode_memory(const sdm::SdmImage& im, const sdm::DecodeOptions& d, const std::string& max_memory) {

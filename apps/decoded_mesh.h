@@ -11,11 +11,12 @@
 
 namespace sdm::cli {
 
-// What a decoded surface is: 2-manifold (usable by the pipeline again) and with how many boundary
-// loops (those of an open input's holes; 0 for a closed one).
+// What a decoded surface is: 2-manifold (usable by the pipeline again), with how many boundary
+// loops (those of an open input's holes; 0 for a closed one) and handles (the genus of its parts).
 struct SurfaceTopology {
   bool manifold = false;
   int boundary_loops = 0;
+  int genus = 0;
   bool closed() const { return manifold && boundary_loops == 0; }
   std::string text() const {
     if (!manifold) return "NOT manifold";
