@@ -25,9 +25,10 @@ Splats splat_mesh(const std::vector<Eigen::Vector3d>& points, const std::vector<
   std::vector<std::array<Eigen::Vector3d, kSides + 1>> disks(n);
   const PointKdTree tree(points);
   parallel_for(int(n), 1024, [&](int i) {
-    std::vector<double> d2;
-    tree.nearest(points[size_t(i)], kSpacingRank + 1, &d2);
-    const double r = scale * std::sqrt(d2.empty() ? 0.0 : d2.back());
+    int index[kSpacingRank + 1];
+    double d2[kSpacingRank + 1];
+    const int m = tree.nearest(points[size_t(i)], kSpacingRank + 1, index, d2);
+    const double r = scale * std::sqrt(m == 0 ? 0.0 : d2[m - 1]);
     const Eigen::Vector3d& nrm = normals[size_t(i)];
     const Eigen::Vector3d u = nrm.unitOrthogonal(), v = nrm.cross(u);
     auto& disk = disks[size_t(i)];
